@@ -1,0 +1,3 @@
+//! Physically based light transport: geometry, spectra, camera, film, materials,
+//! lights and integrators, all driven by the primary-sample-space samplers of the
+//! `qmc` crate. (Built up by issue 3.)
