@@ -1,1 +1,408 @@
-//! (to be written)
+//! The Halton sequence, plain and scrambled, with per-pixel enumeration.
+//!
+//! Dimension `j` is the radical inverse in the `j`-th prime base (2, 3, 5, …),
+//! for up to [`PRIME_COUNT`] dimensions. Scrambles ([`HaltonScramble`]):
+//! - `None`: the plain sequence;
+//! - `Faure`: Faure's (1992) digit permutations, the "scrambled Halton" of
+//!   Kollig & Keller (2002) and of Grünschloß, Raab & Keller (2012); bases 2
+//!   and 3 are left unpermuted (σ₂ and σ₃ are the identity);
+//! - `RandomPermutation`: an independent random permutation per dimension and
+//!   digit position (drawn from the seed);
+//! - `Owen`: nested uniform (Owen) scrambling in each base, from the seed.
+//!
+//! [`PixelEnumeration`] finds the global indices of the samples whose first
+//! two coordinates, scaled to raster units, fall in a given pixel
+//! (Grünschloß, Raab & Keller 2012, "Enumerating quasi-Monte Carlo point
+//! sequences in elementary intervals").
+
+use crate::faure::faure_permutation;
+use crate::hash::hash2;
+use crate::point_set::{PointSet, PointSetError};
+use crate::primes::PRIME_COUNT;
+use crate::radical_inverse::{
+    DigitBase, DigitPermutations, owen_scrambled_leading_digits_preimage,
+    owen_scrambled_radical_inverse, permuted_radical_inverse_fixing_zero, prime_digit_bases,
+    radical_inverse_in,
+};
+
+/// How the digits of each Halton dimension are scrambled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum HaltonScramble {
+    /// The plain radical inverses.
+    None,
+    /// Faure's deterministic permutations (the seed is ignored).
+    Faure,
+    /// Independent random digit permutations per dimension and digit position.
+    RandomPermutation,
+    /// Owen's nested uniform scrambling.
+    Owen,
+}
+
+/// The digit permutation tables of one dimension.
+#[derive(Debug, Clone)]
+enum DigitTables {
+    Plain,
+    /// One permutation fixing zero, for every digit.
+    FixingZero(Vec<u16>),
+    /// One permutation per digit position.
+    PerPosition(DigitPermutations),
+    /// Owen scrambling with this dimension's seed.
+    Owen(u64),
+}
+
+/// The Halton sequence in `dimensions` dimensions with a scramble.
+#[derive(Debug, Clone)]
+pub struct Halton {
+    scramble: HaltonScramble,
+    bases: Vec<DigitBase>,
+    tables: Vec<DigitTables>,
+}
+
+impl Halton {
+    /// The sequence in `dimensions ≤ PRIME_COUNT` dimensions. `seed` chooses
+    /// the random permutations of `RandomPermutation` and `Owen`; each
+    /// dimension's randomness is `hash(seed, dimension)`.
+    pub fn new(
+        dimensions: usize,
+        scramble: HaltonScramble,
+        seed: u64,
+    ) -> Result<Self, PointSetError> {
+        if dimensions > PRIME_COUNT {
+            return Err(PointSetError::TooManyDimensions {
+                requested: dimensions,
+                supported: PRIME_COUNT,
+            });
+        }
+        let bases: Vec<DigitBase> = prime_digit_bases()[..dimensions].to_vec();
+        let tables = bases
+            .iter()
+            .enumerate()
+            .map(|(dimension, base)| {
+                let dimension_seed = hash2(seed, dimension as u64);
+                match scramble {
+                    HaltonScramble::None => DigitTables::Plain,
+                    HaltonScramble::Faure if base.base <= 3 => DigitTables::Plain,
+                    HaltonScramble::Faure => DigitTables::FixingZero(faure_permutation(base.base)),
+                    HaltonScramble::RandomPermutation => {
+                        DigitTables::PerPosition(DigitPermutations::random(*base, dimension_seed))
+                    }
+                    HaltonScramble::Owen => DigitTables::Owen(dimension_seed),
+                }
+            })
+            .collect();
+        Ok(Self {
+            scramble,
+            bases,
+            tables,
+        })
+    }
+
+    /// The scramble this sequence was built with.
+    pub fn scramble(&self) -> HaltonScramble {
+        self.scramble
+    }
+
+    /// The base of `dimension`.
+    pub fn base(&self, dimension: usize) -> u32 {
+        self.bases[dimension].base
+    }
+
+    /// The residue modulo `base^digits.len()` of the indices whose coordinate
+    /// in `dimension` has the leading base-`b` digits `digits`
+    /// (most significant first): the inverse of the scramble on the
+    /// index's lowest digits.
+    fn leading_digits_preimage(&self, dimension: usize, digits: &[u32]) -> u64 {
+        let base = &self.bases[dimension];
+        let b = base.base as u64;
+        match &self.tables[dimension] {
+            DigitTables::Owen(seed) => owen_scrambled_leading_digits_preimage(base, *seed, digits),
+            tables => {
+                let mut residue = 0;
+                let mut power = 1;
+                for (position, &wanted) in digits.iter().enumerate() {
+                    let digit = match tables {
+                        DigitTables::Plain => wanted as u64,
+                        DigitTables::FixingZero(permutation) => permutation
+                            .iter()
+                            .position(|&v| v as u32 == wanted)
+                            .unwrap()
+                            as u64,
+                        DigitTables::PerPosition(permutations) => permutations
+                            .permutation(position)
+                            .iter()
+                            .position(|&v| v as u32 == wanted)
+                            .unwrap()
+                            as u64,
+                        DigitTables::Owen(_) => unreachable!(),
+                    };
+                    residue += digit * power;
+                    power *= b;
+                }
+                residue
+            }
+        }
+    }
+}
+
+impl PointSet for Halton {
+    fn dimensions(&self) -> usize {
+        self.bases.len()
+    }
+
+    fn len(&self) -> Option<u64> {
+        None
+    }
+
+    #[inline]
+    fn sample(&self, index: u64, dimension: usize) -> f64 {
+        let base = &self.bases[dimension];
+        match &self.tables[dimension] {
+            DigitTables::Plain => radical_inverse_in(base, index),
+            DigitTables::FixingZero(permutation) => {
+                permuted_radical_inverse_fixing_zero(base, permutation, index)
+            }
+            DigitTables::PerPosition(permutations) => permutations.radical_inverse(index),
+            DigitTables::Owen(seed) => owen_scrambled_radical_inverse(base, *seed, index),
+        }
+    }
+}
+
+/// Enumerates the Halton samples that fall in each pixel of an image.
+///
+/// With `2^a ≥ width` and `3^b ≥ height`, the first two Halton coordinates
+/// scaled by `(2^a, 3^b)` are raster coordinates; sample `i` lies in pixel
+/// `(x, y)` iff its first `a` base-2 digits give `x` and its first `b` base-3
+/// digits give `y`. Those depend only on `i mod 2^a` and `i mod 3^b`, so the
+/// pixel's samples are `offset(x, y) + j · 2^a 3^b` with the offset from the
+/// Chinese remainder theorem. Works for every scramble of [`Halton`]: the
+/// scramble's digit permutations are inverted to find the residues.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PixelEnumeration {
+    /// Image width and height in pixels.
+    pub resolution: (u32, u32),
+    /// `a` and `b`: digits of base 2 and of base 3 per pixel coordinate.
+    pub digits: (u32, u32),
+    /// `(2^a, 3^b)`: the factors from the unit square to raster units.
+    pub scale: (u64, u64),
+    /// `2^a · 3^b`: the distance between consecutive samples of one pixel.
+    pub increment: u64,
+}
+
+impl PixelEnumeration {
+    /// The enumeration for a `width × height` image (both at least 1).
+    pub fn new(width: u32, height: u32) -> Result<Self, PointSetError> {
+        if width == 0 || height == 0 {
+            return Err(PointSetError::InvalidParameter(format!(
+                "the resolution {width}x{height} has no pixels"
+            )));
+        }
+        let (mut digits_x, mut scale_x) = (0u32, 1u64);
+        while scale_x < width as u64 {
+            scale_x *= 2;
+            digits_x += 1;
+        }
+        let (mut digits_y, mut scale_y) = (0u32, 1u64);
+        while scale_y < height as u64 {
+            scale_y *= 3;
+            digits_y += 1;
+        }
+        Ok(Self {
+            resolution: (width, height),
+            digits: (digits_x, digits_y),
+            scale: (scale_x, scale_y),
+            increment: scale_x * scale_y,
+        })
+    }
+
+    /// The global index of the `sample`-th sample of pixel `(x, y)` in `halton`.
+    ///
+    /// Returns an error for pixels outside the image, for a sequence with
+    /// fewer than two dimensions, or if the index would exceed 64 bits.
+    pub fn sample_index(
+        &self,
+        halton: &Halton,
+        pixel: (u32, u32),
+        sample: u64,
+    ) -> Result<u64, PointSetError> {
+        if pixel.0 >= self.resolution.0 || pixel.1 >= self.resolution.1 {
+            return Err(PointSetError::InvalidParameter(format!(
+                "pixel ({}, {}) is outside the {}x{} image",
+                pixel.0, pixel.1, self.resolution.0, self.resolution.1
+            )));
+        }
+        if halton.dimensions() < 2 {
+            return Err(PointSetError::InvalidParameter(
+                "per-pixel enumeration needs at least two dimensions".into(),
+            ));
+        }
+        let offset = self.pixel_offset(halton, pixel);
+        sample
+            .checked_mul(self.increment)
+            .and_then(|step| step.checked_add(offset))
+            .ok_or(PointSetError::TooManyPoints {
+                requested: sample,
+                supported: (u64::MAX - offset) / self.increment,
+            })
+    }
+
+    /// The index of the first sample of `pixel` (below `increment`).
+    pub fn pixel_offset(&self, halton: &Halton, pixel: (u32, u32)) -> u64 {
+        let digits_of = |value: u32, base: u32, count: u32| -> Vec<u32> {
+            // Most significant first: the digits of the raster coordinate.
+            let mut digits = vec![0u32; count as usize];
+            let mut remaining = value;
+            for slot in digits.iter_mut().rev() {
+                *slot = remaining % base;
+                remaining /= base;
+            }
+            digits
+        };
+        let residue_x = halton.leading_digits_preimage(0, &digits_of(pixel.0, 2, self.digits.0));
+        let residue_y = halton.leading_digits_preimage(1, &digits_of(pixel.1, 3, self.digits.1));
+        chinese_remainder(residue_x, self.scale.0, residue_y, self.scale.1)
+    }
+
+    /// The first two coordinates of sample `index` in raster units.
+    pub fn raster_position(&self, halton: &Halton, index: u64) -> (f64, f64) {
+        (
+            halton.sample(index, 0) * self.scale.0 as f64,
+            halton.sample(index, 1) * self.scale.1 as f64,
+        )
+    }
+}
+
+/// The `x` in `0..m·n` with `x ≡ a (mod m)` and `x ≡ b (mod n)`, for coprime
+/// `m` and `n`.
+fn chinese_remainder(a: u64, m: u64, b: u64, n: u64) -> u64 {
+    let product = m as u128 * n as u128;
+    let m_inverse = modular_inverse_general(m % n, n) as u128;
+    let n_inverse = modular_inverse_general(n % m, m) as u128;
+    // x = a·n·(n⁻¹ mod m) + b·m·(m⁻¹ mod n)  (mod m·n)
+    let x = (a as u128 * n as u128 % product * n_inverse
+        + b as u128 * m as u128 % product * m_inverse)
+        % product;
+    x as u64
+}
+
+/// The inverse of `value` modulo `modulus` by the extended Euclidean
+/// algorithm (1 for modulus 1); `value` and `modulus` must be coprime.
+fn modular_inverse_general(value: u64, modulus: u64) -> u64 {
+    if modulus == 1 {
+        return 0;
+    }
+    let (mut old_r, mut r) = (value as i128, modulus as i128);
+    let (mut old_s, mut s) = (1i128, 0i128);
+    while r != 0 {
+        let quotient = old_r / r;
+        (old_r, r) = (r, old_r - quotient * r);
+        (old_s, s) = (s, old_s - quotient * s);
+    }
+    old_s.rem_euclid(modulus as i128) as u64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plain_halton_first_points() {
+        let halton = Halton::new(3, HaltonScramble::None, 0).unwrap();
+        let expected = [
+            [0.0, 0.0, 0.0],
+            [0.5, 1.0 / 3.0, 0.2],
+            [0.25, 2.0 / 3.0, 0.4],
+            [0.75, 1.0 / 9.0, 0.6],
+        ];
+        for (index, point) in expected.iter().enumerate() {
+            for (dimension, &value) in point.iter().enumerate() {
+                assert!((halton.sample(index as u64, dimension) - value).abs() < 1e-15);
+            }
+        }
+    }
+
+    #[test]
+    fn too_many_dimensions_is_an_error() {
+        assert!(Halton::new(PRIME_COUNT + 1, HaltonScramble::None, 0).is_err());
+        assert!(Halton::new(PRIME_COUNT, HaltonScramble::Faure, 0).is_ok());
+    }
+
+    #[test]
+    fn faure_keeps_bases_two_and_three_and_permutes_five() {
+        let plain = Halton::new(3, HaltonScramble::None, 0).unwrap();
+        let faure = Halton::new(3, HaltonScramble::Faure, 0).unwrap();
+        for index in 0..100 {
+            assert_eq!(plain.sample(index, 0), faure.sample(index, 0));
+            assert_eq!(plain.sample(index, 1), faure.sample(index, 1));
+        }
+        // σ₅ = (0, 3, 2, 1, 4): index 1 has digit 1 → 3/5.
+        assert!((faure.sample(1, 2) - 0.6).abs() < 1e-15);
+        assert!((faure.sample(3, 2) - 0.2).abs() < 1e-15);
+    }
+
+    #[test]
+    fn chinese_remainder_solves_both_congruences() {
+        for (m, n) in [(8u64, 27u64), (1, 9), (16, 1), (1024, 729)] {
+            for a in [0, 1, m / 2, m - 1].into_iter().filter(|&a| a < m) {
+                for b in [0, 1, n / 2, n - 1].into_iter().filter(|&b| b < n) {
+                    let x = chinese_remainder(a, m, b, n);
+                    assert!(x < m * n);
+                    assert_eq!(x % m, a);
+                    assert_eq!(x % n, b);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_pixel_sample_lands_in_its_pixel_for_every_scramble() {
+        for scramble in [
+            HaltonScramble::None,
+            HaltonScramble::Faure,
+            HaltonScramble::RandomPermutation,
+            HaltonScramble::Owen,
+        ] {
+            let halton = Halton::new(4, scramble, 1234).unwrap();
+            for (width, height) in [(1u32, 1u32), (7, 5), (16, 9), (33, 28)] {
+                let enumeration = PixelEnumeration::new(width, height).unwrap();
+                for y in 0..height {
+                    for x in 0..width {
+                        for sample in 0..3 {
+                            let index = enumeration.sample_index(&halton, (x, y), sample).unwrap();
+                            let (rx, ry) = enumeration.raster_position(&halton, index);
+                            assert_eq!(
+                                (rx.floor() as u32, ry.floor() as u32),
+                                (x, y),
+                                "{scramble:?} {width}x{height} sample {sample}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn pixel_offsets_partition_the_first_increment() {
+        // Each index below 2^a 3^b belongs to exactly one pixel of the
+        // 2^a × 3^b raster.
+        let halton = Halton::new(2, HaltonScramble::None, 0).unwrap();
+        let enumeration = PixelEnumeration::new(8, 9).unwrap();
+        let mut seen = vec![false; enumeration.increment as usize];
+        for y in 0..9 {
+            for x in 0..8 {
+                let offset = enumeration.pixel_offset(&halton, (x, y));
+                assert!(!seen[offset as usize]);
+                seen[offset as usize] = true;
+            }
+        }
+        assert!(seen.iter().all(|&s| s));
+    }
+
+    #[test]
+    fn pixel_outside_image_is_an_error() {
+        let halton = Halton::new(2, HaltonScramble::None, 0).unwrap();
+        let enumeration = PixelEnumeration::new(4, 4).unwrap();
+        assert!(enumeration.sample_index(&halton, (4, 0), 0).is_err());
+        assert!(PixelEnumeration::new(0, 3).is_err());
+    }
+}
