@@ -25,7 +25,7 @@ pub fn faure_permutation(base: u32) -> Vec<u16> {
     }
     // σ_b needs only σ_{b/2} (even b) or σ_{b−1} (odd b): a chain of
     // about 2·log₂(b) smaller permutations.
-    if base % 2 == 0 {
+    if base.is_multiple_of(2) {
         let half = faure_permutation(base / 2);
         half.iter()
             .map(|&v| 2 * v)

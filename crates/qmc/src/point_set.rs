@@ -99,7 +99,7 @@ pub fn check_request(
         });
     }
     if let Some(len) = set.len() {
-        let end = start.checked_add(count).unwrap_or(u64::MAX);
+        let end = start.saturating_add(count);
         if end > len {
             return Err(PointSetError::TooManyPoints {
                 requested: end,

@@ -22,7 +22,7 @@ const fn first_primes() -> [u32; PRIME_COUNT] {
             if p * p > candidate {
                 break;
             }
-            if candidate % p == 0 {
+            if candidate.is_multiple_of(p) {
                 is_prime = false;
                 break;
             }
@@ -44,7 +44,7 @@ pub fn is_prime(n: u64) -> bool {
     }
     let mut divisor = 2u64;
     while divisor * divisor <= n {
-        if n % divisor == 0 {
+        if n.is_multiple_of(divisor) {
             return false;
         }
         divisor += 1;
