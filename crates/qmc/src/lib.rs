@@ -15,6 +15,7 @@
 //! Every point set implements [`PointSet`]: coordinates are asked for by index and
 //! dimension, which is how the renderer's primary-sample-space samplers use them.
 
+pub mod catalog;
 pub mod cbc;
 pub mod closest_point;
 pub mod cranley_patterson;

@@ -1,0 +1,173 @@
+//! Point sets by name: the sequences and scrambles a user can choose on the
+//! command line or in a renderer's sampler settings, built from one place.
+
+use crate::halton::{Halton, HaltonScramble};
+use crate::hammersley::Hammersley;
+use crate::point_set::{PointSet, PointSetError};
+use crate::random::RandomPoints;
+
+/// A family of points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Sequence {
+    /// The Halton sequence (prime bases).
+    Halton,
+    /// The Hammersley point set (`i/N`, then Halton).
+    Hammersley,
+    /// The Sobol sequence with Joe–Kuo direction numbers.
+    Sobol,
+    /// The Niederreiter sequence in base 2.
+    Niederreiter,
+    /// A rank-1 lattice built by component-by-component construction.
+    Lattice,
+    /// Independent uniform random points (PCG).
+    Random,
+}
+
+impl Sequence {
+    /// Every sequence with its command-line name.
+    pub const ALL: [(Sequence, &'static str); 6] = [
+        (Sequence::Halton, "halton"),
+        (Sequence::Hammersley, "hammersley"),
+        (Sequence::Sobol, "sobol"),
+        (Sequence::Niederreiter, "niederreiter"),
+        (Sequence::Lattice, "lattice"),
+        (Sequence::Random, "random"),
+    ];
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        Self::ALL.iter().find(|(s, _)| *s == self).unwrap().1
+    }
+
+    /// The sequence called `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.iter().find(|(_, n)| *n == name).map(|(s, _)| *s)
+    }
+
+    /// True for finite point sets, which need their size up front.
+    pub fn is_finite(self) -> bool {
+        matches!(self, Sequence::Hammersley | Sequence::Lattice)
+    }
+}
+
+/// A randomization (or deterministic scramble) of a point set.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Scramble {
+    /// The points as constructed.
+    None,
+    /// Faure's permutations (Halton, Hammersley).
+    Faure,
+    /// Random digit permutations per dimension and digit (Halton, Hammersley).
+    Permute,
+    /// Owen's nested uniform scrambling (hash-based for the base-2 sequences).
+    Owen,
+    /// Random digital shift: XOR with a random vector (base-2 sequences).
+    Xor,
+    /// Random linear matrix scrambling with a digital shift (base-2 sequences).
+    LinearMatrix,
+    /// Cranley–Patterson rotation: a random shift modulo one (any set).
+    Shift,
+}
+
+impl Scramble {
+    /// Every scramble with its command-line name.
+    pub const ALL: [(Scramble, &'static str); 7] = [
+        (Scramble::None, "none"),
+        (Scramble::Faure, "faure"),
+        (Scramble::Permute, "permute"),
+        (Scramble::Owen, "owen"),
+        (Scramble::Xor, "xor"),
+        (Scramble::LinearMatrix, "lms"),
+        (Scramble::Shift, "shift"),
+    ];
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        Self::ALL.iter().find(|(s, _)| *s == self).unwrap().1
+    }
+
+    /// The scramble called `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.iter().find(|(_, n)| *n == name).map(|(s, _)| *s)
+    }
+}
+
+/// Builds `sequence` with `scramble` for points `0..point_count` in
+/// `dimensions` dimensions. `point_count` sizes the finite sets (Hammersley,
+/// lattice); sequences ignore it. Errors name what does not fit.
+pub fn build(
+    sequence: Sequence,
+    scramble: Scramble,
+    point_count: u64,
+    dimensions: usize,
+    seed: u64,
+) -> Result<Box<dyn PointSet>, PointSetError> {
+    if dimensions == 0 {
+        return Err(PointSetError::InvalidParameter(
+            "at least one dimension is needed".into(),
+        ));
+    }
+    let unsupported = || {
+        Err(PointSetError::InvalidParameter(format!(
+            "the scramble '{}' does not apply to the sequence '{}'",
+            scramble.name(),
+            sequence.name()
+        )))
+    };
+    let halton_scramble = match scramble {
+        Scramble::None | Scramble::Shift => HaltonScramble::None,
+        Scramble::Faure => HaltonScramble::Faure,
+        Scramble::Permute => HaltonScramble::RandomPermutation,
+        Scramble::Owen => HaltonScramble::Owen,
+        Scramble::Xor | Scramble::LinearMatrix => HaltonScramble::None,
+    };
+    let set: Box<dyn PointSet> = match sequence {
+        Sequence::Halton | Sequence::Hammersley
+            if matches!(scramble, Scramble::Xor | Scramble::LinearMatrix) =>
+        {
+            return unsupported();
+        }
+        Sequence::Halton => Box::new(Halton::new(dimensions, halton_scramble, seed)?),
+        Sequence::Hammersley => Box::new(Hammersley::new(
+            point_count,
+            dimensions,
+            halton_scramble,
+            seed,
+        )?),
+        Sequence::Random => match scramble {
+            Scramble::None => Box::new(RandomPoints::new(dimensions, seed)),
+            _ => return unsupported(),
+        },
+        Sequence::Sobol | Sequence::Niederreiter | Sequence::Lattice => {
+            return Err(PointSetError::InvalidParameter(format!(
+                "the sequence '{}' is not available yet",
+                sequence.name()
+            )));
+        }
+    };
+    Ok(set)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip() {
+        for (sequence, name) in Sequence::ALL {
+            assert_eq!(Sequence::from_name(name), Some(sequence));
+            assert_eq!(sequence.name(), name);
+        }
+        for (scramble, name) in Scramble::ALL {
+            assert_eq!(Scramble::from_name(name), Some(scramble));
+        }
+        assert_eq!(Sequence::from_name("sobolev"), None);
+    }
+
+    #[test]
+    fn mismatched_scramble_is_an_error() {
+        assert!(build(Sequence::Halton, Scramble::Xor, 0, 2, 0).is_err());
+        assert!(build(Sequence::Random, Scramble::Faure, 0, 2, 0).is_err());
+        assert!(build(Sequence::Halton, Scramble::Faure, 0, 0, 0).is_err());
+    }
+}
