@@ -339,3 +339,40 @@ fn l2_kinds_dispatch_and_stay_fast_for_1024_points_in_4_dimensions() {
     // Generous bound (the machine is shared); the target is ~50 ms per measure.
     assert!(elapsed.as_secs_f64() < 2.0, "{elapsed:?}");
 }
+
+/// For a rank-1 lattice, WD² = (4/3)^s · e²(z) with the Korobov-space (P₂)
+/// squared worst-case error for product weights γ_j = 3/(8π²) (see
+/// docs/qmc-reference-values.md): since 3/2 − x(1 − x) = 4/3 · (1 + γ ω(x)) with
+/// ω(x) = 2π²(x² − x + 1/6). This is scipy's squared "WD" convention.
+#[test]
+fn wrap_around_of_a_lattice_is_its_scaled_p2_error() {
+    let weight = 3.0 / (8.0 * std::f64::consts::PI.powi(2));
+    let omega = |x: f64| 2.0 * std::f64::consts::PI.powi(2) * (x * x - x + 1.0 / 6.0);
+    for (count, generator) in [
+        (34u64, vec![1u64, 21]),
+        (97, vec![1, 19, 33]),
+        (7, vec![1, 3]),
+    ] {
+        let dims = generator.len();
+        let points: Vec<f64> = (0..count)
+            .flat_map(|k| {
+                generator
+                    .iter()
+                    .map(move |&z| (k * z % count) as f64 / count as f64)
+            })
+            .collect();
+        let squared_error = -1.0
+            + points
+                .chunks_exact(dims)
+                .map(|p| p.iter().map(|&x| 1.0 + weight * omega(x)).product::<f64>())
+                .sum::<f64>()
+                / count as f64;
+        let wrap_around = wrap_around_l2_discrepancy(&points, dims).unwrap();
+        let expected = (4.0f64 / 3.0).powi(dims as i32) * squared_error;
+        assert!(
+            (wrap_around.powi(2) - expected).abs() < 1e-13,
+            "N={count}: {} vs {expected}",
+            wrap_around.powi(2)
+        );
+    }
+}
