@@ -1,3 +1,7 @@
 //! Physically based light transport: geometry, spectra, camera, film, materials,
 //! lights and integrators, all driven by the primary-sample-space samplers of the
-//! `qmc` crate. (Built up by issue 3.)
+//! `qmc` crate.
+
+pub mod film;
+pub mod image;
+pub mod spectrum;
