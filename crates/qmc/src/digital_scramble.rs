@@ -36,6 +36,41 @@ pub fn bits_to_unit(bits: u32) -> f64 {
     f64::from(bits) * BITS_TO_UNIT
 }
 
+/// The order in which the points of a digital sequence are enumerated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DigitalOrder {
+    /// Point `i` uses the binary digits of `i` itself.
+    Natural,
+    /// Point `i` uses the digits of the Gray code `i ^ (i >> 1)` (Antonov & Saleev
+    /// 1979): consecutive points differ by one generator column. scipy's and GSL's
+    /// order. The first `2^m` points are the same set in both orders.
+    GrayCode,
+}
+
+impl DigitalOrder {
+    /// The digit vector (as a word) that point `index` multiplies the generator
+    /// matrices with: `index` or its Gray code.
+    #[inline]
+    pub fn selector(self, index: u64) -> u64 {
+        match self {
+            DigitalOrder::Natural => index,
+            DigitalOrder::GrayCode => index ^ (index >> 1),
+        }
+    }
+}
+
+/// A generator matrix times a digit vector over GF(2): the XOR of the `columns`
+/// selected by the set bits of `selector` (bit `k` selects `columns[k]`).
+#[inline]
+pub fn xor_columns(columns: &[u32; 32], mut selector: u32) -> u32 {
+    let mut bits = 0;
+    while selector != 0 {
+        bits ^= columns[selector.trailing_zeros() as usize];
+        selector &= selector - 1;
+    }
+    bits
+}
+
 /// A base-2 digital sequence or net whose coordinates are 32-bit integers.
 ///
 /// Coordinate `dimension` of point `index` is `sample_bits(index, dimension) · 2^-32`.

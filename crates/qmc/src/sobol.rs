@@ -19,7 +19,8 @@
 //! Only the lines of the requested dimensions are parsed, at construction: a
 //! `Sobol::new(2, …)` does not pay for the 21201 dimensions of the file.
 
-use crate::digital_scramble::{DigitalSequence, bits_to_unit};
+pub use crate::digital_scramble::DigitalOrder;
+use crate::digital_scramble::{DigitalSequence, bits_to_unit, xor_columns};
 use crate::point_set::{PointSet, PointSetError};
 
 /// The Joe–Kuo file, one line per dimension 2 … 21201 after a header line.
@@ -31,16 +32,6 @@ pub const MAX_DIMENSIONS: usize = 21201;
 /// Number of points (indices `0 .. 2^32`): the direction numbers have 32 digits.
 pub const MAX_POINTS: u64 = 1 << 32;
 
-/// The order in which the points of the sequence are enumerated.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum SobolOrder {
-    /// Point `i` uses the binary digits of `i` itself.
-    Natural,
-    /// Point `i` uses the digits of the Gray code `i ^ (i >> 1)` (Antonov & Saleev
-    /// 1979): consecutive points differ by one direction number. scipy's order.
-    GrayCode,
-}
-
 /// The Sobol sequence in `dimensions` dimensions, points `0 .. 2^32`.
 ///
 /// `len()` is `None` (an extensible sequence), but indices must stay below
@@ -49,13 +40,13 @@ pub enum SobolOrder {
 #[derive(Debug, Clone)]
 pub struct Sobol {
     direction_numbers: Vec<[u32; 32]>,
-    order: SobolOrder,
+    order: DigitalOrder,
 }
 
 impl Sobol {
     /// The first `dimensions` dimensions (1 ≤ `dimensions` ≤ [`MAX_DIMENSIONS`]) of
     /// the Sobol sequence, enumerated in `order`.
-    pub fn new(dimensions: usize, order: SobolOrder) -> Result<Self, PointSetError> {
+    pub fn new(dimensions: usize, order: DigitalOrder) -> Result<Self, PointSetError> {
         if dimensions == 0 {
             return Err(PointSetError::InvalidParameter(
                 "a Sobol sequence needs at least one dimension".into(),
@@ -88,7 +79,7 @@ impl Sobol {
     }
 
     /// The enumeration order.
-    pub fn order(&self) -> SobolOrder {
+    pub fn order(&self) -> DigitalOrder {
         self.order
     }
 
@@ -104,7 +95,7 @@ impl Sobol {
         let current = self
             .direction_numbers
             .iter()
-            .map(|numbers| xor_selected(numbers, gray_code as u32))
+            .map(|numbers| xor_columns(numbers, gray_code as u32))
             .collect();
         GrayCodeWalker {
             sobol: self,
@@ -112,17 +103,6 @@ impl Sobol {
             current,
         }
     }
-}
-
-/// XOR of the direction numbers selected by the set bits of `selector`.
-#[inline]
-fn xor_selected(direction_numbers: &[u32; 32], mut selector: u32) -> u32 {
-    let mut bits = 0;
-    while selector != 0 {
-        bits ^= direction_numbers[selector.trailing_zeros() as usize];
-        selector &= selector - 1;
-    }
-    bits
 }
 
 /// Parses one line `d s a m_1 … m_s` of the Joe–Kuo file.
@@ -173,11 +153,8 @@ impl DigitalSequence for Sobol {
     #[inline]
     fn sample_bits(&self, index: u64, dimension: usize) -> u32 {
         debug_assert!(index < MAX_POINTS, "Sobol index {index} ≥ 2^32");
-        let selector = match self.order {
-            SobolOrder::Natural => index,
-            SobolOrder::GrayCode => index ^ (index >> 1),
-        };
-        xor_selected(&self.direction_numbers[dimension], selector as u32)
+        let selector = self.order.selector(index) as u32;
+        xor_columns(&self.direction_numbers[dimension], selector)
     }
 }
 
@@ -233,7 +210,7 @@ mod tests {
 
     #[test]
     fn first_dimension_is_van_der_corput() {
-        let sobol = Sobol::new(1, SobolOrder::Natural).unwrap();
+        let sobol = Sobol::new(1, DigitalOrder::Natural).unwrap();
         let expected = [0.0, 0.5, 0.25, 0.75, 0.125, 0.625, 0.375, 0.875];
         for (index, value) in expected.iter().enumerate() {
             assert_eq!(sobol.sample(index as u64, 0), *value);
@@ -243,11 +220,11 @@ mod tests {
     #[test]
     fn rejects_bad_dimension_counts() {
         assert!(matches!(
-            Sobol::new(0, SobolOrder::GrayCode),
+            Sobol::new(0, DigitalOrder::GrayCode),
             Err(PointSetError::InvalidParameter(_))
         ));
         assert_eq!(
-            Sobol::new(MAX_DIMENSIONS + 1, SobolOrder::GrayCode).unwrap_err(),
+            Sobol::new(MAX_DIMENSIONS + 1, DigitalOrder::GrayCode).unwrap_err(),
             PointSetError::TooManyDimensions {
                 requested: MAX_DIMENSIONS + 1,
                 supported: MAX_DIMENSIONS
@@ -257,7 +234,7 @@ mod tests {
 
     #[test]
     fn direction_numbers_have_their_last_one_at_digit_k() {
-        let sobol = Sobol::new(50, SobolOrder::GrayCode).unwrap();
+        let sobol = Sobol::new(50, DigitalOrder::GrayCode).unwrap();
         for dimension in 0..50 {
             for (k, number) in sobol.direction_numbers(dimension).iter().enumerate() {
                 // m_k is odd and below 2^k: digit k is the last nonzero digit.
@@ -272,7 +249,7 @@ mod tests {
 
     #[test]
     fn walker_matches_indexed_gray_code_points() {
-        let sobol = Sobol::new(5, SobolOrder::GrayCode).unwrap();
+        let sobol = Sobol::new(5, DigitalOrder::GrayCode).unwrap();
         let mut walker = sobol.gray_code_walker(1000);
         for _ in 0..300 {
             for dimension in 0..5 {

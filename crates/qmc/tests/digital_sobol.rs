@@ -5,7 +5,7 @@ mod golden;
 
 use qmc::PointSet;
 use qmc::digital_scramble::DigitalSequence;
-use qmc::sobol::{MAX_DIMENSIONS, Sobol, SobolOrder};
+use qmc::sobol::{DigitalOrder, MAX_DIMENSIONS, Sobol};
 
 fn assert_rows_equal<const W: usize>(
     sobol: &Sobol,
@@ -27,7 +27,7 @@ fn assert_rows_equal<const W: usize>(
 
 #[test]
 fn matches_scipy_in_eight_dimensions() {
-    let sobol = Sobol::new(8, SobolOrder::GrayCode).unwrap();
+    let sobol = Sobol::new(8, DigitalOrder::GrayCode).unwrap();
     let dimensions: Vec<usize> = (0..8).collect();
     assert_rows_equal(&sobol, 0, &dimensions, golden::SOBOL_D8_FIRST_64);
     assert_rows_equal(&sobol, 1000, &dimensions, golden::SOBOL_D8_FROM_1000);
@@ -44,7 +44,7 @@ fn matches_scipy_in_eight_dimensions() {
 
 #[test]
 fn matches_scipy_at_large_indices() {
-    let sobol = Sobol::new(2, SobolOrder::GrayCode).unwrap();
+    let sobol = Sobol::new(2, DigitalOrder::GrayCode).unwrap();
     assert_rows_equal(&sobol, (1 << 31) - 2, &[0, 1], golden::SOBOL_D2_FROM_2POW31);
     assert_rows_equal(&sobol, (1 << 32) - 4, &[0, 1], golden::SOBOL_D2_LAST);
     // The last point of the 2^32 is still strictly below one.
@@ -53,7 +53,7 @@ fn matches_scipy_at_large_indices() {
 
 #[test]
 fn matches_scipy_in_all_21201_dimensions() {
-    let sobol = Sobol::new(MAX_DIMENSIONS, SobolOrder::GrayCode).unwrap();
+    let sobol = Sobol::new(MAX_DIMENSIONS, DigitalOrder::GrayCode).unwrap();
     let dimensions = golden::SOBOL_HIGH_DIMENSIONS;
     assert_rows_equal(&sobol, 0, &dimensions, golden::SOBOL_D21201_FIRST_8);
     assert_rows_equal(
@@ -66,8 +66,8 @@ fn matches_scipy_in_all_21201_dimensions() {
 
 #[test]
 fn natural_and_gray_code_orders_give_the_same_first_two_to_the_m_points() {
-    let natural = Sobol::new(10, SobolOrder::Natural).unwrap();
-    let gray = Sobol::new(10, SobolOrder::GrayCode).unwrap();
+    let natural = Sobol::new(10, DigitalOrder::Natural).unwrap();
+    let gray = Sobol::new(10, DigitalOrder::GrayCode).unwrap();
     for m in 0..=10u32 {
         let collect = |sobol: &Sobol| {
             let mut points: Vec<Vec<u32>> = (0..1u64 << m)
@@ -103,7 +103,7 @@ fn is_zero_m_two_net(points: &[(u32, u32)], m: u32) -> bool {
 
 #[test]
 fn first_two_dimensions_form_zero_m_two_nets() {
-    for order in [SobolOrder::Natural, SobolOrder::GrayCode] {
+    for order in [DigitalOrder::Natural, DigitalOrder::GrayCode] {
         let sobol = Sobol::new(2, order).unwrap();
         for m in 0..=14 {
             let points: Vec<(u32, u32)> = (0..1u64 << m)
@@ -122,7 +122,7 @@ fn first_two_dimensions_form_zero_m_two_nets() {
 #[test]
 fn every_dimension_is_a_zero_one_sequence() {
     // Each one-dimensional projection has one point in every interval of 2^-m.
-    let sobol = Sobol::new(300, SobolOrder::GrayCode).unwrap();
+    let sobol = Sobol::new(300, DigitalOrder::GrayCode).unwrap();
     let m = 10;
     for dimension in 0..300 {
         let mut seen = vec![false; 1 << m];
@@ -143,7 +143,7 @@ fn construction_of_few_dimensions_is_cheap() {
     // catches an accidental full parse per construction.)
     let start = std::time::Instant::now();
     for _ in 0..1000 {
-        std::hint::black_box(Sobol::new(2, SobolOrder::GrayCode).unwrap());
+        std::hint::black_box(Sobol::new(2, DigitalOrder::GrayCode).unwrap());
     }
     assert!(start.elapsed().as_secs_f64() < 1.0, "{:?}", start.elapsed());
 }
