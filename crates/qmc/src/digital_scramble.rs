@@ -62,11 +62,12 @@ impl DigitalOrder {
 /// A generator matrix times a digit vector over GF(2): the XOR of the `columns`
 /// selected by the set bits of `selector` (bit `k` selects `columns[k]`).
 #[inline]
-pub fn xor_columns(columns: &[u32; 32], mut selector: u32) -> u32 {
+pub fn xor_columns(columns: &[u32; 32], selector: u32) -> u32 {
+    // Branch-free (a mask per column) so that the loop neither mispredicts on the
+    // number of set bits nor stops the compiler from vectorising it.
     let mut bits = 0;
-    while selector != 0 {
-        bits ^= columns[selector.trailing_zeros() as usize];
-        selector &= selector - 1;
+    for (k, column) in columns.iter().enumerate() {
+        bits ^= column & 0u32.wrapping_sub(selector >> k & 1);
     }
     bits
 }
@@ -133,10 +134,10 @@ impl DigitalScramble {
 
 /// Tags that keep the random streams of the different randomizations apart, so
 /// e.g. the XOR shift and the Owen scramble drawn from one seed are independent.
-const XOR_SHIFT_TAG: u64 = 0x5853_4849_4654; // "XSHIFT"
-const HASH_OWEN_TAG: u64 = 0x484F_5745_4E; // "HOWEN"
-const NESTED_UNIFORM_TAG: u64 = 0x4E_5553_4352; // "NUSCR"
-const LINEAR_MATRIX_TAG: u64 = 0x4C_4D53; // "LMS"
+const XOR_SHIFT_TAG: u64 = 0x5853_4849_4654_0001;
+const HASH_OWEN_TAG: u64 = 0x484F_5745_4E00_0002;
+const NESTED_UNIFORM_TAG: u64 = 0x4E55_5343_5200_0003;
+const LINEAR_MATRIX_TAG: u64 = 0x4C4D_5300_0000_0004;
 
 /// The random 32-bit word of `dimension` for the randomization with `tag`.
 #[inline]

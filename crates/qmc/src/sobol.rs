@@ -40,8 +40,17 @@ pub const MAX_POINTS: u64 = 1 << 32;
 #[derive(Debug, Clone)]
 pub struct Sobol {
     direction_numbers: Vec<[u32; 32]>,
+    /// For the first [`TABLED_DIMENSIONS`] dimensions: the XOR of the direction
+    /// numbers selected by every value of each byte of the selector, so a sample
+    /// costs four lookups instead of up to 32 XORs (4 KiB per dimension).
+    byte_tables: Vec<[[u32; 256]; 4]>,
     order: DigitalOrder,
 }
+
+/// Number of leading dimensions evaluated with byte tables (see [`Sobol`]); the
+/// others XOR direction numbers bit by bit. Chosen so that tables stay small
+/// (at most 256 KiB) while covering the dimensions a renderer uses most.
+pub const TABLED_DIMENSIONS: usize = 64;
 
 impl Sobol {
     /// The first `dimensions` dimensions (1 ≤ `dimensions` ≤ [`MAX_DIMENSIONS`]) of
@@ -72,8 +81,14 @@ impl Sobol {
                 "the vendored Joe–Kuo file has fewer lines than expected".into(),
             ));
         }
+        let byte_tables = direction_numbers
+            .iter()
+            .take(TABLED_DIMENSIONS)
+            .map(byte_tables_of)
+            .collect();
         Ok(Self {
             direction_numbers,
+            byte_tables,
             order,
         })
     }
@@ -103,6 +118,17 @@ impl Sobol {
             current,
         }
     }
+}
+
+/// The four tables of XORs of direction numbers selected by each byte value.
+fn byte_tables_of(direction_numbers: &[u32; 32]) -> [[u32; 256]; 4] {
+    let mut tables = [[0u32; 256]; 4];
+    for (byte_position, table) in tables.iter_mut().enumerate() {
+        for (byte, entry) in table.iter_mut().enumerate() {
+            *entry = xor_columns(direction_numbers, (byte as u32) << (8 * byte_position));
+        }
+    }
+    tables
 }
 
 /// Parses one line `d s a m_1 … m_s` of the Joe–Kuo file.
@@ -154,7 +180,15 @@ impl DigitalSequence for Sobol {
     fn sample_bits(&self, index: u64, dimension: usize) -> u32 {
         debug_assert!(index < MAX_POINTS, "Sobol index {index} ≥ 2^32");
         let selector = self.order.selector(index) as u32;
-        xor_columns(&self.direction_numbers[dimension], selector)
+        match self.byte_tables.get(dimension) {
+            Some(tables) => {
+                tables[0][(selector & 0xff) as usize]
+                    ^ tables[1][(selector >> 8 & 0xff) as usize]
+                    ^ tables[2][(selector >> 16 & 0xff) as usize]
+                    ^ tables[3][(selector >> 24) as usize]
+            }
+            None => xor_columns(&self.direction_numbers[dimension], selector),
+        }
     }
 }
 
