@@ -1,1 +1,48 @@
-fn main() {}
+//! The `lqmc` command: point sets and lattices today; rendering, comparison
+//! and studies as the renderer grows.
+//!
+//! Exit status: 0 on success, 2 for bad input (one line on stderr), 1 when an
+//! operation fails for another reason (e.g. a file cannot be written).
+
+mod error;
+mod json;
+mod lattice_command;
+mod plot;
+mod points_command;
+
+use clap::{Parser, Subcommand};
+use error::CliError;
+use std::process::ExitCode;
+
+/// Quasi-Monte Carlo light transport: sampling tools and renderer.
+#[derive(Parser, Debug)]
+#[command(name = "lqmc", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Print points of a sequence or point set (CSV or JSON), with
+    /// discrepancies and plots.
+    Points(points_command::PointsArgs),
+    /// Build a rank-1 lattice by component-by-component construction and
+    /// print its generator and squared worst-case error.
+    Lattice(lattice_command::LatticeArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(error) => return error::report_clap_error(error),
+    };
+    let result = match cli.command {
+        Command::Points(args) => points_command::run(&args),
+        Command::Lattice(args) => lattice_command::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => error.report(),
+    }
+}

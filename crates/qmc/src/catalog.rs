@@ -1,7 +1,10 @@
 //! Point sets by name: the sequences and scrambles a user can choose on the
 //! command line or in a renderer's sampler settings, built from one place.
 
+use crate::digital_scramble::{DigitalOrder, DigitalScramble, DigitalSequence, Scrambled};
 use crate::halton::{Halton, HaltonScramble};
+use crate::niederreiter::Niederreiter;
+use crate::sobol::Sobol;
 use crate::hammersley::Hammersley;
 use crate::point_set::{PointSet, PointSetError};
 use crate::random::RandomPoints;
@@ -48,6 +51,26 @@ impl Sequence {
     pub fn is_finite(self) -> bool {
         matches!(self, Sequence::Hammersley | Sequence::Lattice)
     }
+
+    /// How many points the sequence can produce (indices `0..max_points`).
+    pub fn max_points(self) -> u64 {
+        match self {
+            Sequence::Sobol => crate::sobol::MAX_POINTS,
+            Sequence::Niederreiter => crate::niederreiter::MAX_POINTS,
+            _ => u64::MAX,
+        }
+    }
+
+    /// How many dimensions the sequence supports.
+    pub fn max_dimensions(self) -> usize {
+        match self {
+            Sequence::Halton => crate::primes::PRIME_COUNT,
+            Sequence::Hammersley => crate::primes::PRIME_COUNT + 1,
+            Sequence::Sobol => crate::sobol::MAX_DIMENSIONS,
+            Sequence::Niederreiter => crate::niederreiter::MAX_DIMENSIONS,
+            Sequence::Lattice | Sequence::Random => usize::MAX,
+        }
+    }
 }
 
 /// A randomization (or deterministic scramble) of a point set.
@@ -61,6 +84,9 @@ pub enum Scramble {
     Permute,
     /// Owen's nested uniform scrambling (hash-based for the base-2 sequences).
     Owen,
+    /// Exact nested uniform scrambling with one random bit per tree node
+    /// (base-2 sequences; slower reference for `Owen`).
+    NestedUniform,
     /// Random digital shift: XOR with a random vector (base-2 sequences).
     Xor,
     /// Random linear matrix scrambling with a digital shift (base-2 sequences).
@@ -71,11 +97,12 @@ pub enum Scramble {
 
 impl Scramble {
     /// Every scramble with its command-line name.
-    pub const ALL: [(Scramble, &'static str); 7] = [
+    pub const ALL: [(Scramble, &'static str); 8] = [
         (Scramble::None, "none"),
         (Scramble::Faure, "faure"),
         (Scramble::Permute, "permute"),
         (Scramble::Owen, "owen"),
+        (Scramble::NestedUniform, "nested"),
         (Scramble::Xor, "xor"),
         (Scramble::LinearMatrix, "lms"),
         (Scramble::Shift, "shift"),
@@ -94,10 +121,12 @@ impl Scramble {
 
 /// Builds `sequence` with `scramble` for points `0..point_count` in
 /// `dimensions` dimensions. `point_count` sizes the finite sets (Hammersley,
-/// lattice); sequences ignore it. Errors name what does not fit.
+/// lattice); sequences ignore it. `order` enumerates the base-2 sequences
+/// (Sobol, Niederreiter). Errors name what does not fit.
 pub fn build(
     sequence: Sequence,
     scramble: Scramble,
+    order: DigitalOrder,
     point_count: u64,
     dimensions: usize,
     seed: u64,
@@ -119,14 +148,48 @@ pub fn build(
         Scramble::Faure => HaltonScramble::Faure,
         Scramble::Permute => HaltonScramble::RandomPermutation,
         Scramble::Owen => HaltonScramble::Owen,
-        Scramble::Xor | Scramble::LinearMatrix => HaltonScramble::None,
+        Scramble::NestedUniform | Scramble::Xor | Scramble::LinearMatrix => HaltonScramble::None,
     };
+    let digital_scramble = match scramble {
+        Scramble::None | Scramble::Shift => Some(DigitalScramble::None),
+        Scramble::Owen => Some(DigitalScramble::HashOwen),
+        Scramble::NestedUniform => Some(DigitalScramble::NestedUniform),
+        Scramble::Xor => Some(DigitalScramble::XorShift),
+        Scramble::LinearMatrix => Some(DigitalScramble::LinearMatrix),
+        Scramble::Faure | Scramble::Permute => None,
+    };
+    fn digital(
+        sequence: impl DigitalSequence + 'static,
+        scramble: DigitalScramble,
+        seed: u64,
+    ) -> Box<dyn PointSet> {
+        match scramble {
+            DigitalScramble::None => Box::new(PlainDigital(sequence)),
+            _ => Box::new(Scrambled::new(sequence, scramble, seed)),
+        }
+    }
     let set: Box<dyn PointSet> = match sequence {
         Sequence::Halton | Sequence::Hammersley
-            if matches!(scramble, Scramble::Xor | Scramble::LinearMatrix) =>
+            if matches!(
+                scramble,
+                Scramble::Xor | Scramble::LinearMatrix | Scramble::NestedUniform
+            ) =>
         {
             return unsupported();
         }
+        Sequence::Sobol | Sequence::Niederreiter if digital_scramble.is_none() => {
+            return unsupported();
+        }
+        Sequence::Sobol => digital(
+            Sobol::new(dimensions, order)?,
+            digital_scramble.unwrap(),
+            seed,
+        ),
+        Sequence::Niederreiter => digital(
+            Niederreiter::new(dimensions, order)?,
+            digital_scramble.unwrap(),
+            seed,
+        ),
         Sequence::Halton => Box::new(Halton::new(dimensions, halton_scramble, seed)?),
         Sequence::Hammersley => Box::new(Hammersley::new(
             point_count,
@@ -138,7 +201,7 @@ pub fn build(
             Scramble::None => Box::new(RandomPoints::new(dimensions, seed)),
             _ => return unsupported(),
         },
-        Sequence::Sobol | Sequence::Niederreiter | Sequence::Lattice => {
+        Sequence::Lattice => {
             return Err(PointSetError::InvalidParameter(format!(
                 "the sequence '{}' is not available yet",
                 sequence.name()
@@ -146,6 +209,21 @@ pub fn build(
         }
     };
     Ok(set)
+}
+
+/// A base-2 sequence as a [`PointSet`] without randomization.
+struct PlainDigital<S: DigitalSequence>(S);
+
+impl<S: DigitalSequence> PointSet for PlainDigital<S> {
+    fn dimensions(&self) -> usize {
+        self.0.dimensions()
+    }
+    fn len(&self) -> Option<u64> {
+        self.0.len()
+    }
+    fn sample(&self, index: u64, dimension: usize) -> f64 {
+        crate::digital_scramble::bits_to_unit(self.0.sample_bits(index, dimension))
+    }
 }
 
 #[cfg(test)]
@@ -166,8 +244,8 @@ mod tests {
 
     #[test]
     fn mismatched_scramble_is_an_error() {
-        assert!(build(Sequence::Halton, Scramble::Xor, 0, 2, 0).is_err());
-        assert!(build(Sequence::Random, Scramble::Faure, 0, 2, 0).is_err());
-        assert!(build(Sequence::Halton, Scramble::Faure, 0, 0, 0).is_err());
+        assert!(build(Sequence::Halton, Scramble::Xor, DigitalOrder::Natural, 0, 2, 0).is_err());
+        assert!(build(Sequence::Random, Scramble::Faure, DigitalOrder::Natural, 0, 2, 0).is_err());
+        assert!(build(Sequence::Halton, Scramble::Faure, DigitalOrder::Natural, 0, 0, 0).is_err());
     }
 }

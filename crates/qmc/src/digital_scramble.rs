@@ -91,6 +91,15 @@ pub trait DigitalSequence: Send + Sync {
     /// The 32 base-2 digits of coordinate `dimension` of point `index`, most
     /// significant digit in the most significant bit.
     fn sample_bits(&self, index: u64, dimension: usize) -> u32;
+
+    /// `sample_bits(index, dimension).reverse_bits()`: the digits with the
+    /// most significant one in the least significant bit, the order in which
+    /// [`hash_owen_scramble`] works. Sequences that can produce it directly
+    /// (Sobol, from reversed tables) override it to save a bit reversal.
+    #[inline]
+    fn sample_bits_reversed(&self, index: u64, dimension: usize) -> u32 {
+        self.sample_bits(index, dimension).reverse_bits()
+    }
 }
 
 impl<T: DigitalSequence + ?Sized> DigitalSequence for Box<T> {
@@ -102,6 +111,9 @@ impl<T: DigitalSequence + ?Sized> DigitalSequence for Box<T> {
     }
     fn sample_bits(&self, index: u64, dimension: usize) -> u32 {
         (**self).sample_bits(index, dimension)
+    }
+    fn sample_bits_reversed(&self, index: u64, dimension: usize) -> u32 {
+        (**self).sample_bits_reversed(index, dimension)
     }
 }
 
@@ -158,7 +170,15 @@ fn dimension_word(seed: u64, dimension: usize, tag: u64) -> u32 {
 /// scrambled coordinate is exactly uniform on the 2^32 grid.
 #[inline]
 pub fn hash_owen_scramble(bits: u32, seed: u32) -> u32 {
-    let mut x = bits.reverse_bits();
+    hash_owen_scramble_reversed(bits.reverse_bits(), seed)
+}
+
+/// [`hash_owen_scramble`] of the digits given already reversed
+/// (`reversed_bits = bits.reverse_bits()`); returns the scrambled digits in
+/// the normal order.
+#[inline]
+pub fn hash_owen_scramble_reversed(reversed_bits: u32, seed: u32) -> u32 {
+    let mut x = reversed_bits;
     x = x.wrapping_add(seed);
     x ^= x.wrapping_mul(0x6c50_b47c);
     x ^= x.wrapping_mul(0xb82f_1e52);
@@ -334,11 +354,16 @@ impl<S: DigitalSequence> DigitalSequence for Scrambled<S> {
 
     #[inline]
     fn sample_bits(&self, index: u64, dimension: usize) -> u32 {
+        if let PreparedScramble::HashOwen(seeds) = &self.prepared {
+            return hash_owen_scramble_reversed(
+                self.sequence.sample_bits_reversed(index, dimension),
+                seeds[dimension],
+            );
+        }
         let bits = self.sequence.sample_bits(index, dimension);
         match &self.prepared {
-            PreparedScramble::None => bits,
+            PreparedScramble::None | PreparedScramble::HashOwen(_) => bits,
             PreparedScramble::XorShift(shifts) => bits ^ shifts[dimension],
-            PreparedScramble::HashOwen(seeds) => hash_owen_scramble(bits, seeds[dimension]),
             PreparedScramble::NestedUniform(keys) => nested_uniform_scramble(bits, keys[dimension]),
             PreparedScramble::LinearMatrix(matrices) => matrices[dimension].apply(bits),
         }

@@ -44,6 +44,9 @@ pub struct Sobol {
     /// numbers selected by every value of each byte of the selector, so a sample
     /// costs four lookups instead of up to 32 XORs (4 KiB per dimension).
     byte_tables: Vec<[[u32; 256]; 4]>,
+    /// The same tables for the bit-reversed direction numbers, which give the
+    /// reversed digits that hash-based Owen scrambling starts from.
+    reversed_byte_tables: Vec<[[u32; 256]; 4]>,
     order: DigitalOrder,
 }
 
@@ -86,9 +89,15 @@ impl Sobol {
             .take(TABLED_DIMENSIONS)
             .map(byte_tables_of)
             .collect();
+        let reversed_byte_tables = direction_numbers
+            .iter()
+            .take(TABLED_DIMENSIONS)
+            .map(|numbers| byte_tables_of(&numbers.map(u32::reverse_bits)))
+            .collect();
         Ok(Self {
             direction_numbers,
             byte_tables,
+            reversed_byte_tables,
             order,
         })
     }
@@ -190,6 +199,21 @@ impl DigitalSequence for Sobol {
             None => xor_columns(&self.direction_numbers[dimension], selector),
         }
     }
+
+    #[inline]
+    fn sample_bits_reversed(&self, index: u64, dimension: usize) -> u32 {
+        debug_assert!(index < MAX_POINTS, "Sobol index {index} ≥ 2^32");
+        let selector = self.order.selector(index) as u32;
+        match self.reversed_byte_tables.get(dimension) {
+            Some(tables) => {
+                tables[0][(selector & 0xff) as usize]
+                    ^ tables[1][(selector >> 8 & 0xff) as usize]
+                    ^ tables[2][(selector >> 16 & 0xff) as usize]
+                    ^ tables[3][(selector >> 24) as usize]
+            }
+            None => xor_columns(&self.direction_numbers[dimension], selector).reverse_bits(),
+        }
+    }
 }
 
 impl PointSet for Sobol {
@@ -276,6 +300,19 @@ mod tests {
                     number.trailing_zeros() as usize,
                     31 - k,
                     "dimension {dimension}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn reversed_digits_are_the_reversed_samples() {
+        let sobol = Sobol::new(TABLED_DIMENSIONS + 3, DigitalOrder::Natural).unwrap();
+        for index in [0u64, 1, 2, 77, 1 << 20, (1 << 32) - 1] {
+            for dimension in [0, 1, 5, TABLED_DIMENSIONS - 1, TABLED_DIMENSIONS + 2] {
+                assert_eq!(
+                    sobol.sample_bits_reversed(index, dimension),
+                    sobol.sample_bits(index, dimension).reverse_bits()
                 );
             }
         }
