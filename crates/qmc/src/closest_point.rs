@@ -26,6 +26,7 @@
 //! integer residues, so exact ties go to the smallest index in both.
 
 use crate::cbc::greatest_common_divisor;
+use crate::hash::{hash3, to_unit_f64};
 use crate::lattice::Rank1Lattice;
 use crate::point_set::{PointSet, PointSetError};
 
@@ -158,7 +159,13 @@ pub struct ClosestPointSearch {
     mu: Vec<Vec<f64>>,
     /// `z₁⁻¹ mod N`: maps the first coordinate of a lattice vector to its index.
     index_multiplier: u64,
+    /// Whether `closest_index` enumerates (else brute force); see `uses_enumeration`.
+    use_enumeration: bool,
 }
+
+/// Number of pseudo-random queries used to decide between enumeration and brute
+/// force when a [`ClosestPointSearch`] is built.
+pub const CALIBRATION_QUERIES: u64 = 16;
 
 impl ClosestPointSearch {
     /// Prepares the search for `lattice`: its first generator component must be a
@@ -196,14 +203,24 @@ impl ClosestPointSearch {
         }
         lll_reduce(&mut basis, LLL_DELTA);
         let (orthogonal, orthogonal_norms, mu) = gram_schmidt(&basis);
-        Ok(Self {
+        let mut search = Self {
             lattice,
             basis,
             orthogonal,
             orthogonal_norms,
             mu,
             index_multiplier: first_inverse,
-        })
+            use_enumeration: true,
+        };
+        let mut total_nodes = 0;
+        for query in 0..CALIBRATION_QUERIES {
+            let point: Vec<f64> = (0..dimensions)
+                .map(|dimension| to_unit_f64(hash3(0x1a77_1ce5, query, dimension as u64)))
+                .collect();
+            total_nodes += search.enumerate_closest(&point)?.1;
+        }
+        search.use_enumeration = total_nodes < CALIBRATION_QUERIES * point_count;
+        Ok(search)
     }
 
     /// The lattice searched.
@@ -216,9 +233,35 @@ impl ClosestPointSearch {
         &self.basis
     }
 
-    /// Index of the lattice point closest to `point` on the torus (exact closest
-    /// vector by enumeration; ties go to the smallest index).
+    /// Index of the lattice point closest to `point` on the torus; ties go to the
+    /// smallest index. Uses whichever of enumeration and brute force was found
+    /// cheaper for this lattice at construction ([`Self::uses_enumeration`]);
+    /// both return the same index.
     pub fn closest_index(&self, point: &[f64]) -> Result<u64, PointSetError> {
+        if self.use_enumeration {
+            self.closest_index_by_enumeration(point)
+        } else {
+            closest_index_brute_force(&self.lattice, point)
+        }
+    }
+
+    /// Whether [`Self::closest_index`] enumerates in the reduced basis (true) or
+    /// scans all points (false). Decided at construction by counting enumeration
+    /// nodes (deterministic, not timed) on [`CALIBRATION_QUERIES`] pseudo-random
+    /// queries: a node costs about as much as one brute-force candidate, so
+    /// enumeration is used when it visits fewer nodes on average than `N`.
+    pub fn uses_enumeration(&self) -> bool {
+        self.use_enumeration
+    }
+
+    /// Index of the closest lattice point by exact closest-vector enumeration in
+    /// the reduced basis (always, regardless of [`Self::uses_enumeration`]).
+    pub fn closest_index_by_enumeration(&self, point: &[f64]) -> Result<u64, PointSetError> {
+        self.enumerate_closest(point).map(|(index, _)| index)
+    }
+
+    /// Enumeration result and the number of tree nodes visited.
+    fn enumerate_closest(&self, point: &[f64]) -> Result<(u64, u64), PointSetError> {
         validate_query(&self.lattice, point)?;
         let dimensions = point.len();
         let scale = self.lattice.point_count() as f64;
@@ -236,9 +279,10 @@ impl ClosestPointSearch {
             best_distance: f64::INFINITY,
             bound: f64::INFINITY,
             scale_squared: scale * scale,
+            visited_nodes: 0,
         };
         self.enumerate(dimensions - 1, 0.0, &target_coordinates, point, &mut state);
-        Ok(state.best_index)
+        Ok((state.best_index, state.visited_nodes))
     }
 
     /// The closest lattice point to `point` and its Cranley–Patterson shift.
@@ -262,26 +306,33 @@ impl ClosestPointSearch {
         for above in level + 1..state.coefficients.len() {
             center -= self.mu[above][level] * state.coefficients[above] as f64;
         }
-        let nearest = center.round();
         let norm = self.orthogonal_norms[level];
-        // Outwards from the nearest integer: first upwards, then downwards; on each
-        // side the distance grows monotonically, so stop at the first value beyond
-        // the bound (which shrinks as better leaves are found).
-        for (start, step) in [(nearest, 1.0), (nearest - 1.0, -1.0)] {
-            let mut value = start;
-            loop {
-                let offset = center - value;
-                let distance = partial + offset * offset * norm;
-                if distance > state.bound {
-                    break;
-                }
-                state.coefficients[level] = value as i64;
-                if level == 0 {
-                    self.visit_leaf(point, state);
-                } else {
-                    self.enumerate(level - 1, distance, target_coordinates, point, state);
-                }
-                value += step;
+        // Schnorr–Euchner order: integers by increasing distance from the centre,
+        // alternating sides; the first value beyond the bound (which shrinks as
+        // better leaves are found) ends this level, as all later ones are farther.
+        let mut upper = center.round();
+        let mut lower = upper - 1.0;
+        loop {
+            let upper_offset = upper - center;
+            let lower_offset = center - lower;
+            let value = if upper_offset <= lower_offset {
+                upper += 1.0;
+                upper - 1.0
+            } else {
+                lower -= 1.0;
+                lower + 1.0
+            };
+            let offset = center - value;
+            let distance = partial + offset * offset * norm;
+            if distance > state.bound {
+                break;
+            }
+            state.coefficients[level] = value as i64;
+            state.visited_nodes += 1;
+            if level == 0 {
+                self.visit_leaf(point, state);
+            } else {
+                self.enumerate(level - 1, distance, target_coordinates, point, state);
             }
         }
     }
@@ -318,6 +369,7 @@ struct EnumerationState {
     best_distance: f64,
     bound: f64,
     scale_squared: f64,
+    visited_nodes: u64,
 }
 
 fn dot(left: &[f64], right: &[f64]) -> f64 {
@@ -379,10 +431,11 @@ fn lll_reduce(basis: &mut [Vec<i64>], delta: f64) {
                 for (entry, subtrahend) in tail[0].iter_mut().zip(&head[earlier]) {
                     *entry -= factor * subtrahend;
                 }
-                for column in 0..earlier {
-                    mu[level][column] -= quotient * mu[earlier][column];
+                let (head, tail) = mu.split_at_mut(level);
+                for (entry, earlier_mu) in tail[0][..earlier].iter_mut().zip(&head[earlier]) {
+                    *entry -= quotient * earlier_mu;
                 }
-                mu[level][earlier] -= quotient;
+                tail[0][earlier] -= quotient;
             }
         }
         let projected = mu[level][level - 1];
@@ -417,6 +470,10 @@ mod tests {
                 expected
             );
             assert_eq!(search.closest_index(&[query]).unwrap(), expected, "{query}");
+            assert_eq!(
+                search.closest_index_by_enumeration(&[query]).unwrap(),
+                expected
+            );
         }
     }
 
@@ -455,7 +512,7 @@ mod tests {
         let mut point = [0.0; 3];
         for index in 0..23 {
             lattice.point(index, &mut point);
-            assert_eq!(search.closest_index(&point).unwrap(), index);
+            assert_eq!(search.closest_index_by_enumeration(&point).unwrap(), index);
         }
     }
 }

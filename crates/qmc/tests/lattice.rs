@@ -175,17 +175,18 @@ fn brute_force_and_reduced_basis_agree() {
             for sample in 0..200 {
                 let point = random_point(point_count * 100 + dimensions as u64, sample, dimensions);
                 let brute = closest_point_brute_force(lattice, &point).unwrap();
-                let reduced = search.closest_point(&point).unwrap();
-                if brute.index != reduced.index {
+                let reduced_index = search.closest_index_by_enumeration(&point).unwrap();
+                assert_eq!(search.closest_index(&point).unwrap(), brute.index);
+                if brute.index != reduced_index {
                     // Only exact ties may differ (and then the smaller index wins).
                     let brute_distance = toroidal_squared_distance(lattice, brute.index, &point);
                     let reduced_distance =
-                        toroidal_squared_distance(lattice, reduced.index, &point);
+                        toroidal_squared_distance(lattice, reduced_index, &point);
                     assert!(
                         (brute_distance - reduced_distance).abs() <= 1e-12 * brute_distance,
                         "N = {point_count}, s = {dimensions}: {} vs {}",
                         brute.index,
-                        reduced.index
+                        reduced_index
                     );
                 }
                 // The brute force result is the true minimum.
@@ -207,10 +208,10 @@ fn exact_ties_go_to_the_smallest_index() {
     let lattice = Rank1Lattice::new(4, vec![1]).unwrap();
     let search = ClosestPointSearch::new(lattice.clone()).unwrap();
     assert_eq!(closest_index_brute_force(&lattice, &[0.125]).unwrap(), 0);
-    assert_eq!(search.closest_index(&[0.125]).unwrap(), 0);
+    assert_eq!(search.closest_index_by_enumeration(&[0.125]).unwrap(), 0);
     assert_eq!(closest_index_brute_force(&lattice, &[0.875]).unwrap(), 0);
-    assert_eq!(search.closest_index(&[0.875]).unwrap(), 0);
-    assert_eq!(search.closest_index(&[0.375]).unwrap(), 1);
+    assert_eq!(search.closest_index_by_enumeration(&[0.875]).unwrap(), 0);
+    assert_eq!(search.closest_index_by_enumeration(&[0.375]).unwrap(), 1);
 }
 
 #[test]
@@ -220,7 +221,7 @@ fn closest_point_on_fibonacci_lattice() {
     for sample in 0..500 {
         let point = random_point(7, sample, 2);
         assert_eq!(
-            search.closest_index(&point).unwrap(),
+            search.closest_index_by_enumeration(&point).unwrap(),
             closest_index_brute_force(&lattice, &point).unwrap()
         );
     }
@@ -310,11 +311,13 @@ proptest! {
         let found = search.closest_point(&seed_point).unwrap();
         let brute = closest_point_brute_force(lattice, &seed_point).unwrap();
         prop_assert_eq!(found.index, brute.index);
+        prop_assert_eq!(search.closest_index_by_enumeration(&seed_point).unwrap(), brute.index);
         let mut member = vec![0.0; dimensions];
         for index in 0..point_count {
             for (dimension, value) in member.iter_mut().enumerate() {
                 *value = shift_modulo_one(lattice.sample(index, dimension), found.shift[dimension]);
             }
+            prop_assert_eq!(search.closest_index_by_enumeration(&member).unwrap(), index);
             for again in [search.closest_point(&member).unwrap(),
                           closest_point_brute_force(lattice, &member).unwrap()] {
                 prop_assert_eq!(again.index, index);
@@ -324,10 +327,9 @@ proptest! {
             }
         }
         // The seed point itself is member `index` of the shifted lattice.
-        for dimension in 0..dimensions {
-            let member_value =
-                shift_modulo_one(lattice.sample(found.index, dimension), found.shift[dimension]);
-            prop_assert!(circle_distance(member_value, seed_point[dimension]) < 1e-15);
+        for (dimension, (shift, coordinate)) in found.shift.iter().zip(&seed_point).enumerate() {
+            let member_value = shift_modulo_one(lattice.sample(found.index, dimension), *shift);
+            prop_assert!(circle_distance(member_value, *coordinate) < 1e-15);
         }
     }
 }
