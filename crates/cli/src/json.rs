@@ -12,7 +12,6 @@ pub enum Json {
     Array(Vec<Json>),
     /// Keys in the order given.
     Object(Vec<(String, Json)>),
-    Null,
 }
 
 impl Json {
@@ -71,7 +70,6 @@ impl Json {
                 }
                 out.push('}');
             }
-            Json::Null => out.push_str("null"),
         }
     }
 }

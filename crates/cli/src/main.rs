@@ -11,7 +11,6 @@ mod plot;
 mod points_command;
 
 use clap::{Parser, Subcommand};
-use error::CliError;
 use std::process::ExitCode;
 
 /// Quasi-Monte Carlo light transport: sampling tools and renderer.

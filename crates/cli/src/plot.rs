@@ -40,7 +40,15 @@ pub fn write_points_plot(
             }
         })
         .collect();
-    let seed_point = projection[0];
+    // Explore around the point nearest the centre, which shows best.
+    let seed_point = projection
+        .iter()
+        .copied()
+        .min_by(|a, b| {
+            let distance = |p: &(f64, f64)| (p.0 - 0.5).powi(2) + (p.1 - 0.5).powi(2);
+            distance(a).total_cmp(&distance(b))
+        })
+        .unwrap_or((0.5, 0.5));
     let (lattice_points, walk) = local_exploration(seed_point, seed)?;
 
     let root = SVGBackend::new(path, (1000, 520)).into_drawing_area();
@@ -70,10 +78,23 @@ pub fn write_points_plot(
         )
         .map_err(|e| failure(&e))?;
 
-    // The right panel shows the seed's tile.
+    // The right panel shows the seed's tile, outlined on the left.
     let tile = |v: f64| (v * TILES_PER_DIMENSION).floor() / TILES_PER_DIMENSION;
     let (x0, y0) = (tile(seed_point.0), tile(seed_point.1));
     let width = 1.0 / TILES_PER_DIMENSION;
+    chart
+        .draw_series(std::iter::once(Rectangle::new(
+            [(x0, y0), (x0 + width, y0 + width)],
+            BLACK.stroke_width(1),
+        )))
+        .map_err(|e| failure(&e))?;
+    chart
+        .draw_series(std::iter::once(Cross::new(
+            seed_point,
+            6,
+            BLACK.stroke_width(2),
+        )))
+        .map_err(|e| failure(&e))?;
     let mut chart = ChartBuilder::on(&right)
         .caption(
             format!("local exploration: lattice N = {EXPLORATION_POINTS} vs random walk"),
@@ -108,12 +129,17 @@ pub fn write_points_plot(
         .label("shifted lattice")
         .legend(|(x, y)| Circle::new((x + 8, y), 3, RGBColor(230, 120, 0).filled()));
     chart
-        .draw_series(std::iter::once(Cross::new(seed_point, 6, BLACK.stroke_width(2))))
+        .draw_series(std::iter::once(Cross::new(
+            seed_point,
+            6,
+            BLACK.stroke_width(2),
+        )))
         .map_err(|e| failure(&e))?
         .label("seed")
         .legend(|(x, y)| Cross::new((x + 8, y), 5, BLACK));
     chart
         .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .draw()
@@ -147,8 +173,10 @@ fn local_exploration(
     };
     let lattice_points = (0..EXPLORATION_POINTS)
         .map(|i| {
-            let x = qmc::cranley_patterson::shift_modulo_one(lattice.sample(i, 0), closest.shift[0]);
-            let y = qmc::cranley_patterson::shift_modulo_one(lattice.sample(i, 1), closest.shift[1]);
+            let x =
+                qmc::cranley_patterson::shift_modulo_one(lattice.sample(i, 0), closest.shift[0]);
+            let y =
+                qmc::cranley_patterson::shift_modulo_one(lattice.sample(i, 1), closest.shift[1]);
             to_global(x, y)
         })
         .collect();

@@ -340,13 +340,22 @@ fn compute_discrepancies(
     dims: usize,
 ) -> Result<Vec<(&'static str, f64)>, CliError> {
     let mut values = vec![
-        ("l2_star", discrepancy::l2_discrepancy(L2Discrepancy::Star, points, dims)?),
-        ("centered", discrepancy::l2_discrepancy(L2Discrepancy::Centered, points, dims)?),
+        (
+            "l2_star",
+            discrepancy::l2_discrepancy(L2Discrepancy::Star, points, dims)?,
+        ),
+        (
+            "centered",
+            discrepancy::l2_discrepancy(L2Discrepancy::Centered, points, dims)?,
+        ),
         (
             "wrap_around",
             discrepancy::l2_discrepancy(L2Discrepancy::WrapAround, points, dims)?,
         ),
-        ("mixture", discrepancy::l2_discrepancy(L2Discrepancy::Mixture, points, dims)?),
+        (
+            "mixture",
+            discrepancy::l2_discrepancy(L2Discrepancy::Mixture, points, dims)?,
+        ),
     ];
     if dims <= 2 {
         values.push(("star", discrepancy::star_discrepancy(points, dims)?));

@@ -1,13 +1,15 @@
 //! Point sets by name: the sequences and scrambles a user can choose on the
 //! command line or in a renderer's sampler settings, built from one place.
 
+use crate::cbc::{ProductWeights, cbc};
+use crate::cranley_patterson::CranleyPatterson;
 use crate::digital_scramble::{DigitalOrder, DigitalScramble, DigitalSequence, Scrambled};
 use crate::halton::{Halton, HaltonScramble};
-use crate::niederreiter::Niederreiter;
-use crate::sobol::Sobol;
 use crate::hammersley::Hammersley;
+use crate::niederreiter::Niederreiter;
 use crate::point_set::{PointSet, PointSetError};
 use crate::random::RandomPoints;
+use crate::sobol::Sobol;
 
 /// A family of points.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -121,7 +123,8 @@ impl Scramble {
 
 /// Builds `sequence` with `scramble` for points `0..point_count` in
 /// `dimensions` dimensions. `point_count` sizes the finite sets (Hammersley,
-/// lattice); sequences ignore it. `order` enumerates the base-2 sequences
+/// lattice: by component-by-component construction with the product weights
+/// `γ_j = 1/dimensions`); sequences ignore it. `order` enumerates the base-2 sequences
 /// (Sobol, Niederreiter). Errors name what does not fit.
 pub fn build(
     sequence: Sequence,
@@ -198,16 +201,26 @@ pub fn build(
             seed,
         )?),
         Sequence::Random => match scramble {
-            Scramble::None => Box::new(RandomPoints::new(dimensions, seed)),
+            Scramble::None | Scramble::Shift => Box::new(RandomPoints::new(dimensions, seed)),
             _ => return unsupported(),
         },
-        Sequence::Lattice => {
-            return Err(PointSetError::InvalidParameter(format!(
-                "the sequence '{}' is not available yet",
-                sequence.name()
-            )));
-        }
+        Sequence::Lattice => match scramble {
+            Scramble::None | Scramble::Shift => Box::new(
+                cbc(
+                    point_count,
+                    dimensions,
+                    &ProductWeights::lqmc_default(dimensions),
+                )?
+                .lattice,
+            ),
+            _ => return unsupported(),
+        },
     };
+    if scramble == Scramble::Shift {
+        // The rotation's shifts come from another stream than the set's own
+        // randomness (none, for the sets that accept a shift here).
+        return Ok(Box::new(CranleyPatterson::from_seed(set, seed)));
+    }
     Ok(set)
 }
 
@@ -243,9 +256,64 @@ mod tests {
     }
 
     #[test]
+    fn every_sequence_builds_with_a_shift() {
+        for (sequence, _) in Sequence::ALL {
+            let set = build(sequence, Scramble::Shift, DigitalOrder::Natural, 16, 3, 5).unwrap();
+            assert_eq!(set.dimensions(), 3);
+            let value = set.sample(7, 2);
+            assert!((0.0..1.0).contains(&value));
+        }
+    }
+
+    #[test]
+    fn lattice_is_built_by_cbc() {
+        let set = build(
+            Sequence::Lattice,
+            Scramble::None,
+            DigitalOrder::Natural,
+            7,
+            2,
+            0,
+        )
+        .unwrap();
+        assert_eq!(set.len(), Some(7));
+        assert_eq!(set.sample(1, 0), 1.0 / 7.0);
+    }
+
+    #[test]
     fn mismatched_scramble_is_an_error() {
-        assert!(build(Sequence::Halton, Scramble::Xor, DigitalOrder::Natural, 0, 2, 0).is_err());
-        assert!(build(Sequence::Random, Scramble::Faure, DigitalOrder::Natural, 0, 2, 0).is_err());
-        assert!(build(Sequence::Halton, Scramble::Faure, DigitalOrder::Natural, 0, 0, 0).is_err());
+        assert!(
+            build(
+                Sequence::Halton,
+                Scramble::Xor,
+                DigitalOrder::Natural,
+                0,
+                2,
+                0
+            )
+            .is_err()
+        );
+        assert!(
+            build(
+                Sequence::Random,
+                Scramble::Faure,
+                DigitalOrder::Natural,
+                0,
+                2,
+                0
+            )
+            .is_err()
+        );
+        assert!(
+            build(
+                Sequence::Halton,
+                Scramble::Faure,
+                DigitalOrder::Natural,
+                0,
+                0,
+                0
+            )
+            .is_err()
+        );
     }
 }
