@@ -3,5 +3,6 @@
 //! `qmc` crate.
 
 pub mod film;
+pub mod geometry;
 pub mod image;
 pub mod spectrum;
