@@ -1,0 +1,163 @@
+//! The primary sample space: every integrator builds its paths from numbers
+//! it asks a [`SampleSource`] for, dimension by dimension, so that QMC point
+//! sets, Metropolis mutations and LQMC's local lattice exploration all drive
+//! the same path construction. Integrators never draw random numbers on
+//! their own.
+//!
+//! # Dimension layout
+//!
+//! A camera path sample uses the dimensions below ([`layout`] has them as
+//! constants). Each path vertex owns a fixed block of
+//! [`layout::VERTEX_BLOCK`] dimensions whether or not it uses all of them,
+//! so that dimension `d` always means the same decision of the same vertex:
+//! a prefix of a path can be rebuilt from new numbers and reconnected to a
+//! kept suffix (Metropolis, LQMC).
+//!
+//! | dimensions | use |
+//! |---|---|
+//! | 0, 1 | film position inside the pixel (filter importance sampling) |
+//! | 2, 3 | lens position (thin lens) |
+//! | 4 | time in the shutter interval |
+//! | 5 | hero wavelength |
+//! | 6 + 8k + 0, 1 | vertex k: scattering direction (BSDF or phase function) |
+//! | 6 + 8k + 2 | vertex k: BSDF component (lobe) selection |
+//! | 6 + 8k + 3 | vertex k: Russian roulette |
+//! | 6 + 8k + 4, 5 | vertex k: position on the light (next-event estimation) |
+//! | 6 + 8k + 6 | vertex k: light selection (next-event estimation) |
+//! | 6 + 8k + 7 | vertex k: free-flight distance in a medium |
+//!
+//! Vertex 0 is the first surface (or medium) interaction seen from the
+//! camera. The QMC samplers put the most important decisions into the lowest
+//! dimensions of their sequences, where they are best distributed.
+
+mod halton;
+mod independent;
+mod point_set;
+mod sobol;
+
+pub use halton::HaltonSampler;
+pub use independent::IndependentSampler;
+pub use point_set::PointSetSampler;
+pub use sobol::SobolSampler;
+
+use qmc::radical_inverse::ONE_MINUS_EPSILON_F32;
+
+/// The dimension layout of a camera path sample (see the module docs).
+pub mod layout {
+    /// Film position inside the pixel: 2 dimensions.
+    pub const FILM: usize = 0;
+    /// Lens position: 2 dimensions.
+    pub const LENS: usize = 2;
+    /// Time in the shutter interval.
+    pub const TIME: usize = 4;
+    /// The hero wavelength.
+    pub const WAVELENGTH: usize = 5;
+    /// Dimensions used before the first vertex.
+    pub const CAMERA_DIMENSIONS: usize = 6;
+    /// Dimensions owned by each path vertex.
+    pub const VERTEX_BLOCK: usize = 8;
+    /// Offset in a vertex block: scattering direction, 2 dimensions.
+    pub const SCATTER_DIRECTION: usize = 0;
+    /// Offset in a vertex block: BSDF component selection.
+    pub const SCATTER_COMPONENT: usize = 2;
+    /// Offset in a vertex block: Russian roulette.
+    pub const RUSSIAN_ROULETTE: usize = 3;
+    /// Offset in a vertex block: light position, 2 dimensions.
+    pub const LIGHT_POSITION: usize = 4;
+    /// Offset in a vertex block: light selection.
+    pub const LIGHT_SELECTION: usize = 6;
+    /// Offset in a vertex block: free-flight distance.
+    pub const FREE_FLIGHT: usize = 7;
+
+    /// The dimension of `offset` in the block of path vertex `vertex`.
+    #[inline]
+    pub const fn vertex(vertex: usize, offset: usize) -> usize {
+        CAMERA_DIMENSIONS + vertex * VERTEX_BLOCK + offset
+    }
+}
+
+/// A source of primary-sample-space numbers for one path sample.
+pub trait SampleSource {
+    /// The number in `[0, 1)` of `dimension` for the current sample. Asking
+    /// for the same dimension twice gives the same number.
+    fn get(&mut self, dimension: usize) -> f32;
+
+    /// Dimensions `dimension` and `dimension + 1`.
+    #[inline]
+    fn get_2d(&mut self, dimension: usize) -> [f32; 2] {
+        [self.get(dimension), self.get(dimension + 1)]
+    }
+}
+
+/// A sampler for image synthesis: positioned at a pixel and a sample index,
+/// it is the [`SampleSource`] of that pixel sample. The numbers depend only
+/// on the seed, the pixel, the sample index and the dimension, so images do
+/// not depend on the number of threads or the order of work.
+pub trait PixelSampler: SampleSource + Send {
+    /// Positions the sampler at sample `sample_index` of `pixel`.
+    fn start_pixel_sample(&mut self, pixel: (u32, u32), sample_index: u64);
+
+    /// A fresh sampler with the same settings, for another thread.
+    fn clone_sampler(&self) -> Box<dyn PixelSampler>;
+
+    /// The sampler's name for logs and metadata.
+    fn name(&self) -> String;
+}
+
+/// The samplers a user can choose.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SamplerKind {
+    /// Independent uniform random numbers from a seekable PCG stream.
+    Independent,
+    /// Faure-permuted Halton with per-pixel enumeration (the LQMC paper's).
+    Halton,
+    /// Sobol, Owen-scrambled per pixel (hash-based).
+    Sobol,
+}
+
+impl SamplerKind {
+    /// Every sampler with its command-line name.
+    pub const ALL: [(SamplerKind, &'static str); 3] = [
+        (SamplerKind::Independent, "independent"),
+        (SamplerKind::Halton, "halton"),
+        (SamplerKind::Sobol, "sobol"),
+    ];
+
+    /// The sampler called `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.iter().find(|(_, n)| *n == name).map(|(k, _)| *k)
+    }
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        Self::ALL.iter().find(|(k, _)| *k == self).unwrap().1
+    }
+
+    /// Builds the sampler for an image of `resolution` pixels.
+    pub fn create(self, seed: u64, resolution: (u32, u32)) -> Box<dyn PixelSampler> {
+        match self {
+            SamplerKind::Independent => Box::new(IndependentSampler::new(seed)),
+            SamplerKind::Halton => Box::new(HaltonSampler::new(seed, resolution)),
+            SamplerKind::Sobol => Box::new(SobolSampler::new(seed)),
+        }
+    }
+}
+
+/// Converts a coordinate in `[0, 1)` to `f32`, keeping it below 1.
+#[inline]
+pub(crate) fn to_f32(value: f64) -> f32 {
+    (value as f32).min(ONE_MINUS_EPSILON_F32)
+}
+
+/// A key for one pixel sample, hashed from the seed, the pixel and the index.
+#[inline]
+pub(crate) fn pixel_sample_key(seed: u64, pixel: (u32, u32), sample_index: u64) -> u64 {
+    qmc::hash::hash3(
+        seed,
+        ((pixel.0 as u64) << 32) | pixel.1 as u64,
+        sample_index,
+    )
+}
+
+#[cfg(test)]
+mod tests;
