@@ -8,8 +8,8 @@
 use std::time::Instant;
 
 use render::spectrum::{
-    CIE_LAMBDA_MAX, CIE_LAMBDA_MIN, DEFAULT_RGB_TABLE_RESOLUTION, RgbAlbedoSpectrum, RgbToSpectrumTable, cie_x,
-    cie_y, cie_z, d65_illuminant, xyz_to_linear_srgb,
+    CIE_LAMBDA_MAX, CIE_LAMBDA_MIN, DEFAULT_RGB_TABLE_RESOLUTION, RgbAlbedoSpectrum,
+    RgbToSpectrumTable, cie_x, cie_y, cie_z, d65_illuminant, xyz_to_linear_srgb,
 };
 
 /// Linear sRGB of a reflectance lit by D65 (Y of the white reflectance = 1).
@@ -42,7 +42,11 @@ fn round_trip_errors(table: &RgbToSpectrumTable, steps: usize) -> (f64, f64, [f3
                 let rgb = [r, g, b].map(|i| i as f32 / (steps - 1) as f32);
                 let spectrum = RgbAlbedoSpectrum::with_table(table, rgb).unwrap();
                 let back = reflectance_to_srgb(|lambda| spectrum.evaluate(lambda));
-                let error = back.iter().zip(rgb).map(|(a, b)| (a - f64::from(b)).abs()).fold(0.0, f64::max);
+                let error = back
+                    .iter()
+                    .zip(rgb)
+                    .map(|(a, b)| (a - f64::from(b)).abs())
+                    .fold(0.0, f64::max);
                 if error > max_error {
                     max_error = error;
                     worst = rgb;
@@ -62,7 +66,9 @@ fn srgb_table_round_trip_is_accurate() {
     let elapsed = start.elapsed();
     println!("fitting the R = {DEFAULT_RGB_TABLE_RESOLUTION} sRGB table took {elapsed:?}");
     let (max_error, mean_error, worst) = round_trip_errors(&table, 17);
-    println!("round trip over 17³ colours: max {max_error:.2e} at {worst:?}, mean {mean_error:.2e}");
+    println!(
+        "round trip over 17³ colours: max {max_error:.2e} at {worst:?}, mean {mean_error:.2e}"
+    );
     assert!(mean_error < 2e-3, "mean error {mean_error}");
     assert!(max_error < 2e-2, "max error {max_error} at {worst:?}");
 }
@@ -75,7 +81,9 @@ fn resolution_64_round_trip() {
     let table = RgbToSpectrumTable::generate(64).unwrap();
     println!("fitting the R = 64 sRGB table took {:?}", start.elapsed());
     let (max_error, mean_error, worst) = round_trip_errors(&table, 17);
-    println!("round trip over 17³ colours: max {max_error:.2e} at {worst:?}, mean {mean_error:.2e}");
+    println!(
+        "round trip over 17³ colours: max {max_error:.2e} at {worst:?}, mean {mean_error:.2e}"
+    );
     assert!(mean_error < 5e-4 && max_error < 5e-3);
 }
 
@@ -88,7 +96,10 @@ fn grey_albedos_are_constant() {
         }
         let back = reflectance_to_srgb(|lambda| spectrum.evaluate(lambda));
         for component in back {
-            assert!((component - f64::from(value)).abs() < 1e-3, "{value}: {back:?}");
+            assert!(
+                (component - f64::from(value)).abs() < 1e-3,
+                "{value}: {back:?}"
+            );
         }
     }
 }

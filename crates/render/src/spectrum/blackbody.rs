@@ -47,7 +47,10 @@ pub struct BlackbodySpectrum {
 impl BlackbodySpectrum {
     /// A black body at `temperature` kelvin, scaled as `normalisation` says.
     /// Fails unless the temperature is finite and > 0.
-    pub fn new(temperature: f32, normalisation: BlackbodyNormalisation) -> Result<Self, SpectrumError> {
+    pub fn new(
+        temperature: f32,
+        normalisation: BlackbodyNormalisation,
+    ) -> Result<Self, SpectrumError> {
         let temperature = f64::from(temperature);
         if !temperature.is_finite() {
             return Err(SpectrumError::NotFinite {
@@ -56,10 +59,14 @@ impl BlackbodySpectrum {
             });
         }
         if temperature <= 0.0 {
-            return Err(SpectrumError::NonPositiveTemperature { kelvin: temperature });
+            return Err(SpectrumError::NonPositiveTemperature {
+                kelvin: temperature,
+            });
         }
         let scale = match normalisation {
-            BlackbodyNormalisation::PeakOne => 1.0 / planck(Self::peak_wavelength_of(temperature), temperature),
+            BlackbodyNormalisation::PeakOne => {
+                1.0 / planck(Self::peak_wavelength_of(temperature), temperature)
+            }
             // Per metre → per nanometre.
             BlackbodyNormalisation::SpectralRadiancePerNm => 1e-9,
         };
@@ -107,7 +114,8 @@ mod tests {
     #[test]
     fn peak_follows_wien_and_is_one() {
         for temperature in [3000.0_f32, 4500.0, 5778.0, 6500.0] {
-            let spectrum = BlackbodySpectrum::new(temperature, BlackbodyNormalisation::PeakOne).unwrap();
+            let spectrum =
+                BlackbodySpectrum::new(temperature, BlackbodyNormalisation::PeakOne).unwrap();
             // Locate the maximum on a 0.01 nm grid around the prediction.
             let predicted = BlackbodySpectrum::peak_wavelength_of(f64::from(temperature));
             let mut best = (0.0, f64::NEG_INFINITY);
@@ -118,7 +126,11 @@ mod tests {
                     best = (lambda, value);
                 }
             }
-            assert!((best.0 - predicted).abs() <= 0.011, "T {temperature}: peak {} vs {predicted}", best.0);
+            assert!(
+                (best.0 - predicted).abs() <= 0.011,
+                "T {temperature}: peak {} vs {predicted}",
+                best.0
+            );
             assert!((spectrum.evaluate(predicted as f32) - 1.0).abs() < 1e-6);
             assert!((spectrum.max_value() - 1.0).abs() < 1e-6);
             assert!(spectrum.evaluate(predicted as f32 - 50.0) < 1.0);
@@ -132,7 +144,8 @@ mod tests {
         // hc/(λkT) = 5.7551 (evaluated in f64 from the SI constants).
         let x: f64 = PLANCK * SPEED_OF_LIGHT / (500e-9 * BOLTZMANN * 5000.0);
         assert!((x - 5.7551).abs() < 1e-3);
-        let spectrum = BlackbodySpectrum::new(5000.0, BlackbodyNormalisation::SpectralRadiancePerNm).unwrap();
+        let spectrum =
+            BlackbodySpectrum::new(5000.0, BlackbodyNormalisation::SpectralRadiancePerNm).unwrap();
         let per_nm = f64::from(spectrum.evaluate(500.0));
         assert!((per_nm / 1.2107e4 - 1.0).abs() < 1e-3, "{per_nm}");
     }

@@ -40,15 +40,30 @@ const D65_TEXT: &str = include_str!("../../data/spectra/cie_d65_1nm.txt");
 fn parse_table(text: &str, columns: usize) -> (i32, Vec<Vec<f32>>) {
     let mut lambda_min = None;
     let mut data = vec![Vec::new(); columns - 1];
-    for line in text.lines().filter(|line| !line.starts_with('#') && !line.trim().is_empty()) {
+    for line in text
+        .lines()
+        .filter(|line| !line.starts_with('#') && !line.trim().is_empty())
+    {
         let numbers: Vec<f64> = line
             .split_whitespace()
-            .map(|field| field.parse().expect("embedded CIE table holds a non-number"))
+            .map(|field| {
+                field
+                    .parse()
+                    .expect("embedded CIE table holds a non-number")
+            })
             .collect();
-        assert_eq!(numbers.len(), columns, "embedded CIE table has a short line");
+        assert_eq!(
+            numbers.len(),
+            columns,
+            "embedded CIE table has a short line"
+        );
         let lambda = numbers[0] as i32;
         let first = *lambda_min.get_or_insert(lambda);
-        assert_eq!(lambda - first, data[0].len() as i32, "embedded CIE table is not in 1 nm steps");
+        assert_eq!(
+            lambda - first,
+            data[0].len() as i32,
+            "embedded CIE table is not in 1 nm steps"
+        );
         for (column, value) in data.iter_mut().zip(&numbers[1..]) {
             column.push(*value as f32);
         }
@@ -63,7 +78,9 @@ fn cmf_tables() -> &'static [DenselySampledSpectrum; 3] {
         let (lambda_min, columns) = parse_table(CMF_TEXT, 4);
         columns
             .into_iter()
-            .map(|values| DenselySampledSpectrum::from_values(lambda_min, values).expect("CIE CMF table"))
+            .map(|values| {
+                DenselySampledSpectrum::from_values(lambda_min, values).expect("CIE CMF table")
+            })
             .collect::<Vec<_>>()
             .try_into()
             .expect("three CMF columns")
@@ -104,7 +121,10 @@ pub fn d65_illuminant() -> &'static DenselySampledSpectrum {
     TABLE.get_or_init(|| {
         let relative = d65_relative();
         let luminance: f64 = (CIE_LAMBDA_MIN..=CIE_LAMBDA_MAX)
-            .map(|lambda| f64::from(relative.evaluate(lambda as f32)) * f64::from(cie_y().evaluate(lambda as f32)))
+            .map(|lambda| {
+                f64::from(relative.evaluate(lambda as f32))
+                    * f64::from(cie_y().evaluate(lambda as f32))
+            })
             .sum();
         relative.scaled((f64::from(CIE_Y_INTEGRAL) / luminance) as f32)
     })
@@ -128,7 +148,10 @@ mod tests {
     #[test]
     fn y_integral_matches_the_table() {
         let sum: f64 = cie_y().values().iter().map(|&value| f64::from(value)).sum();
-        assert!((sum / f64::from(CIE_Y_INTEGRAL) - 1.0).abs() < 1e-6, "sum {sum}");
+        assert!(
+            (sum / f64::from(CIE_Y_INTEGRAL) - 1.0).abs() < 1e-6,
+            "sum {sum}"
+        );
         // ȳ peaks at 1 at 555 nm by definition of the photometric scale.
         assert!((cie_y().evaluate(555.0) - 1.0).abs() < 1e-4);
     }
@@ -147,7 +170,11 @@ mod tests {
     #[test]
     fn normalised_d65_has_unit_luminance() {
         let luminance: f64 = (CIE_LAMBDA_MIN..=CIE_LAMBDA_MAX)
-            .map(|lambda| f64::from(d65_illuminant().evaluate(lambda as f32) * cie_y().evaluate(lambda as f32)))
+            .map(|lambda| {
+                f64::from(
+                    d65_illuminant().evaluate(lambda as f32) * cie_y().evaluate(lambda as f32),
+                )
+            })
             .sum::<f64>()
             / f64::from(CIE_Y_INTEGRAL);
         assert!((luminance - 1.0).abs() < 1e-5);

@@ -39,7 +39,9 @@ impl DenselySampledSpectrum {
                 max: f64::from(lambda_max),
             });
         }
-        let values = (lambda_min..=lambda_max).map(|lambda| function(lambda as f32)).collect();
+        let values = (lambda_min..=lambda_max)
+            .map(|lambda| function(lambda as f32))
+            .collect();
         Self::from_values(lambda_min, values)
     }
 
@@ -75,7 +77,10 @@ impl DenselySampledSpectrum {
 
     /// The largest tabulated value.
     pub fn max_value(&self) -> f32 {
-        self.values.iter().copied().fold(f32::NEG_INFINITY, f32::max)
+        self.values
+            .iter()
+            .copied()
+            .fold(f32::NEG_INFINITY, f32::max)
     }
 
     /// A copy with every value multiplied by `factor`.
@@ -115,7 +120,10 @@ mod tests {
 
     #[test]
     fn rejects_bad_tables() {
-        assert_eq!(DenselySampledSpectrum::from_values(0, vec![]), Err(SpectrumError::NoSamples));
+        assert_eq!(
+            DenselySampledSpectrum::from_values(0, vec![]),
+            Err(SpectrumError::NoSamples)
+        );
         assert!(DenselySampledSpectrum::from_values(0, vec![f32::NAN]).is_err());
     }
 }

@@ -29,21 +29,27 @@ mod spectrum_enum;
 mod wavelengths;
 
 pub use blackbody::{BlackbodyNormalisation, BlackbodySpectrum, WIEN_DISPLACEMENT, planck};
-pub use cie::{CIE_LAMBDA_MAX, CIE_LAMBDA_MIN, CIE_Y_INTEGRAL, cie_x, cie_y, cie_z, d65_illuminant, d65_relative};
+pub use cie::{
+    CIE_LAMBDA_MAX, CIE_LAMBDA_MIN, CIE_Y_INTEGRAL, cie_x, cie_y, cie_z, d65_illuminant,
+    d65_relative,
+};
 pub use colour::{
-    LINEAR_SRGB_TO_XYZ, XYZ_TO_LINEAR_SRGB, apply_matrix, linear_srgb_luminance, linear_srgb_to_xyz,
-    srgb_decode, srgb_encode, to_linear_srgb, to_luminance, to_xyz, xyz_to_linear_srgb,
+    LINEAR_SRGB_TO_XYZ, XYZ_TO_LINEAR_SRGB, apply_matrix, linear_srgb_luminance,
+    linear_srgb_to_xyz, srgb_decode, srgb_encode, to_linear_srgb, to_luminance, to_xyz,
+    xyz_to_linear_srgb,
 };
 pub use constant::ConstantSpectrum;
 pub use densely_sampled::DenselySampledSpectrum;
 pub use error::SpectrumError;
 pub use piecewise_linear::PiecewiseLinearSpectrum;
 pub use rgb_spectra::{RgbAlbedoSpectrum, RgbIlluminantSpectrum, RgbUnboundedSpectrum};
-pub use rgb_to_spectrum_table::{DEFAULT_RGB_TABLE_RESOLUTION, MAX_NORMALISED_COEFFICIENT, RgbToSpectrumTable};
+pub use rgb_to_spectrum_table::{
+    DEFAULT_RGB_TABLE_RESOLUTION, MAX_NORMALISED_COEFFICIENT, RgbToSpectrumTable,
+};
 pub use sampled_spectrum::SampledSpectrum;
 pub use sigmoid::{RgbSigmoidPolynomial, algebraic_sigmoid};
 pub use spectrum_enum::Spectrum;
 pub use wavelengths::{
-    SPECTRUM_SAMPLE_COUNT, SampledWavelengths, VISIBLE_LAMBDA_MAX, VISIBLE_LAMBDA_MIN, sample_visible_wavelength,
-    visible_wavelength_cdf, visible_wavelength_pdf,
+    SPECTRUM_SAMPLE_COUNT, SampledWavelengths, VISIBLE_LAMBDA_MAX, VISIBLE_LAMBDA_MIN,
+    sample_visible_wavelength, visible_wavelength_cdf, visible_wavelength_pdf,
 };

@@ -43,10 +43,13 @@ impl PiecewiseLinearSpectrum {
     /// Builds the spectrum from interleaved data `[λ₀, v₀, λ₁, v₁, …]`, the
     /// layout of most published tables.
     pub fn from_interleaved(data: &[f32]) -> Result<Self, SpectrumError> {
-        if data.len() % 2 != 0 {
+        if !data.len().is_multiple_of(2) {
             return Err(SpectrumError::OddInterleavedLength { len: data.len() });
         }
-        let pairs: Vec<(f32, f32)> = data.chunks_exact(2).map(|pair| (pair[0], pair[1])).collect();
+        let pairs: Vec<(f32, f32)> = data
+            .chunks_exact(2)
+            .map(|pair| (pair[0], pair[1]))
+            .collect();
         Self::new(&pairs)
     }
 
@@ -69,7 +72,9 @@ impl PiecewiseLinearSpectrum {
         }
         // Index of the first tabulated wavelength > lambda, so the segment is
         // [upper − 1, upper]; at lambda == last this is len, clamp to the last segment.
-        let upper = self.lambdas.partition_point(|&tabulated| tabulated <= lambda);
+        let upper = self
+            .lambdas
+            .partition_point(|&tabulated| tabulated <= lambda);
         if upper >= self.lambdas.len() {
             return self.values[self.values.len() - 1];
         }
@@ -86,7 +91,10 @@ impl PiecewiseLinearSpectrum {
     /// The largest tabulated value (the maximum of a piecewise-linear function
     /// lies at a sample).
     pub fn max_value(&self) -> f32 {
-        self.values.iter().copied().fold(f32::NEG_INFINITY, f32::max)
+        self.values
+            .iter()
+            .copied()
+            .fold(f32::NEG_INFINITY, f32::max)
     }
 }
 
@@ -96,7 +104,8 @@ mod tests {
 
     #[test]
     fn interpolates_linearly_and_is_zero_outside() {
-        let spectrum = PiecewiseLinearSpectrum::new(&[(400.0, 1.0), (500.0, 3.0), (600.0, 2.0)]).unwrap();
+        let spectrum =
+            PiecewiseLinearSpectrum::new(&[(400.0, 1.0), (500.0, 3.0), (600.0, 2.0)]).unwrap();
         assert_eq!(spectrum.evaluate(400.0), 1.0);
         assert_eq!(spectrum.evaluate(450.0), 2.0);
         assert_eq!(spectrum.evaluate(500.0), 3.0);
@@ -112,7 +121,8 @@ mod tests {
 
     #[test]
     fn interleaved_layout() {
-        let spectrum = PiecewiseLinearSpectrum::from_interleaved(&[400.0, 1.0, 500.0, 3.0]).unwrap();
+        let spectrum =
+            PiecewiseLinearSpectrum::from_interleaved(&[400.0, 1.0, 500.0, 3.0]).unwrap();
         assert_eq!(spectrum.lambdas(), &[400.0, 500.0]);
         assert_eq!(spectrum.values(), &[1.0, 3.0]);
         assert_eq!(
@@ -123,7 +133,10 @@ mod tests {
 
     #[test]
     fn rejects_bad_samples() {
-        assert_eq!(PiecewiseLinearSpectrum::new(&[]), Err(SpectrumError::NoSamples));
+        assert_eq!(
+            PiecewiseLinearSpectrum::new(&[]),
+            Err(SpectrumError::NoSamples)
+        );
         assert!(PiecewiseLinearSpectrum::new(&[(500.0, 1.0), (500.0, 2.0)]).is_err());
         assert!(PiecewiseLinearSpectrum::new(&[(500.0, 1.0), (400.0, 2.0)]).is_err());
         assert!(PiecewiseLinearSpectrum::new(&[(500.0, f32::NAN)]).is_err());

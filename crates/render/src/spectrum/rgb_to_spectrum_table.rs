@@ -106,7 +106,9 @@ impl RgbToSpectrumTable {
         let fitter = SigmoidFitter::srgb();
         let nodes = brightness_nodes(resolution);
         let column_count = 3 * resolution * resolution;
-        let threads = std::thread::available_parallelism().map_or(1, usize::from).clamp(1, 8);
+        let threads = std::thread::available_parallelism()
+            .map_or(1, usize::from)
+            .clamp(1, 8);
         let columns_per_thread = column_count.div_ceil(threads);
         // Each column (m, yi, xi) is fitted independently along z.
         let columns: Vec<Vec<[f64; 3]>> = std::thread::scope(|scope| {
@@ -166,7 +168,13 @@ impl RgbToSpectrumTable {
     /// sRGB `rgb`. Components are clamped to [0, 1] (NaN counts as 0); greys
     /// (equal components) get the exact constant spectrum.
     pub fn lookup(&self, rgb: [f32; 3]) -> RgbSigmoidPolynomial {
-        let rgb = rgb.map(|value| if value.is_nan() { 0.0 } else { value.clamp(0.0, 1.0) });
+        let rgb = rgb.map(|value| {
+            if value.is_nan() {
+                0.0
+            } else {
+                value.clamp(0.0, 1.0)
+            }
+        });
         if rgb[0] == rgb[1] && rgb[1] == rgb[2] {
             return RgbSigmoidPolynomial::constant(rgb[0]);
         }
@@ -190,7 +198,8 @@ impl RgbToSpectrumTable {
             .min(self.resolution - 2);
         let dx = x - xi as f32;
         let dy = y - yi as f32;
-        let dz = (z - self.brightness_nodes[zi]) / (self.brightness_nodes[zi + 1] - self.brightness_nodes[zi]);
+        let dz = (z - self.brightness_nodes[zi])
+            / (self.brightness_nodes[zi + 1] - self.brightness_nodes[zi]);
         let r = self.resolution;
         let mut result = [0.0_f32; 3];
         for corner in 0..8 {
@@ -222,7 +231,11 @@ fn normalised_to_nm(c: [f64; 3]) -> [f32; 3] {
 /// CIE 1976 L*a*b* of `xyz` relative to the white `white`.
 fn xyz_to_lab(xyz: [f64; 3], white: [f64; 3]) -> [f64; 3] {
     let f = |t: f64| lab_f(t).0;
-    let (fx, fy, fz) = (f(xyz[0] / white[0]), f(xyz[1] / white[1]), f(xyz[2] / white[2]));
+    let (fx, fy, fz) = (
+        f(xyz[0] / white[0]),
+        f(xyz[1] / white[1]),
+        f(xyz[2] / white[2]),
+    );
     [116.0 * fy - 16.0, 500.0 * (fx - fy), 200.0 * (fy - fz)]
 }
 
@@ -241,13 +254,27 @@ fn lab_f(t: f64) -> (f64, f64) {
 
 /// Inverse of a 3×3 matrix (None if singular).
 fn invert_3x3(m: [[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
-    let cofactor = |r0: usize, r1: usize, c0: usize, c1: usize| m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0];
+    let cofactor =
+        |r0: usize, r1: usize, c0: usize, c1: usize| m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0];
     let adjugate = [
-        [cofactor(1, 2, 1, 2), -cofactor(0, 2, 1, 2), cofactor(0, 1, 1, 2)],
-        [-cofactor(1, 2, 0, 2), cofactor(0, 2, 0, 2), -cofactor(0, 1, 0, 2)],
-        [cofactor(1, 2, 0, 1), -cofactor(0, 2, 0, 1), cofactor(0, 1, 0, 1)],
+        [
+            cofactor(1, 2, 1, 2),
+            -cofactor(0, 2, 1, 2),
+            cofactor(0, 1, 1, 2),
+        ],
+        [
+            -cofactor(1, 2, 0, 2),
+            cofactor(0, 2, 0, 2),
+            -cofactor(0, 1, 0, 2),
+        ],
+        [
+            cofactor(1, 2, 0, 1),
+            -cofactor(0, 2, 0, 1),
+            cofactor(0, 1, 0, 1),
+        ],
     ];
-    let determinant = m[0][0] * adjugate[0][0] + m[0][1] * adjugate[1][0] + m[0][2] * adjugate[2][0];
+    let determinant =
+        m[0][0] * adjugate[0][0] + m[0][1] * adjugate[1][0] + m[0][2] * adjugate[2][0];
     if determinant.abs() < 1e-300 {
         return None;
     }
@@ -277,7 +304,9 @@ struct SigmoidFitter {
 impl SigmoidFitter {
     /// Fitting data for linear sRGB lit by D65.
     fn srgb() -> Self {
-        let lambdas: Vec<i32> = (CIE_LAMBDA_MIN..=CIE_LAMBDA_MAX).step_by(FIT_WAVELENGTH_STEP as usize).collect();
+        let lambdas: Vec<i32> = (CIE_LAMBDA_MIN..=CIE_LAMBDA_MAX)
+            .step_by(FIT_WAVELENGTH_STEP as usize)
+            .collect();
         let illuminant = d65_illuminant();
         let raw: Vec<[f64; 3]> = lambdas
             .iter()
@@ -292,7 +321,10 @@ impl SigmoidFitter {
             })
             .collect();
         let luminance: f64 = raw.iter().map(|weight| weight[1]).sum();
-        let xyz_weights: Vec<[f64; 3]> = raw.iter().map(|weight| weight.map(|value| value / luminance)).collect();
+        let xyz_weights: Vec<[f64; 3]> = raw
+            .iter()
+            .map(|weight| weight.map(|value| value / luminance))
+            .collect();
         let mut white = [0.0; 3];
         for weight in &xyz_weights {
             for (sum, value) in white.iter_mut().zip(weight) {
@@ -303,7 +335,9 @@ impl SigmoidFitter {
         Self {
             normalised_lambdas: lambdas
                 .iter()
-                .map(|&lambda| (f64::from(lambda) - NORMALISED_LAMBDA_OFFSET) / NORMALISED_LAMBDA_WIDTH)
+                .map(|&lambda| {
+                    (f64::from(lambda) - NORMALISED_LAMBDA_OFFSET) / NORMALISED_LAMBDA_WIDTH
+                })
                 .collect(),
             xyz_weights,
             white,
@@ -336,7 +370,8 @@ impl SigmoidFitter {
     fn lab_and_jacobian(&self, c: [f64; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
         let (xyz, xyz_jacobian) = self.xyz_and_jacobian(c);
         let lab = xyz_to_lab(xyz, self.white);
-        let derivative: [f64; 3] = std::array::from_fn(|i| lab_f(xyz[i] / self.white[i]).1 / self.white[i]);
+        let derivative: [f64; 3] =
+            std::array::from_fn(|i| lab_f(xyz[i] / self.white[i]).1 / self.white[i]);
         let mut jacobian = [[0.0; 3]; 3];
         for j in 0..3 {
             let (dx, dy, dz) = (
@@ -354,9 +389,12 @@ impl SigmoidFitter {
     /// Gauss–Newton from `start` towards the coefficients whose reflectance has
     /// the linear sRGB `rgb`. Returns the best coefficients found.
     fn fit(&self, rgb: [f64; 3], start: [f64; 3]) -> [f64; 3] {
-        let xyz = self.rgb_to_xyz.map(|row| row[0] * rgb[0] + row[1] * rgb[1] + row[2] * rgb[2]);
+        let xyz = self
+            .rgb_to_xyz
+            .map(|row| row[0] * rgb[0] + row[1] * rgb[1] + row[2] * rgb[2]);
         let target = xyz_to_lab(xyz, self.white);
-        let residual_of = |lab: [f64; 3]| [lab[0] - target[0], lab[1] - target[1], lab[2] - target[2]];
+        let residual_of =
+            |lab: [f64; 3]| [lab[0] - target[0], lab[1] - target[1], lab[2] - target[2]];
         let norm = |r: [f64; 3]| (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
         let mut c = start;
         let (mut lab, mut jacobian) = self.lab_and_jacobian(c);
@@ -461,7 +499,10 @@ mod tests {
             let (lab_minus, _) = fitter.lab_and_jacobian(minus);
             for i in 0..3 {
                 let numeric = (lab_plus[i] - lab_minus[i]) / (2.0 * h);
-                assert!((numeric - jacobian[i][j]).abs() < 1e-5 * (1.0 + numeric.abs()), "{i},{j}");
+                assert!(
+                    (numeric - jacobian[i][j]).abs() < 1e-5 * (1.0 + numeric.abs()),
+                    "{i},{j}"
+                );
             }
         }
     }
@@ -472,7 +513,9 @@ mod tests {
         let rgb = [0.6, 0.3, 0.1];
         let c = fitter.fit(rgb, [0.0; 3]);
         let (xyz, _) = fitter.xyz_and_jacobian(c);
-        let back = XYZ_TO_LINEAR_SRGB.map(|row| f64::from(row[0]) * xyz[0] + f64::from(row[1]) * xyz[1] + f64::from(row[2]) * xyz[2]);
+        let back = XYZ_TO_LINEAR_SRGB.map(|row| {
+            f64::from(row[0]) * xyz[0] + f64::from(row[1]) * xyz[1] + f64::from(row[2]) * xyz[2]
+        });
         for (value, expected) in back.iter().zip(rgb) {
             assert!((value - expected).abs() < 1e-5, "{back:?}");
         }
@@ -484,6 +527,7 @@ mod tests {
     }
 
     #[test]
+    #[allow(clippy::needless_range_loop)]
     fn matrix_inverse() {
         let m = [[2.0, 1.0, 0.0], [0.0, 3.0, 1.0], [1.0, 0.0, 4.0]];
         let inverse = invert_3x3(m).unwrap();

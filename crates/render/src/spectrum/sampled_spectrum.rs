@@ -4,7 +4,9 @@
 //! Arithmetic is component-wise: component i always belongs to wavelength i, so
 //! two spectra may only be combined if they were sampled at the same wavelengths.
 
-use std::ops::{Add, AddAssign, Div, DivAssign, Index, IndexMut, Mul, MulAssign, Neg, Sub, SubAssign};
+use std::ops::{
+    Add, AddAssign, Div, DivAssign, Index, IndexMut, Mul, MulAssign, Neg, Sub, SubAssign,
+};
 
 use super::wavelengths::SPECTRUM_SAMPLE_COUNT;
 
@@ -45,7 +47,10 @@ impl SampledSpectrum {
 
     /// The largest component.
     pub fn max_component(&self) -> f32 {
-        self.values.iter().copied().fold(f32::NEG_INFINITY, f32::max)
+        self.values
+            .iter()
+            .copied()
+            .fold(f32::NEG_INFINITY, f32::max)
     }
 
     /// The smallest component.
@@ -62,9 +67,12 @@ impl SampledSpectrum {
     /// how estimates are divided by wavelength pdfs: a wavelength with pdf 0 (a
     /// terminated secondary wavelength) contributes nothing.
     pub fn safe_div(&self, divisor: &SampledSpectrum) -> SampledSpectrum {
-        self.zip(divisor, |value, divisor| {
-            if divisor == 0.0 { 0.0 } else { value / divisor }
-        })
+        self.zip(
+            divisor,
+            |value, divisor| {
+                if divisor == 0.0 { 0.0 } else { value / divisor }
+            },
+        )
     }
 
     /// Component-wise `self / divisor`, or 0 everywhere if the divisor is 0.
@@ -88,7 +96,13 @@ impl SampledSpectrum {
 
     /// Component-wise clamp to [`min`, `max`] (NaN components become `min`).
     pub fn clamp(&self, min: f32, max: f32) -> SampledSpectrum {
-        self.map(|value| if value.is_nan() { min } else { value.clamp(min, max) })
+        self.map(|value| {
+            if value.is_nan() {
+                min
+            } else {
+                value.clamp(min, max)
+            }
+        })
     }
 
     /// Component-wise max(value, 0), e.g. after a subtraction that may undershoot.
@@ -107,7 +121,11 @@ impl SampledSpectrum {
     }
 
     /// Combines two spectra component by component.
-    pub fn zip(&self, other: &SampledSpectrum, function: impl Fn(f32, f32) -> f32) -> SampledSpectrum {
+    pub fn zip(
+        &self,
+        other: &SampledSpectrum,
+        function: impl Fn(f32, f32) -> f32,
+    ) -> SampledSpectrum {
         let mut values = self.values;
         for (value, other) in values.iter_mut().zip(other.values) {
             *value = function(*value, other);
@@ -225,12 +243,22 @@ mod tests {
         assert!(!B.is_black());
         assert_eq!(B.clamp(0.0, 1.0).values(), &[1.0, 0.0, 0.0, 0.5]);
         assert_eq!(B.clamp_zero().values(), &[2.0, 0.0, 0.0, 0.5]);
-        assert_eq!(SampledSpectrum::new([4.0, 9.0, -1.0, 0.0]).sqrt().values(), &[2.0, 3.0, 0.0, 0.0]);
+        assert_eq!(
+            SampledSpectrum::new([4.0, 9.0, -1.0, 0.0]).sqrt().values(),
+            &[2.0, 3.0, 0.0, 0.0]
+        );
         let exp = SampledSpectrum::new([0.0, 1.0, -1.0, 2.0]).exp();
-        for (value, expected) in exp.values().iter().zip([1.0_f32, 1.0_f32.exp(), (-1.0_f32).exp(), 2.0_f32.exp()]) {
+        for (value, expected) in
+            exp.values()
+                .iter()
+                .zip([1.0_f32, 1.0_f32.exp(), (-1.0_f32).exp(), 2.0_f32.exp()])
+        {
             assert!((value - expected).abs() < 1e-6);
         }
         assert!(SampledSpectrum::new([f32::NAN, 0.0, 0.0, 0.0]).has_nan());
-        assert_eq!(SampledSpectrum::new([f32::NAN, 0.0, 0.0, 0.0]).clamp(0.0, 1.0)[0], 0.0);
+        assert_eq!(
+            SampledSpectrum::new([f32::NAN, 0.0, 0.0, 0.0]).clamp(0.0, 1.0)[0],
+            0.0
+        );
     }
 }

@@ -62,7 +62,9 @@ impl RgbSigmoidPolynomial {
     /// The largest value over the visible range [360, 830] nm: S is increasing,
     /// so the maximum is at an end of the range or at the vertex of the quadratic.
     pub fn max_value(&self) -> f32 {
-        let mut result = self.evaluate(VISIBLE_LAMBDA_MIN).max(self.evaluate(VISIBLE_LAMBDA_MAX));
+        let mut result = self
+            .evaluate(VISIBLE_LAMBDA_MIN)
+            .max(self.evaluate(VISIBLE_LAMBDA_MAX));
         if self.c0 != 0.0 {
             let vertex = -self.c1 / (2.0 * self.c0);
             if (VISIBLE_LAMBDA_MIN..=VISIBLE_LAMBDA_MAX).contains(&vertex) {

@@ -77,7 +77,9 @@ impl Spectrum {
         lambda_min: i32,
         lambda_max: i32,
     ) -> Result<DenselySampledSpectrum, super::SpectrumError> {
-        DenselySampledSpectrum::from_function(lambda_min, lambda_max, |lambda| self.evaluate(lambda))
+        DenselySampledSpectrum::from_function(lambda_min, lambda_max, |lambda| {
+            self.evaluate(lambda)
+        })
     }
 }
 
@@ -112,9 +114,15 @@ mod tests {
         let wavelengths = SampledWavelengths::sample_visible(0.42);
         let spectra: Vec<Spectrum> = vec![
             ConstantSpectrum::new(0.25).unwrap().into(),
-            PiecewiseLinearSpectrum::new(&[(360.0, 0.0), (830.0, 1.0)]).unwrap().into(),
-            DenselySampledSpectrum::from_function(360, 830, |lambda| lambda / 1000.0).unwrap().into(),
-            BlackbodySpectrum::new(4000.0, BlackbodyNormalisation::PeakOne).unwrap().into(),
+            PiecewiseLinearSpectrum::new(&[(360.0, 0.0), (830.0, 1.0)])
+                .unwrap()
+                .into(),
+            DenselySampledSpectrum::from_function(360, 830, |lambda| lambda / 1000.0)
+                .unwrap()
+                .into(),
+            BlackbodySpectrum::new(4000.0, BlackbodyNormalisation::PeakOne)
+                .unwrap()
+                .into(),
             RgbAlbedoSpectrum::new([0.2, 0.5, 0.8]).unwrap().into(),
             RgbUnboundedSpectrum::new([2.0, 5.0, 8.0]).unwrap().into(),
             RgbIlluminantSpectrum::new([1.0, 0.5, 0.2]).unwrap().into(),

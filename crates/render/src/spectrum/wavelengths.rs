@@ -84,7 +84,11 @@ pub fn sample_visible_wavelength(u: f32) -> f32 {
 /// The i-th of N stratified rotations of a primary sample: (u + i/N) mod 1.
 fn rotated_sample(u: f32, index: usize) -> f32 {
     let rotated = u + index as f32 / SPECTRUM_SAMPLE_COUNT as f32;
-    let wrapped = if rotated >= 1.0 { rotated - 1.0 } else { rotated };
+    let wrapped = if rotated >= 1.0 {
+        rotated - 1.0
+    } else {
+        rotated
+    };
     // Rounding may land exactly on 1; keep the sample inside [0, 1).
     wrapped.min(1.0 - f32::EPSILON / 2.0)
 }
@@ -239,10 +243,13 @@ mod tests {
         let h = 0.05_f32;
         for step in 1..47 {
             let lambda = VISIBLE_LAMBDA_MIN + step as f32 * 10.0;
-            let numeric =
-                (visible_wavelength_cdf(lambda + h) - visible_wavelength_cdf(lambda - h)) / (2.0 * h);
+            let numeric = (visible_wavelength_cdf(lambda + h) - visible_wavelength_cdf(lambda - h))
+                / (2.0 * h);
             let pdf = visible_wavelength_pdf(lambda);
-            assert!((numeric - pdf).abs() < 1e-3 * pdf + 1e-6, "{lambda}: {numeric} vs {pdf}");
+            assert!(
+                (numeric - pdf).abs() < 1e-3 * pdf + 1e-6,
+                "{lambda}: {numeric} vs {pdf}"
+            );
         }
     }
 
@@ -274,9 +281,9 @@ mod tests {
         // pbrt-v4 (§5.4.2) publishes the same density with rounded constants:
         // p(λ) = 0.0039398042 / cosh²(0.0072 (λ − 538)).
         for lambda in [360.0_f32, 450.0, 538.0, 700.0, 830.0] {
-            let cosh = (0.0072 * (lambda - 538.0)).cosh();
-            let published = 0.003_939_804_2 / (cosh * cosh);
-            assert!((visible_wavelength_pdf(lambda) - published).abs() < 1e-8);
+            let cosh = (0.0072_f64 * (f64::from(lambda) - 538.0)).cosh();
+            let published = 0.003_939_804_2_f64 / (cosh * cosh);
+            assert!((f64::from(visible_wavelength_pdf(lambda)) - published).abs() < 1e-8);
         }
     }
 
@@ -288,7 +295,10 @@ mod tests {
             let expected_u = (u + index as f32 * 0.25).fract();
             let cdf = visible_wavelength_cdf(sampled.lambda(index));
             assert!((cdf - expected_u).abs() < 2e-5);
-            assert_eq!(sampled.pdf()[index], visible_wavelength_pdf(sampled.lambda(index)));
+            assert_eq!(
+                sampled.pdf()[index],
+                visible_wavelength_pdf(sampled.lambda(index))
+            );
         }
         assert!(!sampled.secondary_terminated());
     }
