@@ -1,0 +1,152 @@
+//! From spectra to colours: the Monte Carlo estimate of CIE XYZ from a sampled
+//! spectrum, XYZ ↔ linear sRGB, luminance, and the sRGB transfer function.
+
+use super::cie::{CIE_Y_INTEGRAL, cie_x, cie_y, cie_z};
+use super::sampled_spectrum::SampledSpectrum;
+use super::wavelengths::SampledWavelengths;
+
+/// CIE XYZ → linear sRGB (D65 white), IEC 61966-2-1:1999 §5.2 (4 decimals).
+pub const XYZ_TO_LINEAR_SRGB: [[f32; 3]; 3] = [
+    [3.2406, -1.5372, -0.4986],
+    [-0.9689, 1.8758, 0.0415],
+    [0.0557, -0.2040, 1.0570],
+];
+
+/// Linear sRGB → CIE XYZ (D65 white), IEC 61966-2-1:1999 §5.2 (4 decimals).
+/// Not the exact inverse of [`XYZ_TO_LINEAR_SRGB`] (both are rounded); the two
+/// agree to about 10⁻⁴.
+pub const LINEAR_SRGB_TO_XYZ: [[f32; 3]; 3] = [
+    [0.4124, 0.3576, 0.1805],
+    [0.2126, 0.7152, 0.0722],
+    [0.0193, 0.1192, 0.9505],
+];
+
+/// Multiplies a 3-vector by a row-major 3×3 matrix.
+pub fn apply_matrix(matrix: &[[f32; 3]; 3], vector: [f32; 3]) -> [f32; 3] {
+    matrix.map(|row| row[0] * vector[0] + row[1] * vector[1] + row[2] * vector[2])
+}
+
+/// CIE XYZ → linear sRGB.
+pub fn xyz_to_linear_srgb(xyz: [f32; 3]) -> [f32; 3] {
+    apply_matrix(&XYZ_TO_LINEAR_SRGB, xyz)
+}
+
+/// Linear sRGB → CIE XYZ.
+pub fn linear_srgb_to_xyz(rgb: [f32; 3]) -> [f32; 3] {
+    apply_matrix(&LINEAR_SRGB_TO_XYZ, rgb)
+}
+
+/// Luminance Y of a linear sRGB colour (the middle row of
+/// [`LINEAR_SRGB_TO_XYZ`]).
+pub fn linear_srgb_luminance(rgb: [f32; 3]) -> f32 {
+    let row = LINEAR_SRGB_TO_XYZ[1];
+    row[0] * rgb[0] + row[1] * rgb[1] + row[2] * rgb[2]
+}
+
+/// sRGB transfer function (IEC 61966-2-1): linear value → encoded value, for
+/// writing 8-bit images. Negative inputs give 0; values above 1 follow the
+/// curve (clamp afterwards if needed).
+pub fn srgb_encode(linear: f32) -> f32 {
+    if linear <= 0.0 {
+        0.0
+    } else if linear <= 0.003_130_8 {
+        12.92 * linear
+    } else {
+        1.055 * linear.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Inverse sRGB transfer function (IEC 61966-2-1): encoded value → linear value,
+/// for reading 8-bit textures. Negative inputs give 0.
+pub fn srgb_decode(encoded: f32) -> f32 {
+    if encoded <= 0.0 {
+        0.0
+    } else if encoded <= 0.040_45 {
+        encoded / 12.92
+    } else {
+        ((encoded + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Monte Carlo estimate of the CIE XYZ of the spectrum whose values at
+/// `wavelengths` are `spectrum`:
+/// X ≈ (1/N) Σᵢ S(λᵢ) x̄(λᵢ) / p(λᵢ) / [`CIE_Y_INTEGRAL`] (and likewise Y, Z).
+///
+/// Wavelengths with pdf 0 (terminated secondary wavelengths) contribute 0, but
+/// the average is still over all N slots; see
+/// [`SampledWavelengths::terminate_secondary`] for why this stays unbiased. The
+/// expectation is the exact XYZ Σ_λ S(λ) x̄(λ) / CIE_Y_INTEGRAL in pbrt-v4's
+/// normalisation, where the constant spectrum 1 has Y = 1.
+pub fn to_xyz(spectrum: &SampledSpectrum, wavelengths: &SampledWavelengths) -> [f32; 3] {
+    let pdf = wavelengths.pdf();
+    let weighted = spectrum.safe_div(&pdf);
+    let average = |matching: SampledSpectrum| (matching * weighted).average() / CIE_Y_INTEGRAL;
+    [
+        average(cie_x().sample(wavelengths)),
+        average(cie_y().sample(wavelengths)),
+        average(cie_z().sample(wavelengths)),
+    ]
+}
+
+/// Monte Carlo estimate of the luminance Y alone (see [`to_xyz`]).
+pub fn to_luminance(spectrum: &SampledSpectrum, wavelengths: &SampledWavelengths) -> f32 {
+    (cie_y().sample(wavelengths) * spectrum.safe_div(&wavelengths.pdf())).average() / CIE_Y_INTEGRAL
+}
+
+/// Monte Carlo estimate of the linear sRGB of a sampled spectrum:
+/// [`xyz_to_linear_srgb`] of [`to_xyz`] (the matrix is linear, so the estimate
+/// stays unbiased).
+pub fn to_linear_srgb(spectrum: &SampledSpectrum, wavelengths: &SampledWavelengths) -> [f32; 3] {
+    xyz_to_linear_srgb(to_xyz(spectrum, wavelengths))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn matrices_are_near_inverses() {
+        for column in 0..3 {
+            let mut unit = [0.0; 3];
+            unit[column] = 1.0;
+            let back = xyz_to_linear_srgb(linear_srgb_to_xyz(unit));
+            for (value, expected) in back.iter().zip(unit) {
+                assert!((value - expected).abs() < 5e-4, "{back:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn d65_white_maps_to_white() {
+        // XYZ of D65 with Y = 1 (CIE 15:2004): (0.95047, 1, 1.08883).
+        let rgb = xyz_to_linear_srgb([0.950_47, 1.0, 1.088_83]);
+        for value in rgb {
+            assert!((value - 1.0).abs() < 1e-3, "{rgb:?}");
+        }
+        assert!((linear_srgb_luminance([1.0, 1.0, 1.0]) - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn transfer_function_round_trips_and_is_continuous() {
+        for step in 0..=1000 {
+            let linear = step as f32 / 1000.0;
+            assert!((srgb_decode(srgb_encode(linear)) - linear).abs() < 1e-6);
+        }
+        // The two pieces meet at the break points (to the 4-decimal constants).
+        let below = 12.92 * 0.003_130_8_f32;
+        let above = 1.055 * 0.003_130_8_f32.powf(1.0 / 2.4) - 0.055;
+        assert!((below - above).abs() < 1e-6);
+        assert!((srgb_encode(1.0) - 1.0).abs() < 1e-6);
+        assert!((srgb_encode(0.5) - 0.735_357).abs() < 1e-6);
+        assert!((srgb_decode(0.5) - 0.214_041_14).abs() < 1e-6);
+        assert_eq!(srgb_encode(-1.0), 0.0);
+    }
+
+    #[test]
+    fn terminated_wavelengths_do_not_contribute() {
+        let mut wavelengths = SampledWavelengths::sample_visible(0.5);
+        wavelengths.terminate_secondary();
+        let only_secondaries = SampledSpectrum::new([0.0, 1.0, 1.0, 1.0]);
+        assert_eq!(to_xyz(&only_secondaries, &wavelengths), [0.0; 3]);
+    }
+}

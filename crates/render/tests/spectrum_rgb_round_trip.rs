@@ -1,0 +1,105 @@
+//! RGB → spectrum → XYZ → RGB round trip of the Jakob–Hanika sigmoid table, and
+//! the time it takes to fit the table.
+//!
+//! The spectrum's colour is computed exactly (no Monte Carlo): the reflectance
+//! times D65 summed against the CMFs over 1 nm steps, normalised by the Y of D65,
+//! then the IEC 61966-2-1 XYZ → linear sRGB matrix.
+
+use std::time::Instant;
+
+use render::spectrum::{
+    CIE_LAMBDA_MAX, CIE_LAMBDA_MIN, DEFAULT_RGB_TABLE_RESOLUTION, RgbAlbedoSpectrum,
+    RgbToSpectrumTable, cie_x, cie_y, cie_z, d65_illuminant, xyz_to_linear_srgb,
+};
+
+/// Linear sRGB of a reflectance lit by D65 (Y of the white reflectance = 1).
+fn reflectance_to_srgb(reflectance: impl Fn(f32) -> f32) -> [f64; 3] {
+    let mut xyz = [0.0_f64; 3];
+    let mut white_luminance = 0.0_f64;
+    for lambda in CIE_LAMBDA_MIN..=CIE_LAMBDA_MAX {
+        let lambda = lambda as f32;
+        let power = f64::from(d65_illuminant().evaluate(lambda));
+        let value = f64::from(reflectance(lambda)) * power;
+        xyz[0] += value * f64::from(cie_x().evaluate(lambda));
+        xyz[1] += value * f64::from(cie_y().evaluate(lambda));
+        xyz[2] += value * f64::from(cie_z().evaluate(lambda));
+        white_luminance += power * f64::from(cie_y().evaluate(lambda));
+    }
+    let xyz = xyz.map(|value| (value / white_luminance) as f32);
+    xyz_to_linear_srgb(xyz).map(f64::from)
+}
+
+/// Max and mean absolute component error of the round trip over a grid of
+/// `steps`³ colours in [0, 1]³, and the colour with the largest error.
+fn round_trip_errors(table: &RgbToSpectrumTable, steps: usize) -> (f64, f64, [f32; 3]) {
+    let mut max_error = 0.0_f64;
+    let mut sum_error = 0.0_f64;
+    let mut worst = [0.0; 3];
+    let mut count = 0;
+    for r in 0..steps {
+        for g in 0..steps {
+            for b in 0..steps {
+                let rgb = [r, g, b].map(|i| i as f32 / (steps - 1) as f32);
+                let spectrum = RgbAlbedoSpectrum::with_table(table, rgb).unwrap();
+                let back = reflectance_to_srgb(|lambda| spectrum.evaluate(lambda));
+                let error = back
+                    .iter()
+                    .zip(rgb)
+                    .map(|(a, b)| (a - f64::from(b)).abs())
+                    .fold(0.0, f64::max);
+                if error > max_error {
+                    max_error = error;
+                    worst = rgb;
+                }
+                sum_error += error;
+                count += 1;
+            }
+        }
+    }
+    (max_error, sum_error / count as f64, worst)
+}
+
+#[test]
+fn srgb_table_round_trip_is_accurate() {
+    let start = Instant::now();
+    let table = RgbToSpectrumTable::generate(DEFAULT_RGB_TABLE_RESOLUTION).unwrap();
+    let elapsed = start.elapsed();
+    println!("fitting the R = {DEFAULT_RGB_TABLE_RESOLUTION} sRGB table took {elapsed:?}");
+    let (max_error, mean_error, worst) = round_trip_errors(&table, 17);
+    println!(
+        "round trip over 17³ colours: max {max_error:.2e} at {worst:?}, mean {mean_error:.2e}"
+    );
+    assert!(mean_error < 2e-3, "mean error {mean_error}");
+    assert!(max_error < 2e-2, "max error {max_error} at {worst:?}");
+}
+
+/// pbrt-v4's resolution, for comparison (several seconds: run with --ignored).
+#[test]
+#[ignore]
+fn resolution_64_round_trip() {
+    let start = Instant::now();
+    let table = RgbToSpectrumTable::generate(64).unwrap();
+    println!("fitting the R = 64 sRGB table took {:?}", start.elapsed());
+    let (max_error, mean_error, worst) = round_trip_errors(&table, 17);
+    println!(
+        "round trip over 17³ colours: max {max_error:.2e} at {worst:?}, mean {mean_error:.2e}"
+    );
+    assert!(mean_error < 5e-4 && max_error < 5e-3);
+}
+
+#[test]
+fn grey_albedos_are_constant() {
+    for value in [0.0_f32, 0.18, 0.5, 1.0] {
+        let spectrum = RgbAlbedoSpectrum::new([value; 3]).unwrap();
+        for lambda in (360..=830).step_by(10) {
+            assert!((spectrum.evaluate(lambda as f32) - value).abs() < 1e-6);
+        }
+        let back = reflectance_to_srgb(|lambda| spectrum.evaluate(lambda));
+        for component in back {
+            assert!(
+                (component - f64::from(value)).abs() < 1e-3,
+                "{value}: {back:?}"
+            );
+        }
+    }
+}
