@@ -265,3 +265,85 @@ fn reads_tungsten_cornell_box_reference() {
             .all(|&channel| channel.is_finite() && channel > 0.0)
     );
 }
+
+#[test]
+fn exr_reads_half_rgba_and_grey_files() {
+    use exr::prelude::{
+        AnyChannel, AnyChannels, Encoding, FlatSamples, Image as ExrImage, Layer, LayerAttributes,
+        SmallVec, WritableImage, f16,
+    };
+    let directory = scratch_directory("exr-half");
+    // Half RGBA written by the exr crate (as Tungsten writes half RGB).
+    let values = [0.5f32, 1.0, 2.0, 0.125, 65504.0, -3.0];
+    let path = directory.join("half.exr");
+    let half = |offset: usize| {
+        FlatSamples::F16(
+            (0..6)
+                .map(|index| f16::from_f32(values[(index + offset) % 6]))
+                .collect(),
+        )
+    };
+    let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::new();
+    for (offset, name) in ["R", "G", "B", "A"].into_iter().enumerate() {
+        channels.push(AnyChannel::new(name, half(offset)));
+    }
+    let layer = Layer::new(
+        (3, 2),
+        LayerAttributes::default(),
+        Encoding::SMALL_FAST_LOSSLESS,
+        AnyChannels::sort(channels),
+    );
+    ExrImage::from_layer(layer).write().to_file(&path).unwrap();
+    let image = read_image(&path).unwrap();
+    assert_eq!((image.width(), image.height()), (3, 2));
+    for (index, pixel) in image.pixels().iter().enumerate() {
+        assert_eq!(
+            *pixel,
+            [
+                values[index % 6],
+                values[(index + 1) % 6],
+                values[(index + 2) % 6]
+            ]
+        );
+    }
+
+    // A luminance-only file is replicated into RGB.
+    let path = directory.join("grey.exr");
+    let grey: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::from_vec(vec![AnyChannel::new(
+        "Y",
+        FlatSamples::F32(values.to_vec()),
+    )]);
+    let layer = Layer::new(
+        (2, 3),
+        LayerAttributes::default(),
+        Encoding::UNCOMPRESSED,
+        AnyChannels::sort(grey),
+    );
+    ExrImage::from_layer(layer).write().to_file(&path).unwrap();
+    let image = read_image(&path).unwrap();
+    assert_eq!((image.width(), image.height()), (2, 3));
+    assert_eq!(image.pixel(1, 2), Some([values[5]; 3]));
+}
+
+#[test]
+fn png_reads_16_bit_grey_alpha() {
+    let directory = scratch_directory("png16");
+    let path = directory.join("grey16.png");
+    let levels = [0u16, 1000, 32768, 65535];
+    let file = std::fs::File::create(&path).unwrap();
+    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), 2, 2);
+    encoder.set_color(png::ColorType::GrayscaleAlpha);
+    encoder.set_depth(png::BitDepth::Sixteen);
+    let mut writer = encoder.write_header().unwrap();
+    let data: Vec<u8> = levels
+        .iter()
+        .flat_map(|&level| [level.to_be_bytes(), 7u16.to_be_bytes()].concat())
+        .collect();
+    writer.write_image_data(&data).unwrap();
+    writer.finish().unwrap();
+    let image = read_png(&path).unwrap();
+    for (pixel, level) in image.pixels().iter().zip(levels) {
+        let expected = render::image::srgb_to_linear(level as f32 / 65535.0);
+        assert_eq!(*pixel, [expected; 3]);
+    }
+}

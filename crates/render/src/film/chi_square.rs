@@ -39,8 +39,8 @@ pub fn chi_square_p_value(observed: &[u64], expected: &[f64]) -> f64 {
 /// `Γ(a + 1) = a Γ(a)` from `Γ(1) = 1` and `Γ(1/2) = √π` (exact enough for
 /// the degrees of freedom of these tests, with no approximation).
 fn log_gamma_half_integer(twice_a: usize) -> f64 {
-    let mut a = if twice_a % 2 == 0 { 1.0 } else { 0.5 };
-    let mut log_gamma = if twice_a % 2 == 0 {
+    let mut a = if twice_a.is_multiple_of(2) { 1.0 } else { 0.5 };
+    let mut log_gamma = if twice_a.is_multiple_of(2) {
         0.0
     } else {
         0.5 * std::f64::consts::PI.ln()

@@ -100,7 +100,9 @@ impl FilmTile {
                 bounds: self.bounds,
             });
         }
-        if !rgb.iter().all(|value| value.is_finite()) || !(weight >= 0.0 && weight.is_finite()) {
+        let valid =
+            rgb.iter().all(|value| value.is_finite()) && weight >= 0.0 && weight.is_finite();
+        if !valid {
             self.rejected_samples += 1;
             return Ok(SampleOutcome::Rejected);
         }

@@ -117,9 +117,8 @@ impl TriangleFilter {
     /// The normalised filter value at `offset`.
     pub fn evaluate(&self, offset: [f32; 2]) -> f32 {
         let mut value = 1.0;
-        for axis in 0..2 {
-            let radius = self.radius[axis];
-            value *= (radius - offset[axis].abs()).max(0.0) / (radius * radius);
+        for (position, radius) in offset.into_iter().zip(self.radius) {
+            value *= (radius - position.abs()).max(0.0) / (radius * radius);
         }
         value
     }
@@ -196,13 +195,15 @@ impl GaussianFilter {
     pub fn evaluate(&self, offset: [f32; 2]) -> f32 {
         let sigma = self.sigma as f64;
         let mut value = 1.0f64;
-        for axis in 0..2 {
-            let x = offset[axis] as f64;
-            if x.abs() > self.radius[axis] as f64 {
+        for ((position, radius), mass_inside) in
+            offset.into_iter().zip(self.radius).zip(self.mass_inside)
+        {
+            let x = position as f64;
+            if x.abs() > radius as f64 {
                 return 0.0;
             }
             value *= (-x * x / (2.0 * sigma * sigma)).exp()
-                / (sigma * (2.0 * std::f64::consts::PI).sqrt() * self.mass_inside[axis]);
+                / (sigma * (2.0 * std::f64::consts::PI).sqrt() * mass_inside);
         }
         value as f32
     }
@@ -396,6 +397,7 @@ mod tests {
                 }
             }
             let p_value = chi_square_p_value(&observed, &expected);
+            println!("{name}: chi-square p-value {p_value:.4}");
             assert!(p_value > 1e-4, "{name}: chi-square p-value {p_value}");
 
             // E[f/p] = ∫ f = 1; every weight is exactly 1 here.

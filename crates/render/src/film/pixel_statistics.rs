@@ -29,12 +29,12 @@ impl PixelStatistics {
         self.sample_count += 1;
         self.weight_sum += weight;
         let count = self.sample_count as f64;
-        for channel in 0..3 {
-            self.weighted_sum[channel] += weight * rgb[channel];
+        for (channel, value) in rgb.into_iter().enumerate() {
+            self.weighted_sum[channel] += weight * value;
             // Welford: update the mean, then M2 with old and new deviations.
-            let deviation = rgb[channel] - self.mean[channel];
+            let deviation = value - self.mean[channel];
             self.mean[channel] += deviation / count;
-            self.squared_deviation_sum[channel] += deviation * (rgb[channel] - self.mean[channel]);
+            self.squared_deviation_sum[channel] += deviation * (value - self.mean[channel]);
         }
     }
 
