@@ -407,6 +407,35 @@ mod tests {
     }
 
     #[test]
+    fn chi_square_detects_a_slightly_wrong_sigma() {
+        // Negative control: samples of σ = 0.5 against the density of
+        // σ = 0.53 must fail the test used above.
+        const BINS: usize = 20;
+        const SAMPLES: usize = 200_000;
+        let sampled = GaussianFilter::default();
+        let claimed = Filter::Gaussian(GaussianFilter::new([1.5; 2], 0.53).unwrap());
+        let mut random = SeekablePcg::new(3, 3);
+        let mut observed = vec![0u64; BINS * BINS];
+        for _ in 0..SAMPLES {
+            let offset = sampled
+                .sample([random.next_f32(), random.next_f32()])
+                .offset;
+            let bin =
+                offset.map(|x| (((x / 1.5 + 1.0) * 0.5 * BINS as f32) as usize).min(BINS - 1));
+            observed[bin[1] * BINS + bin[0]] += 1;
+        }
+        let width = 3.0 / BINS as f64;
+        let edges = |bin: usize| [-1.5 + width * bin as f64, -1.5 + width * (bin + 1) as f64];
+        let expected: Vec<f64> = (0..BINS * BINS)
+            .map(|index| {
+                integrate(&claimed, edges(index % BINS), edges(index / BINS)) * SAMPLES as f64
+            })
+            .collect();
+        let p_value = chi_square_p_value(&observed, &expected);
+        assert!(p_value < 1e-4, "p-value {p_value}");
+    }
+
+    #[test]
     fn gaussian_sampling_is_the_inverse_cdf() {
         // The median maps to the centre, and u = 0, 1 to the radius.
         let filter = GaussianFilter::default();
