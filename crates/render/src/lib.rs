@@ -5,4 +5,5 @@
 pub mod film;
 pub mod geometry;
 pub mod image;
+pub mod sampler;
 pub mod spectrum;

@@ -2,7 +2,9 @@
 //! the Sobol sequence (Burley 2020), indexed by the pixel's sample number.
 
 use super::{PixelSampler, SampleSource, to_f32};
-use qmc::digital_scramble::{DigitalOrder, DigitalSequence, bits_to_unit, hash_owen_scramble_reversed};
+use qmc::digital_scramble::{
+    DigitalOrder, DigitalSequence, bits_to_unit, hash_owen_scramble_reversed,
+};
 use qmc::hash::{hash2, hash3};
 use qmc::random::SeekablePcg;
 use qmc::sobol::{MAX_POINTS, Sobol};
