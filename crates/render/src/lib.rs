@@ -5,5 +5,6 @@
 pub mod film;
 pub mod geometry;
 pub mod image;
+pub mod material;
 pub mod sampler;
 pub mod spectrum;
