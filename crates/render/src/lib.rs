@@ -2,6 +2,7 @@
 //! lights and integrators, all driven by the primary-sample-space samplers of the
 //! `qmc` crate.
 
+pub mod camera;
 pub mod film;
 pub mod geometry;
 pub mod image;

@@ -1,0 +1,255 @@
+//! Cameras: a perspective pinhole or thin-lens camera with a shutter
+//! interval, moving between two transforms while the shutter is open, so
+//! that time is a real dimension of the primary sample space.
+//!
+//! Camera space: the camera looks down +z, +y is up and +x is to the right
+//! of the image. Raster space: pixel `(0, 0)` is the top-left corner, x
+//! grows to the right and y downwards.
+
+use glam::{Affine3A, Quat, Vec2, Vec3};
+
+/// Which image axis the field of view spans (Mitsuba's `fov_axis`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FovAxis {
+    /// The horizontal axis (Mitsuba's default).
+    #[default]
+    X,
+    /// The vertical axis.
+    Y,
+    /// The shorter image axis (pbrt-v4's convention).
+    Smaller,
+    /// The longer image axis.
+    Larger,
+}
+
+/// A ray leaving the camera.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraRay {
+    /// Origin in world space (on the lens).
+    pub origin: Vec3,
+    /// Unit direction in world space.
+    pub direction: Vec3,
+    /// Time in the shutter interval.
+    pub time: f32,
+}
+
+/// Why a camera cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CameraError {
+    /// A parameter is outside its range; the message says which.
+    #[error("invalid camera: {0}")]
+    Invalid(String),
+}
+
+/// A perspective camera: a pinhole when the lens radius is 0, otherwise a
+/// thin lens focused at `focus_distance`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PerspectiveCamera {
+    /// World from camera at the shutter's opening and closing.
+    world_from_camera: [Affine3A; 2],
+    /// The shutter interval.
+    shutter: [f32; 2],
+    resolution: [u32; 2],
+    /// Half extents of the image plane at distance 1 (tan of the half angles).
+    screen_half_extent: Vec2,
+    lens_radius: f32,
+    focus_distance: f32,
+}
+
+/// Settings of a [`PerspectiveCamera`], with Mitsuba's defaults.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PerspectiveSettings {
+    /// World from camera at the shutter's opening.
+    pub world_from_camera: Affine3A,
+    /// World from camera at the shutter's closing (the same for a static camera).
+    pub world_from_camera_end: Affine3A,
+    /// Shutter open and close times (default 0, 0: no motion blur).
+    pub shutter: [f32; 2],
+    /// Image size in pixels.
+    pub resolution: [u32; 2],
+    /// Field of view in degrees along `fov_axis` (default 45).
+    pub fov_degrees: f32,
+    /// The axis the field of view spans (default `X`).
+    pub fov_axis: FovAxis,
+    /// Radius of the thin lens in scene units (default 0: a pinhole).
+    pub lens_radius: f32,
+    /// Distance of the plane in focus (default 1; unused by a pinhole).
+    pub focus_distance: f32,
+}
+
+impl Default for PerspectiveSettings {
+    fn default() -> Self {
+        Self {
+            world_from_camera: Affine3A::IDENTITY,
+            world_from_camera_end: Affine3A::IDENTITY,
+            shutter: [0.0, 0.0],
+            resolution: [512, 512],
+            fov_degrees: 45.0,
+            fov_axis: FovAxis::X,
+            lens_radius: 0.0,
+            focus_distance: 1.0,
+        }
+    }
+}
+
+/// World from camera for a camera at `eye` looking at `target` with `up`
+/// roughly up in the image (+x of camera space points to the image's right).
+pub fn look_at(eye: Vec3, target: Vec3, up: Vec3) -> Result<Affine3A, CameraError> {
+    let forward = (target - eye).normalize_or_zero();
+    let right = forward.cross(up).normalize_or_zero();
+    if forward == Vec3::ZERO || right == Vec3::ZERO {
+        return Err(CameraError::Invalid(
+            "look_at needs distinct eye and target and an up vector not along the view".into(),
+        ));
+    }
+    // Camera +x is the image's right, forward × up in a right-handed world;
+    // with +y up and +z forward the camera frame is left-handed, as pbrt's.
+    let camera_up = right.cross(forward);
+    Ok(Affine3A::from_cols(
+        right.into(),
+        camera_up.into(),
+        forward.into(),
+        eye.into(),
+    ))
+}
+
+impl PerspectiveCamera {
+    /// Builds the camera, checking its parameters.
+    pub fn new(settings: &PerspectiveSettings) -> Result<Self, CameraError> {
+        let [width, height] = settings.resolution;
+        if width == 0 || height == 0 {
+            return Err(CameraError::Invalid(format!(
+                "resolution {width}x{height} has no pixels"
+            )));
+        }
+        if !(settings.fov_degrees > 0.0 && settings.fov_degrees < 180.0) {
+            return Err(CameraError::Invalid(format!(
+                "field of view {} is not in (0, 180) degrees",
+                settings.fov_degrees
+            )));
+        }
+        if !(settings.lens_radius >= 0.0 && settings.lens_radius.is_finite()) {
+            return Err(CameraError::Invalid(format!(
+                "lens radius {} is negative or not finite",
+                settings.lens_radius
+            )));
+        }
+        if settings.lens_radius > 0.0 && !(settings.focus_distance > 0.0) {
+            return Err(CameraError::Invalid(format!(
+                "focus distance {} must be positive",
+                settings.focus_distance
+            )));
+        }
+        if !(settings.shutter[0] <= settings.shutter[1]) {
+            return Err(CameraError::Invalid(format!(
+                "shutter closes ({}) before it opens ({})",
+                settings.shutter[1], settings.shutter[0]
+            )));
+        }
+        let aspect = width as f32 / height as f32;
+        let half = (settings.fov_degrees.to_radians() * 0.5).tan();
+        let horizontal_axis = match settings.fov_axis {
+            FovAxis::X => true,
+            FovAxis::Y => false,
+            FovAxis::Smaller => width <= height,
+            FovAxis::Larger => width >= height,
+        };
+        let screen_half_extent = if horizontal_axis {
+            Vec2::new(half, half / aspect)
+        } else {
+            Vec2::new(half * aspect, half)
+        };
+        Ok(Self {
+            world_from_camera: [settings.world_from_camera, settings.world_from_camera_end],
+            shutter: settings.shutter,
+            resolution: settings.resolution,
+            screen_half_extent,
+            lens_radius: settings.lens_radius,
+            focus_distance: settings.focus_distance,
+        })
+    }
+
+    /// The image size in pixels.
+    pub fn resolution(&self) -> [u32; 2] {
+        self.resolution
+    }
+
+    /// The time for the primary-sample-space number `u_time`.
+    pub fn time(&self, u_time: f32) -> f32 {
+        self.shutter[0] + (self.shutter[1] - self.shutter[0]) * u_time
+    }
+
+    /// World from camera at `time`: translation and scale interpolated
+    /// linearly, rotation by spherical linear interpolation.
+    pub fn world_from_camera(&self, time: f32) -> Affine3A {
+        let [start, end] = self.world_from_camera;
+        if start == end || self.shutter[1] <= self.shutter[0] {
+            return start;
+        }
+        let t = ((time - self.shutter[0]) / (self.shutter[1] - self.shutter[0])).clamp(0.0, 1.0);
+        let (scale0, rotation0, translation0) = start.to_scale_rotation_translation();
+        let (scale1, rotation1, translation1) = end.to_scale_rotation_translation();
+        Affine3A::from_scale_rotation_translation(
+            scale0.lerp(scale1, t),
+            slerp(rotation0, rotation1, t),
+            translation0.lerp(translation1, t),
+        )
+    }
+
+    /// The ray through `raster` (pixel units, continuous) for the lens sample
+    /// `u_lens` and the time sample `u_time`.
+    pub fn generate_ray(&self, raster: Vec2, u_lens: [f32; 2], u_time: f32) -> CameraRay {
+        let ndc = Vec2::new(
+            2.0 * raster.x / self.resolution[0] as f32 - 1.0,
+            1.0 - 2.0 * raster.y / self.resolution[1] as f32,
+        );
+        let on_plane = (ndc * self.screen_half_extent).extend(1.0);
+        let (origin, direction) = if self.lens_radius > 0.0 {
+            let lens = concentric_disk(u_lens) * self.lens_radius;
+            // The pinhole ray through the image point meets the plane of focus
+            // here; every lens ray through that point converges there.
+            let focus = on_plane * self.focus_distance;
+            let origin = lens.extend(0.0);
+            (origin, (focus - origin).normalize())
+        } else {
+            (Vec3::ZERO, on_plane.normalize())
+        };
+        let time = self.time(u_time);
+        let transform = self.world_from_camera(time);
+        CameraRay {
+            origin: transform.transform_point3(origin),
+            direction: transform.transform_vector3(direction).normalize(),
+            time,
+        }
+    }
+}
+
+/// Spherical linear interpolation taking the shorter arc.
+fn slerp(a: Quat, b: Quat, t: f32) -> Quat {
+    let b = if a.dot(b) < 0.0 { -b } else { b };
+    a.slerp(b, t)
+}
+
+/// Shirley & Chiu's (1997) concentric mapping of the unit square onto the
+/// unit disk: area preserving, low distortion.
+pub fn concentric_disk(u: [f32; 2]) -> Vec2 {
+    let offset = Vec2::new(2.0 * u[0] - 1.0, 2.0 * u[1] - 1.0);
+    if offset == Vec2::ZERO {
+        return Vec2::ZERO;
+    }
+    let (radius, theta) = if offset.x.abs() > offset.y.abs() {
+        (
+            offset.x,
+            std::f32::consts::FRAC_PI_4 * (offset.y / offset.x),
+        )
+    } else {
+        (
+            offset.y,
+            std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (offset.x / offset.y),
+        )
+    };
+    Vec2::new(theta.cos(), theta.sin()) * radius
+}
+
+#[cfg(test)]
+mod tests;
