@@ -8,4 +8,5 @@ pub mod geometry;
 pub mod image;
 pub mod material;
 pub mod sampler;
+pub mod scene;
 pub mod spectrum;

@@ -1,0 +1,513 @@
+//! Built-in scenes (`builtin:NAME`): small analytic or classic scenes that
+//! need no files, for tests, benchmarks and the default render.
+
+use super::description::{
+    FilterDescription, LightDescription, MaterialDescription, SceneDescription, ShapeDescription,
+    ShapeGeometry, polygon_mesh,
+};
+use crate::camera::{FovAxis, PerspectiveSettings, look_at};
+use glam::{Affine3A, Quat, Vec3};
+
+/// The built-in scenes: name and a one-line description.
+pub const BUILTIN_SCENES: [(&str, &str); 5] = [
+    (
+        "cornell-box",
+        "Mitsuba 3's RGB Cornell box (cbox-rgb.xml): diffuse walls and boxes, one area light",
+    ),
+    (
+        "dof-spheres",
+        "diffuse spheres at several depths on a plane, thin lens, an area light (LQMC Fig. 7 kind)",
+    ),
+    (
+        "glass-sphere-box",
+        "a box with a glass sphere and a small ceiling light: a caustic (Kollig-Keller GLASS SPHERE kind)",
+    ),
+    (
+        "office",
+        "a diffuse room, two rectangular ceiling luminaires and a small spherical lamp (Kollig-Keller OFFICE kind)",
+    ),
+    (
+        "furnace",
+        "inside a closed sphere with diffuse albedo 0.5 emitting 0.5: every pixel is exactly 1",
+    ),
+];
+
+/// The scene used when none is named.
+pub const DEFAULT_SCENE: &str = "cornell-box";
+
+/// The built-in scene `name`, or `None` if there is no such scene.
+pub fn builtin_scene(name: &str) -> Option<SceneDescription> {
+    match name {
+        "cornell-box" => Some(cornell_box()),
+        "dof-spheres" => Some(dof_spheres()),
+        "glass-sphere-box" => Some(glass_sphere_box()),
+        "office" => Some(office()),
+        "furnace" => Some(furnace()),
+        _ => None,
+    }
+}
+
+fn diffuse(r: f32, g: f32, b: f32) -> MaterialDescription {
+    MaterialDescription::Diffuse {
+        reflectance: [r, g, b],
+    }
+}
+
+fn camera(
+    eye: [f32; 3],
+    target: [f32; 3],
+    fov_degrees: f32,
+    fov_axis: FovAxis,
+    resolution: [u32; 2],
+) -> PerspectiveSettings {
+    let world = look_at(eye.into(), target.into(), Vec3::Y).expect("valid built-in camera");
+    PerspectiveSettings {
+        world_from_camera: world,
+        world_from_camera_end: world,
+        resolution,
+        fov_degrees,
+        fov_axis,
+        ..Default::default()
+    }
+}
+
+/// A box-shaped block: top, four sides and bottom from the four corners of
+/// its footprint (counter-clockwise seen from above) and its height.
+fn block(footprint: [[f32; 2]; 4], height: f32) -> ShapeGeometry {
+    let top: Vec<[f32; 3]> = footprint.iter().map(|c| [c[0], height, c[1]]).collect();
+    let bottom: Vec<[f32; 3]> = footprint.iter().rev().map(|c| [c[0], 0.0, c[1]]).collect();
+    let mut sides: Vec<Vec<[f32; 3]>> = Vec::new();
+    for i in 0..4 {
+        let (a, b) = (footprint[i], footprint[(i + 1) % 4]);
+        sides.push(vec![
+            [b[0], 0.0, b[1]],
+            [b[0], height, b[1]],
+            [a[0], height, a[1]],
+            [a[0], 0.0, a[1]],
+        ]);
+    }
+    let mut polygons: Vec<&[[f32; 3]]> = vec![&top, &bottom];
+    polygons.extend(sides.iter().map(Vec::as_slice));
+    polygon_mesh(&polygons)
+}
+
+/// Mitsuba 3's `scenes/cbox/cbox-rgb.xml`, geometry from its OBJ files
+/// (the classic Cornell box measurements), materials and emitter as there.
+fn cornell_box() -> SceneDescription {
+    let white = diffuse(0.885809, 0.698859, 0.666422);
+    let boxes = diffuse(0.45, 0.30, 0.90);
+    let quad = |corners: [[f32; 3]; 4]| polygon_mesh(&[&corners]);
+    let shapes = vec![
+        ShapeDescription::new(
+            // Lowered by 0.5 as in Mitsuba's scene, to sit just below the ceiling.
+            quad([
+                [343.0, 548.3, 227.0],
+                [343.0, 548.3, 332.0],
+                [213.0, 548.3, 332.0],
+                [213.0, 548.3, 227.0],
+            ]),
+            diffuse(0.936461, 0.740433, 0.705267),
+        )
+        .emitting([18.387, 10.9873, 2.75357]),
+        ShapeDescription::new(
+            quad([
+                [552.8, 0.0, 0.0],
+                [0.0, 0.0, 0.0],
+                [0.0, 0.0, 559.2],
+                [549.6, 0.0, 559.2],
+            ]),
+            white.clone(),
+        ),
+        ShapeDescription::new(
+            quad([
+                [556.0, 548.8, 0.0],
+                [556.0, 548.8, 559.2],
+                [0.0, 548.8, 559.2],
+                [0.0, 548.8, 0.0],
+            ]),
+            white.clone(),
+        ),
+        ShapeDescription::new(
+            quad([
+                [549.6, 0.0, 559.2],
+                [0.0, 0.0, 559.2],
+                [0.0, 548.8, 559.2],
+                [556.0, 548.8, 559.2],
+            ]),
+            white,
+        ),
+        ShapeDescription::new(
+            quad([
+                [0.0, 0.0, 559.2],
+                [0.0, 0.0, 0.0],
+                [0.0, 548.8, 0.0],
+                [0.0, 548.8, 559.2],
+            ]),
+            diffuse(0.105421, 0.37798, 0.076425),
+        ),
+        ShapeDescription::new(
+            quad([
+                [552.8, 0.0, 0.0],
+                [549.6, 0.0, 559.2],
+                [556.0, 548.8, 559.2],
+                [556.0, 548.8, 0.0],
+            ]),
+            diffuse(0.570068, 0.0430135, 0.0443706),
+        ),
+        ShapeDescription::new(
+            block(
+                [[130.0, 65.0], [82.0, 225.0], [240.0, 272.0], [290.0, 114.0]],
+                165.0,
+            ),
+            boxes.clone(),
+        ),
+        ShapeDescription::new(
+            block(
+                [
+                    [423.0, 247.0],
+                    [265.0, 296.0],
+                    [314.0, 456.0],
+                    [472.0, 406.0],
+                ],
+                330.0,
+            ),
+            boxes,
+        ),
+    ];
+    SceneDescription {
+        name: "cornell-box".into(),
+        camera: camera(
+            [278.0, 273.0, -800.0],
+            [278.0, 273.0, -799.0],
+            39.3077,
+            FovAxis::Smaller,
+            [256, 256],
+        ),
+        filter: FilterDescription::Box { radius: 0.5 },
+        shapes,
+        lights: Vec::new(),
+        max_depth: Some(6),
+        samples_per_pixel: Some(64),
+    }
+}
+
+/// A ground plane facing +y of half-size `half`.
+fn ground(half: f32, material: MaterialDescription) -> ShapeDescription {
+    ShapeDescription::new(
+        ShapeGeometry::Rectangle {
+            to_world: Affine3A::from_rotation_x(-std::f32::consts::FRAC_PI_2)
+                * Affine3A::from_scale(Vec3::splat(half)),
+        },
+        material,
+    )
+}
+
+/// A rectangle light facing down at height `height`, half-size `half`.
+fn ceiling_light(center: [f32; 3], half: [f32; 2], radiance: [f32; 3]) -> ShapeDescription {
+    ShapeDescription::new(
+        ShapeGeometry::Rectangle {
+            to_world: Affine3A::from_translation(center.into())
+                * Affine3A::from_rotation_x(std::f32::consts::FRAC_PI_2)
+                * Affine3A::from_scale(Vec3::new(half[0], half[1], 1.0)),
+        },
+        MaterialDescription::Black,
+    )
+    .emitting(radiance)
+}
+
+fn dof_spheres() -> SceneDescription {
+    let colours = [
+        [0.8, 0.2, 0.2],
+        [0.8, 0.6, 0.2],
+        [0.2, 0.7, 0.3],
+        [0.2, 0.4, 0.8],
+        [0.6, 0.3, 0.8],
+    ];
+    let mut shapes = vec![
+        ground(20.0, diffuse(0.6, 0.6, 0.6)),
+        ceiling_light([0.0, 6.0, 3.0], [1.5, 1.5], [12.0, 12.0, 12.0]),
+    ];
+    for (i, colour) in colours.iter().enumerate() {
+        let depth = 1.0 + 1.6 * i as f32;
+        let x = -1.2 + 0.6 * i as f32;
+        shapes.push(ShapeDescription::new(
+            ShapeGeometry::Sphere {
+                center: Vec3::new(x, 0.5, depth),
+                radius: 0.5,
+            },
+            diffuse(colour[0], colour[1], colour[2]),
+        ));
+    }
+    let eye = Vec3::new(0.0, 1.0, -3.0);
+    let focus = Vec3::new(0.0, 0.5, 4.2);
+    let mut camera = camera(eye.into(), focus.into(), 40.0, FovAxis::X, [320, 240]);
+    camera.lens_radius = 0.12;
+    camera.focus_distance = (focus - eye).length();
+    SceneDescription {
+        name: "dof-spheres".into(),
+        camera,
+        filter: FilterDescription::Gaussian {
+            radius: 1.5,
+            sigma: 0.5,
+        },
+        shapes,
+        lights: vec![LightDescription::ConstantEnvironment {
+            radiance: [0.05, 0.06, 0.08],
+        }],
+        max_depth: Some(8),
+        samples_per_pixel: Some(64),
+    }
+}
+
+/// The five walls of a box [−1, 1]³ open towards −z, seen from inside.
+fn open_box(left: MaterialDescription, right: MaterialDescription) -> Vec<ShapeDescription> {
+    let white = diffuse(0.75, 0.75, 0.75);
+    let wall = |rotation: Quat, translation: [f32; 3]| ShapeGeometry::Rectangle {
+        to_world: Affine3A::from_rotation_translation(rotation, translation.into()),
+    };
+    use std::f32::consts::FRAC_PI_2;
+    vec![
+        // Floor (normal +y), ceiling (−y), back (−z), left (+x), right (−x).
+        ShapeDescription::new(
+            wall(Quat::from_rotation_x(-FRAC_PI_2), [0.0, -1.0, 0.0]),
+            white.clone(),
+        ),
+        ShapeDescription::new(
+            wall(Quat::from_rotation_x(FRAC_PI_2), [0.0, 1.0, 0.0]),
+            white.clone(),
+        ),
+        ShapeDescription::new(
+            wall(Quat::from_rotation_y(std::f32::consts::PI), [0.0, 0.0, 1.0]),
+            white,
+        ),
+        ShapeDescription::new(
+            wall(Quat::from_rotation_y(FRAC_PI_2), [-1.0, 0.0, 0.0]),
+            left,
+        ),
+        ShapeDescription::new(
+            wall(Quat::from_rotation_y(-FRAC_PI_2), [1.0, 0.0, 0.0]),
+            right,
+        ),
+    ]
+}
+
+fn glass_sphere_box() -> SceneDescription {
+    let mut shapes = open_box(diffuse(0.63, 0.065, 0.05), diffuse(0.14, 0.45, 0.091));
+    shapes.push(ceiling_light(
+        [0.0, 0.995, 0.0],
+        [0.15, 0.15],
+        [60.0, 60.0, 60.0],
+    ));
+    shapes.push(ShapeDescription::new(
+        ShapeGeometry::Sphere {
+            center: Vec3::new(0.25, -0.6, 0.1),
+            radius: 0.4,
+        },
+        MaterialDescription::Dielectric { eta: 1.5 },
+    ));
+    shapes.push(ShapeDescription::new(
+        ShapeGeometry::Cube {
+            to_world: Affine3A::from_scale_rotation_translation(
+                Vec3::new(0.2, 0.35, 0.2),
+                Quat::from_rotation_y(0.4),
+                Vec3::new(-0.45, -0.65, 0.45),
+            ),
+        },
+        diffuse(0.75, 0.75, 0.75),
+    ));
+    SceneDescription {
+        name: "glass-sphere-box".into(),
+        camera: camera(
+            [0.0, 0.0, -3.4],
+            [0.0, 0.0, 0.0],
+            40.0,
+            FovAxis::X,
+            [256, 256],
+        ),
+        filter: FilterDescription::Box { radius: 0.5 },
+        shapes,
+        lights: Vec::new(),
+        max_depth: Some(12),
+        samples_per_pixel: Some(64),
+    }
+}
+
+fn office() -> SceneDescription {
+    use std::f32::consts::FRAC_PI_2;
+    // A room 6 wide (x), 3 high (y), 5 deep (z), seen from near the front wall.
+    let wall_material = diffuse(0.7, 0.66, 0.58);
+    let rect = |rotation: Quat, scale: [f32; 2], translation: [f32; 3]| ShapeGeometry::Rectangle {
+        to_world: Affine3A::from_scale_rotation_translation(
+            Vec3::new(scale[0], scale[1], 1.0),
+            rotation,
+            translation.into(),
+        ),
+    };
+    let mut shapes = vec![
+        ShapeDescription::new(
+            rect(
+                Quat::from_rotation_x(-FRAC_PI_2),
+                [3.0, 2.5],
+                [0.0, 0.0, 2.5],
+            ),
+            diffuse(0.35, 0.3, 0.25),
+        ),
+        ShapeDescription::new(
+            rect(
+                Quat::from_rotation_x(FRAC_PI_2),
+                [3.0, 2.5],
+                [0.0, 3.0, 2.5],
+            ),
+            diffuse(0.8, 0.8, 0.8),
+        ),
+        ShapeDescription::new(
+            rect(
+                Quat::from_rotation_y(std::f32::consts::PI),
+                [3.0, 1.5],
+                [0.0, 1.5, 5.0],
+            ),
+            wall_material.clone(),
+        ),
+        ShapeDescription::new(
+            rect(Quat::IDENTITY, [3.0, 1.5], [0.0, 1.5, 0.0]),
+            wall_material.clone(),
+        ),
+        ShapeDescription::new(
+            rect(
+                Quat::from_rotation_y(FRAC_PI_2),
+                [2.5, 1.5],
+                [-3.0, 1.5, 2.5],
+            ),
+            wall_material.clone(),
+        ),
+        ShapeDescription::new(
+            rect(
+                Quat::from_rotation_y(-FRAC_PI_2),
+                [2.5, 1.5],
+                [3.0, 1.5, 2.5],
+            ),
+            diffuse(0.5, 0.6, 0.7),
+        ),
+        ceiling_light([-1.2, 2.98, 2.5], [0.6, 0.15], [12.0, 11.5, 10.0]),
+        ceiling_light([1.2, 2.98, 2.5], [0.6, 0.15], [12.0, 11.5, 10.0]),
+        // Desk top and a cabinet.
+        ShapeDescription::new(
+            ShapeGeometry::Cube {
+                to_world: Affine3A::from_scale_rotation_translation(
+                    Vec3::new(0.8, 0.025, 0.4),
+                    Quat::IDENTITY,
+                    Vec3::new(0.5, 0.75, 3.8),
+                ),
+            },
+            diffuse(0.45, 0.3, 0.18),
+        ),
+        ShapeDescription::new(
+            ShapeGeometry::Cube {
+                to_world: Affine3A::from_scale_rotation_translation(
+                    Vec3::new(0.25, 0.36, 0.35),
+                    Quat::IDENTITY,
+                    Vec3::new(1.0, 0.36, 3.8),
+                ),
+            },
+            diffuse(0.6, 0.6, 0.62),
+        ),
+        // The small spherical lamp on the desk.
+        ShapeDescription::new(
+            ShapeGeometry::Sphere {
+                center: Vec3::new(0.2, 0.86, 3.85),
+                radius: 0.06,
+            },
+            MaterialDescription::Black,
+        )
+        .emitting([40.0, 32.0, 20.0]),
+    ];
+    shapes.push(ShapeDescription::new(
+        ShapeGeometry::Cube {
+            to_world: Affine3A::from_scale_rotation_translation(
+                Vec3::new(0.3, 0.45, 0.3),
+                Quat::from_rotation_y(0.3),
+                Vec3::new(-1.8, 0.45, 3.6),
+            ),
+        },
+        diffuse(0.3, 0.35, 0.5),
+    ));
+    SceneDescription {
+        name: "office".into(),
+        camera: camera(
+            [-2.2, 1.6, 0.4],
+            [0.6, 0.9, 3.8],
+            60.0,
+            FovAxis::X,
+            [320, 240],
+        ),
+        filter: FilterDescription::Box { radius: 0.5 },
+        shapes,
+        lights: Vec::new(),
+        max_depth: Some(8),
+        samples_per_pixel: Some(64),
+    }
+}
+
+/// pbrt-v4's analytic test: inside a closed sphere of diffuse albedo ρ = 0.5
+/// emitting L_e = 0.5, every path sees L = L_e / (1 − ρ) = 1.
+fn furnace() -> SceneDescription {
+    SceneDescription {
+        name: "furnace".into(),
+        camera: camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 60.0, FovAxis::X, [64, 64]),
+        filter: FilterDescription::Box { radius: 0.5 },
+        shapes: vec![
+            ShapeDescription::new(
+                ShapeGeometry::Sphere {
+                    center: Vec3::ZERO,
+                    radius: 1.0,
+                },
+                diffuse(0.5, 0.5, 0.5),
+            )
+            .emitting([0.5, 0.5, 0.5])
+            .flipped(),
+        ],
+        lights: Vec::new(),
+        // Deep enough that the truncated series 1 − 2^−D is 1 in f32.
+        max_depth: Some(100),
+        samples_per_pixel: Some(16),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_listed_scene_exists_and_has_a_light() {
+        for (name, _) in BUILTIN_SCENES {
+            let scene = builtin_scene(name).unwrap();
+            assert_eq!(scene.name, name);
+            let emitters = scene.shapes.iter().filter(|s| s.emission.is_some()).count();
+            assert!(emitters + scene.lights.len() > 0, "{name}");
+        }
+        assert!(builtin_scene("teapot").is_none());
+        assert!(builtin_scene(DEFAULT_SCENE).is_some());
+    }
+
+    #[test]
+    fn block_faces_point_outwards() {
+        let ShapeGeometry::Mesh {
+            positions,
+            triangles,
+            ..
+        } = block([[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]], 1.0)
+        else {
+            unreachable!()
+        };
+        let centre = Vec3::new(0.5, 0.5, 0.5);
+        for [a, b, c] in triangles {
+            let (a, b, c) = (
+                positions[a as usize],
+                positions[b as usize],
+                positions[c as usize],
+            );
+            let normal = (b - a).cross(c - a);
+            assert!(normal.dot(a - centre) > 0.0, "inward face {a} {b} {c}");
+        }
+    }
+}
