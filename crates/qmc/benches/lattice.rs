@@ -123,3 +123,11 @@ fn closest_automatic(bencher: Bencher, (point_count, dimensions): (u64, usize)) 
             .sum::<u64>()
     });
 }
+
+/// Fast CBC for N = 2^16 points, 21 dimensions (the power-of-two algorithm:
+/// one FFT convolution per 2-adic block and dimension).
+#[divan::bench]
+fn fast_cbc_power_of_two_65536x21(bencher: Bencher) {
+    let weights = ProductWeights::lqmc_default(21);
+    bencher.bench(|| fast_cbc(black_box(1 << 16), 21, &weights).unwrap());
+}

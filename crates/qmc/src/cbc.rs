@@ -17,6 +17,11 @@
 //!   dimension costs one FFT convolution, `O(N log N)`. As `ω(x) = ω(1 − x)` and
 //!   `g^((N−1)/2) ≡ −1`, the circulant has period `(N−1)/2`, so only half the
 //!   candidates (and a half-length convolution) are needed.
+//! - [`fast_cbc_power_of_two`] for `N = 2^k` (Nuyens & Cools 2006, "Fast
+//!   component-by-component construction of rank-1 lattice rules with a
+//!   non-prime number of points"): the units are `±5^j`, and splitting the sample
+//!   indices by their 2-adic valuation gives one circulant (an FFT convolution
+//!   over the powers of 5) per block, `O(N log N)` in all.
 //! - [`plain_cbc`] for any `N`: every unit candidate (`gcd(z, N) = 1`, and only
 //!   `z ≤ N/2` by the same symmetry) is evaluated directly, `O(N²)` per dimension.
 //!
@@ -24,6 +29,14 @@
 //! a unit multiplier and a permutation of dimensions). Both implementations
 //! resolve them the same deterministic way: among candidates whose error is
 //! within a relative [`TIE_TOLERANCE`] of the minimum, the smallest `z` wins.
+//! The fast constructions shortlist candidates by their FFT estimates and
+//! re-evaluate the shortlist by direct summation, so FFT rounding never decides
+//! a tie and they choose and report exactly as [`plain_cbc`] does.
+//!
+//! Numerics: `e²` is tiny next to the `1 + …` products it is the mean of (about
+//! `10^−10` at `N = 2^16`), so all evaluations carry `Π (1 + γ_j ω_j) − 1` (the
+//! "excess") and build `e²` up dimension by dimension, never subtracting 1 from
+//! `1 + e²`.
 
 use std::f64::consts::PI;
 use std::sync::Arc;
@@ -124,22 +137,49 @@ impl CbcLattice {
 /// `weights[j]` (one per generator component; `weights` may be longer), by
 /// direct summation in `O(N s)`. Residues are computed exactly in integers.
 ///
+/// `e²` is far smaller than the `1 + …` terms it is the mean of (about `N^−2`
+/// for one dimension), so summing `Π_j (1 + γ_j ω_j)` and subtracting 1 would
+/// lose most digits. Instead `Π_j (1 + a_j) − 1 = Σ_j a_j + r` is split: the
+/// linear part sums in closed form, `Σ_k ω({k z / N}) = g² π² / (3N)` with
+/// `g = gcd(z, N)` (the sum of `B₂` over `N/g` equidistant points, repeated `g`
+/// times), and only the higher-order remainder `r` is summed numerically.
+///
 /// Returns NaN if `point_count` is 0 or fewer weights than components are given.
 pub fn squared_worst_case_error(point_count: u64, generator: &[u64], weights: &[f64]) -> f64 {
     if point_count == 0 || weights.len() < generator.len() {
         return f64::NAN;
     }
     let inverse_count = 1.0 / point_count as f64;
-    let mut sum = 0.0;
+    let linear: f64 = generator
+        .iter()
+        .zip(weights)
+        .map(|(component, weight)| {
+            let common = greatest_common_divisor(component % point_count, point_count) as f64;
+            weight * common * common * unit_kernel_sum(point_count)
+        })
+        .sum();
+    let mut remainder_sum = CompensatedSum::default();
     for index in 0..point_count {
-        let mut product = 1.0;
+        // excess = Π (1 + a_j) − 1, remainder = excess − Σ a_j, both built up
+        // without cancellation.
+        let mut excess = 0.0;
+        let mut remainder = 0.0;
         for (component, weight) in generator.iter().zip(weights) {
             let residue = (u128::from(index) * u128::from(*component)) % u128::from(point_count);
-            product *= 1.0 + weight * korobov_kernel(residue as f64 * inverse_count);
+            let term = weight * korobov_kernel(residue as f64 * inverse_count);
+            remainder += term * excess;
+            excess += term * (1.0 + excess);
         }
-        sum += product;
+        remainder_sum.add(remainder);
     }
-    sum * inverse_count - 1.0
+    (linear + remainder_sum.total()) * inverse_count
+}
+
+/// `Σ_{k=0}^{N−1} ω({k z / N})` for a unit `z` (`gcd(z, N) = 1`): the residues
+/// `k z mod N` run through `0..N`, and `Σ_k B₂(k/N) = B₂(0) / N = 1/(6N)`, so the
+/// sum is `2π² / (6N) = π² / (3N)`.
+fn unit_kernel_sum(point_count: u64) -> f64 {
+    PI * PI / (3.0 * point_count as f64)
 }
 
 fn validate_construction(
@@ -175,6 +215,118 @@ fn choose_candidate(candidates: impl Iterator<Item = (u64, f64)>) -> (u64, f64) 
         .expect("at least one candidate")
 }
 
+/// Largest number of FFT-shortlisted candidates the fast constructions
+/// re-evaluate directly per dimension (`O(N)` each); genuine ties come in small
+/// groups (`z` and its images under the lattice's symmetries), so 32 is ample.
+const MAX_REFINED_CANDIDATES: usize = 32;
+
+/// Factor by which the shortlist window of the fast constructions exceeds the
+/// typical rounding error of an FFT convolution, `ε log2(L) ‖x‖₂ ‖c‖₂ / √L`
+/// (measured errors are about 0.6 times that).
+const FFT_ERROR_SAFETY: f64 = 16.0;
+
+/// The tie rule for FFT-estimated errors. Every candidate whose estimate is within
+/// twice (`estimate_uncertainty` + the tie tolerance) of the smallest estimate is
+/// re-evaluated with `evaluate` (direct summation, at most
+/// [`MAX_REFINED_CANDIDATES`], best estimates first), and [`choose_candidate`]
+/// picks among those. The FFT's rounding (relative `10^−11` of `e²` at `N = 2^16`
+/// in two dimensions, larger than [`TIE_TOLERANCE`]) then cannot decide ties, and
+/// the fast constructions choose and report exactly as [`plain_cbc`] does.
+fn choose_refined(
+    estimates: impl Iterator<Item = (u64, f64)>,
+    estimate_uncertainty: f64,
+    evaluate: impl Fn(u64) -> f64,
+) -> (u64, f64) {
+    let mut shortlist: Vec<(u64, f64)> = estimates.collect();
+    let minimum = shortlist
+        .iter()
+        .map(|(_, error)| *error)
+        .fold(f64::INFINITY, f64::min);
+    let threshold = minimum + 2.0 * (estimate_uncertainty + TIE_TOLERANCE * minimum.abs());
+    shortlist.retain(|(_, error)| *error <= threshold);
+    shortlist.sort_by(|left, right| left.1.total_cmp(&right.1).then(left.0.cmp(&right.0)));
+    shortlist.truncate(MAX_REFINED_CANDIDATES);
+    choose_candidate(
+        shortlist
+            .into_iter()
+            .map(|(candidate, _)| (candidate, evaluate(candidate))),
+    )
+}
+
+/// Typical absolute rounding error of a length-`length` circular convolution by
+/// FFT of vectors with Euclidean norms `input_norm` and `kernel_norm`.
+fn convolution_rounding(length: usize, input_norm: f64, kernel_norm: f64) -> f64 {
+    let levels = (length.max(2) as f64).log2();
+    f64::EPSILON * levels * input_norm * kernel_norm / (length as f64).sqrt()
+}
+
+/// `Σ_k excess[k] ω({k z / N})` by direct summation in `O(N)`, in one fixed
+/// order, so every construction gets bit-identical sums for equal inputs.
+/// `kernel_value(r)` is `ω(r / N)`; `candidate < N`.
+fn direct_excess_kernel_sum(
+    excess: &[f64],
+    candidate: u64,
+    kernel_value: impl Fn(usize) -> f64,
+) -> f64 {
+    let count = excess.len();
+    let step = candidate as usize;
+    let mut sum = CompensatedSum::default();
+    let mut residue = 0usize;
+    for value in excess {
+        sum.add(value * kernel_value(residue));
+        residue += step;
+        if residue >= count {
+            residue -= count;
+        }
+    }
+    sum.total()
+}
+
+/// Neumaier's compensated summation: the sums of CBC cancel to a result many
+/// orders of magnitude below their terms, so the rounding of each addition is
+/// carried along instead of lost.
+#[derive(Debug, Default, Clone, Copy)]
+struct CompensatedSum {
+    sum: f64,
+    compensation: f64,
+}
+
+impl CompensatedSum {
+    #[inline]
+    fn add(&mut self, value: f64) {
+        let total = self.sum + value;
+        if self.sum.abs() >= value.abs() {
+            self.compensation += (self.sum - total) + value;
+        } else {
+            self.compensation += (value - total) + self.sum;
+        }
+        self.sum = total;
+    }
+
+    #[inline]
+    fn total(self) -> f64 {
+        self.sum + self.compensation
+    }
+}
+
+/// `e²` after adding a dimension with weight `γ` and candidate `z`, from the
+/// previous `e²`: with `excess[k] = Π_{earlier j} (1 + γ_j ω_j(k)) − 1`,
+/// `e²_new = (1/N) Σ_k (1 + excess[k]) (1 + γ ω({k z / N})) − 1
+///         = e²_previous + (γ/N) (Σ_k ω({k z / N}) + Σ_k excess[k] ω({k z / N}))`,
+/// and the first inner sum is `π²/(3N)` for every unit `z`. Working with the
+/// excess instead of the products avoids subtracting 1 from `1 + e²`, which
+/// would cost about `−log10(e²)` of the 16 digits (e² is `10^−10` at `N = 2^16`).
+#[inline]
+fn error_with_candidate(
+    previous_error: f64,
+    weight: f64,
+    kernel_sum: f64,
+    excess_kernel_sum: f64,
+    inverse_count: f64,
+) -> f64 {
+    previous_error + weight * (kernel_sum + excess_kernel_sum) * inverse_count
+}
+
 /// Kernel values `ω(k / N)` for `k = 0..N`.
 fn kernel_table(point_count: u64) -> Vec<f64> {
     let inverse_count = 1.0 / point_count as f64;
@@ -195,26 +347,21 @@ pub fn plain_cbc(
     let count = point_count as usize;
     let kernel = kernel_table(point_count);
     let inverse_count = 1.0 / point_count as f64;
-    // products[k] = Π over chosen dimensions of (1 + γ_j ω(k z_j mod N / N)).
-    let mut products = vec![1.0; count];
+    let kernel_sum = unit_kernel_sum(point_count);
+    // excess[k] = Π over chosen dimensions of (1 + γ_j ω(k z_j mod N / N)) − 1.
+    let mut excess = vec![0.0; count];
     let mut generator = Vec::with_capacity(dimensions);
     let mut squared_errors = Vec::with_capacity(dimensions);
+    let mut previous_error = 0.0;
     let units: Vec<u64> = (1..=point_count / 2)
         .filter(|candidate| greatest_common_divisor(*candidate, point_count) == 1)
         .collect();
     for dimension in 0..dimensions {
         let weight = weights.weight(dimension);
+        // See `error_with_candidate`: e² = e²_previous + γ (π²/(3N) + Σ_k excess[k] ω) / N.
         let evaluate = |candidate: u64| {
-            let mut sum = 0.0;
-            let mut residue = 0usize;
-            for product in &products {
-                sum += product * (1.0 + weight * kernel[residue]);
-                residue += candidate as usize;
-                if residue >= count {
-                    residue -= count;
-                }
-            }
-            sum * inverse_count - 1.0
+            let sum = direct_excess_kernel_sum(&excess, candidate, |residue| kernel[residue]);
+            error_with_candidate(previous_error, weight, kernel_sum, sum, inverse_count)
         };
         let (chosen, error) = if dimension == 0 {
             (1, evaluate(1))
@@ -226,13 +373,14 @@ pub fn plain_cbc(
             )
         };
         let mut residue = 0usize;
-        for product in products.iter_mut() {
-            *product *= 1.0 + weight * kernel[residue];
+        for value in excess.iter_mut() {
+            *value += weight * kernel[residue] * (1.0 + *value);
             residue += chosen as usize;
             if residue >= count {
                 residue -= count;
             }
         }
+        previous_error = error;
         generator.push(chosen);
         squared_errors.push(error);
     }
@@ -243,7 +391,9 @@ pub fn plain_cbc(
 }
 
 /// Fast CBC for a prime `N ≥ 3` (Nuyens & Cools 2006): per dimension one
-/// half-length circular convolution by FFT, `O(N log N)`. Deterministic ties as
+/// half-length circular convolution by FFT, `O(N log N)`. Powers of two
+/// `N = 2^k`, `2 ≤ k ≤ 32`, are handed to [`fast_cbc_power_of_two`]; any other
+/// `N` is an error (use [`cbc`] or [`plain_cbc`]). Deterministic ties as
 /// described in the module documentation, so it picks the same generator as
 /// [`plain_cbc`] unless two candidates differ by less than the FFT's rounding.
 pub fn fast_cbc(
@@ -252,9 +402,13 @@ pub fn fast_cbc(
     weights: &ProductWeights,
 ) -> Result<CbcLattice, PointSetError> {
     validate_construction(point_count, dimensions, weights)?;
+    if point_count >= 4 && point_count.is_power_of_two() {
+        return fast_cbc_power_of_two(point_count, dimensions, weights);
+    }
     if point_count < 3 || !is_prime(point_count) {
         return Err(PointSetError::InvalidParameter(format!(
-            "fast CBC needs an odd prime number of points, got {point_count}"
+            "fast CBC needs an odd prime or a power of two (at least 4) number of points, \
+             got {point_count}"
         )));
     }
     let count = point_count as usize;
@@ -277,56 +431,68 @@ pub fn fast_cbc(
     let mut kernel_spectrum: Vec<Complex<f64>> = (0..half)
         .map(|m| Complex::new(kernel[powers[m] as usize], 0.0))
         .collect();
+    let kernel_norm = euclidean_norm(&kernel_spectrum);
     forward.process(&mut kernel_spectrum);
 
-    let mut products = vec![1.0; count];
+    let kernel_sum = unit_kernel_sum(point_count);
+    // excess[k] = Π over chosen dimensions of (1 + γ_j ω(k z_j mod N / N)) − 1.
+    let mut excess = vec![0.0; count];
     let mut generator = Vec::with_capacity(dimensions);
     let mut squared_errors = Vec::with_capacity(dimensions);
+    let mut previous_error = 0.0;
     let mut buffer = vec![Complex::new(0.0, 0.0); half];
     for dimension in 0..dimensions {
         let weight = weights.weight(dimension);
         let (chosen, error) = if dimension == 0 {
-            let sum: f64 = products
-                .iter()
-                .enumerate()
-                .map(|(k, product)| product * (1.0 + weight * kernel[k]))
-                .sum();
-            (1, sum * inverse_count - 1.0)
+            // All excesses are 0: the same arithmetic as plain CBC's z = 1.
+            let error =
+                error_with_candidate(previous_error, weight, kernel_sum, 0.0, inverse_count);
+            (1, error)
         } else {
-            // Σ_k p[k] (1 + γ ω(k z / N)) = Σ_k p[k] + γ p[0] ω(0) + γ Σ_{k≠0} p[k] ω(k z / N).
+            // Σ_k excess[k] ω(k z / N) = excess[0] ω(0) + Σ_{k≠0} excess[k] ω(k z / N).
             // With z = g^b and k = g^(-a): k z = g^(b-a), a cyclic convolution over the
-            // units. p[k] = p[N-k] and g^half = -1, so fold to length `half`.
-            let total: f64 = products.iter().sum();
+            // units. excess[k] = excess[N-k] and g^half = -1, so fold to length `half`.
             for (a, slot) in buffer.iter_mut().enumerate() {
-                // k = g^(-a) = g^((N-1-a) mod (N-1)); p[k] + p[-k] = 2 p[k].
+                // k = g^(-a) = g^((N-1-a) mod (N-1)); x[k] + x[-k] = 2 x[k].
                 let exponent = (count - 1 - a) % (count - 1);
-                *slot = Complex::new(2.0 * products[powers[exponent] as usize], 0.0);
+                *slot = Complex::new(2.0 * excess[powers[exponent] as usize], 0.0);
             }
+            let input_norm = euclidean_norm(&buffer);
             forward.process(&mut buffer);
             for (value, spectrum) in buffer.iter_mut().zip(&kernel_spectrum) {
                 *value *= spectrum;
             }
             inverse.process(&mut buffer);
             let normalisation = 1.0 / half as f64;
-            let constant = total + weight * products[0] * kernel[0];
-            choose_candidate((0..half).map(|b| {
+            let constant = excess[0] * kernel[0];
+            let estimates = (0..half).map(|b| {
                 // z = g^b and N - z = g^(b+half) give the same error: report the smaller.
                 let candidate = powers[b].min(point_count - powers[b]);
                 let convolution = buffer[b].re * normalisation;
+                let sum = constant + convolution;
                 (
                     candidate,
-                    (constant + weight * convolution) * inverse_count - 1.0,
+                    error_with_candidate(previous_error, weight, kernel_sum, sum, inverse_count),
                 )
-            }))
+            });
+            let uncertainty = FFT_ERROR_SAFETY
+                * weight
+                * inverse_count
+                * convolution_rounding(half, input_norm, kernel_norm);
+            choose_refined(estimates, uncertainty, |candidate| {
+                let sum = direct_excess_kernel_sum(&excess, candidate, |residue| kernel[residue]);
+                error_with_candidate(previous_error, weight, kernel_sum, sum, inverse_count)
+            })
         };
         let mut residue = 0usize;
-        for product in products.iter_mut() {
-            *product *= 1.0 + weight * kernel[residue];
+        for value in excess.iter_mut() {
+            *value += weight * kernel[residue] * (1.0 + *value);
             residue += chosen as usize;
             if residue >= count {
                 residue -= count;
             }
         }
+        previous_error = error;
         generator.push(chosen);
         squared_errors.push(error);
     }
@@ -337,17 +503,202 @@ pub fn fast_cbc(
 }
 
 /// CBC with the fastest applicable algorithm: [`fast_cbc`] for odd prime `N`,
-/// [`plain_cbc`] otherwise.
+/// [`fast_cbc_power_of_two`] for `N = 2^k` with `k ≥ 2`, [`plain_cbc`] otherwise.
 pub fn cbc(
     point_count: u64,
     dimensions: usize,
     weights: &ProductWeights,
 ) -> Result<CbcLattice, PointSetError> {
-    if point_count >= 3 && is_prime(point_count) {
+    if point_count >= 4 && point_count.is_power_of_two() {
+        fast_cbc_power_of_two(point_count, dimensions, weights)
+    } else if point_count >= 3 && is_prime(point_count) {
         fast_cbc(point_count, dimensions, weights)
     } else {
         plain_cbc(point_count, dimensions, weights)
     }
+}
+
+/// One block of [`fast_cbc_power_of_two`]: the sample indices `k = 2^shift · u`
+/// with `u` odd, i.e. a unit modulo `M = N / 2^shift` (`M ≥ 8`).
+///
+/// The units modulo `M` are `±5^a mod M`, `0 ≤ a < M/4` (5 has order `M/4`
+/// modulo `2^j`, `j ≥ 3`; Gauss, Disquisitiones Arithmeticae §90). For a
+/// candidate `z = 5^b mod N`, `{k z / N} = {u z / M}`, and by the symmetry
+/// `ω(x) = ω(1 − x)` (and `p[k] = p[N − k]`) the block's part of the sum is
+/// `Σ_a 2 p[2^shift · (5^a mod M)] · ω((5^(a+b) mod M) / M)`: a circulant of
+/// length `M/4` in the exponents, done as one cyclic convolution by FFT.
+struct PowerOfTwoBlock {
+    /// `log2(N / M)`: the 2-adic valuation of the block's sample indices.
+    shift: u32,
+    /// `M / 4`, the circulant's length (a power of two, at least 2).
+    length: usize,
+    forward: Arc<dyn rustfft::Fft<f64>>,
+    inverse: Arc<dyn rustfft::Fft<f64>>,
+    /// FFT of `c[t] = ω((5^t mod M) / M)`, `t = 0..M/4`.
+    kernel_spectrum: Vec<Complex<f64>>,
+    /// `‖c‖₂`, for the rounding estimate.
+    kernel_norm: f64,
+}
+
+/// Fast CBC for `N = 2^k`, `2 ≤ k ≤ 32` (Nuyens & Cools 2006, "Fast
+/// component-by-component construction of rank-1 lattice rules with a non-prime
+/// number of points", J. Complexity 22): `O(N log N)` work per dimension.
+///
+/// The candidates are the units `z = ±5^b mod N`; `z` and `N − z` give the same
+/// error, so only `z = 5^b`, `0 ≤ b < N/4`, are evaluated and each is reported
+/// as `min(z, N − z)` for the tie rule. The sample indices `k ≠ 0` are split by
+/// their 2-adic valuation into blocks (see [`PowerOfTwoBlock`]), each a cyclic
+/// convolution over the powers of 5; the blocks with `N / 2^m ≤ 4` (indices
+/// `N/4`, `N/2`, `3N/4`) and `k = 0` do not depend on `z` and are summed
+/// directly. `N = 4` (where the only candidate is 1) goes to [`plain_cbc`].
+/// Ties as described in the module documentation.
+pub fn fast_cbc_power_of_two(
+    point_count: u64,
+    dimensions: usize,
+    weights: &ProductWeights,
+) -> Result<CbcLattice, PointSetError> {
+    validate_construction(point_count, dimensions, weights)?;
+    if point_count < 4 || !point_count.is_power_of_two() {
+        return Err(PointSetError::InvalidParameter(format!(
+            "power-of-two fast CBC needs N = 2^k with 2 ≤ k ≤ 32, got {point_count}"
+        )));
+    }
+    if point_count <= 4 {
+        return plain_cbc(point_count, dimensions, weights);
+    }
+    let count = point_count as usize;
+    let mask = point_count - 1;
+    let log2_count = point_count.trailing_zeros();
+    let quarter = count / 4;
+    let inverse_count = 1.0 / point_count as f64;
+    // powers[t] = 5^t mod N, t = 0..N/4 (fits in u32 since N ≤ 2^32).
+    let mut powers = Vec::with_capacity(quarter);
+    let mut power = 1u64;
+    for _ in 0..quarter {
+        powers.push(power as u32);
+        power = (power * 5) & mask;
+    }
+    // Blocks from the smallest (M = 8) to the largest (M = N), so the running
+    // sum over blocks can be extended periodically as the lengths double.
+    let mut planner = FftPlanner::<f64>::new();
+    let blocks: Vec<PowerOfTwoBlock> = (0..=log2_count - 3)
+        .rev()
+        .map(|shift| {
+            let modulus = point_count >> shift;
+            let length = (modulus / 4) as usize;
+            let block_mask = modulus - 1;
+            let forward = planner.plan_fft_forward(length);
+            let inverse = planner.plan_fft_inverse(length);
+            let modulus_inverse = 1.0 / modulus as f64;
+            let mut kernel_spectrum: Vec<Complex<f64>> = powers[..length]
+                .iter()
+                .map(|power| {
+                    let residue = u64::from(*power) & block_mask;
+                    Complex::new(korobov_kernel(residue as f64 * modulus_inverse), 0.0)
+                })
+                .collect();
+            let kernel_norm = euclidean_norm(&kernel_spectrum);
+            forward.process(&mut kernel_spectrum);
+            PowerOfTwoBlock {
+                shift,
+                length,
+                forward,
+                inverse,
+                kernel_spectrum,
+                kernel_norm,
+            }
+        })
+        .collect();
+
+    let kernel_sum = unit_kernel_sum(point_count);
+    // excess[k] = Π over chosen dimensions of (1 + γ_j ω(k z_j mod N / N)) − 1.
+    let mut excess = vec![0.0; count];
+    let mut generator = Vec::with_capacity(dimensions);
+    let mut squared_errors = Vec::with_capacity(dimensions);
+    let mut previous_error = 0.0;
+    let mut buffer = vec![Complex::new(0.0, 0.0); quarter];
+    let mut block_sums: Vec<f64> = Vec::with_capacity(quarter);
+    for dimension in 0..dimensions {
+        let weight = weights.weight(dimension);
+        let (chosen, error) = if dimension == 0 {
+            // All excesses are 0: the same arithmetic as plain CBC's z = 1.
+            let error =
+                error_with_candidate(previous_error, weight, kernel_sum, 0.0, inverse_count);
+            (1, error)
+        } else {
+            // Σ_k excess[k] ω({k z / N}) is a z-independent part (k = 0, N/4, N/2, 3N/4;
+            // excess[N/4] = excess[3N/4] and ω(1/4) = ω(3/4)) plus one convolution per block.
+            let constant = excess[0] * korobov_kernel(0.0)
+                + excess[count / 2] * korobov_kernel(0.5)
+                + 2.0 * excess[count / 4] * korobov_kernel(0.25);
+            block_sums.clear();
+            block_sums.push(constant);
+            let mut rounding = 0.0;
+            for block in &blocks {
+                let block_mask = (point_count >> block.shift) - 1;
+                let length = block.length;
+                let values = &mut buffer[..length];
+                for (t, slot) in values.iter_mut().enumerate() {
+                    // k = 2^shift · (5^(−t) mod M); the factor 2 folds in k' = N − k.
+                    let exponent = (length - t) & (length - 1);
+                    let unit = u64::from(powers[exponent]) & block_mask;
+                    let k = (unit << block.shift) as usize;
+                    *slot = Complex::new(2.0 * excess[k], 0.0);
+                }
+                rounding += convolution_rounding(length, euclidean_norm(values), block.kernel_norm);
+                block.forward.process(values);
+                for (value, spectrum) in values.iter_mut().zip(&block.kernel_spectrum) {
+                    *value *= spectrum;
+                }
+                block.inverse.process(values);
+                // The smaller blocks have periods dividing `length`: repeat them.
+                while block_sums.len() < length {
+                    block_sums.extend_from_within(..);
+                }
+                let normalisation = 1.0 / length as f64;
+                for (sum, value) in block_sums.iter_mut().zip(values.iter()) {
+                    *sum += value.re * normalisation;
+                }
+            }
+            let estimates = powers.iter().zip(&block_sums).map(|(power, sum)| {
+                // z = 5^b and N − z = −5^b give the same error: report the smaller.
+                let power = u64::from(*power);
+                let candidate = power.min(point_count - power);
+                (
+                    candidate,
+                    error_with_candidate(previous_error, weight, kernel_sum, *sum, inverse_count),
+                )
+            });
+            let uncertainty = FFT_ERROR_SAFETY * weight * inverse_count * rounding;
+            choose_refined(estimates, uncertainty, |candidate| {
+                let sum = direct_excess_kernel_sum(&excess, candidate, |residue| {
+                    korobov_kernel(residue as f64 * inverse_count)
+                });
+                error_with_candidate(previous_error, weight, kernel_sum, sum, inverse_count)
+            })
+        };
+        let mut residue = 0u64;
+        for value in excess.iter_mut() {
+            *value += weight * korobov_kernel(residue as f64 * inverse_count) * (1.0 + *value);
+            residue = (residue + chosen) & mask;
+        }
+        previous_error = error;
+        generator.push(chosen);
+        squared_errors.push(error);
+    }
+    Ok(CbcLattice {
+        lattice: Rank1Lattice::new(point_count, generator)?,
+        squared_errors,
+    })
+}
+
+/// Euclidean norm of a complex vector.
+fn euclidean_norm(values: &[Complex<f64>]) -> f64 {
+    values
+        .iter()
+        .map(|value| value.norm_sqr())
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// Greatest common divisor (Euclid).
@@ -517,7 +868,8 @@ mod tests {
     #[test]
     fn invalid_input_is_rejected() {
         let weights = ProductWeights::Constant(1.0);
-        assert!(fast_cbc(8, 2, &weights).is_err());
+        assert!(fast_cbc(12, 2, &weights).is_err());
+        assert!(fast_cbc(8, 2, &weights).is_ok());
         assert!(fast_cbc(2, 2, &weights).is_err());
         assert!(plain_cbc(1, 2, &weights).is_err());
         assert!(plain_cbc(7, 0, &weights).is_err());
