@@ -43,12 +43,11 @@ pub fn refract(wi: Vec3, eta: f32) -> Option<Refraction> {
         cos_i = -cos_i;
         normal_sign = -1.0;
     }
-    let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
-    let sin2_t = sin2_i / (relative_eta * relative_eta);
-    if sin2_t >= 1.0 {
+    let cos2_t = transmitted_cos_squared(cos_i, relative_eta);
+    if cos2_t <= 0.0 {
         return None;
     }
-    let cos_t = (1.0 - sin2_t).sqrt();
+    let cos_t = cos2_t.sqrt();
     // wt = −wi/η + (cos_i/η − cos_t) n (pbrt-v4 eq. 9.4).
     let normal = Vec3::new(0.0, 0.0, normal_sign);
     let direction = -wi / relative_eta + (cos_i / relative_eta - cos_t) * normal;
@@ -56,6 +55,18 @@ pub fn refract(wi: Vec3, eta: f32) -> Option<Refraction> {
         direction,
         relative_eta,
     })
+}
+
+/// cos² θt of the refracted direction for incidence cosine `cos_i` ≥ 0 and
+/// relative index `eta`; ≤ 0 means total internal reflection.
+///
+/// Snell's law gives cos² θt = 1 − (1 − cos² θi)/η²; written as
+/// (cos² θi + η² − 1)/η² it does not cancel catastrophically at grazing
+/// incidence (for η = 1 it is exactly cos² θi).
+#[inline]
+fn transmitted_cos_squared(cos_i: f32, eta: f32) -> f32 {
+    let eta2 = eta * eta;
+    (cos_i * cos_i + (eta2 - 1.0)) / eta2
 }
 
 /// The Fresnel reflectance of unpolarised light at a smooth dielectric
@@ -67,18 +78,22 @@ pub fn refract(wi: Vec3, eta: f32) -> Option<Refraction> {
 /// swapped. `eta` is η_below / η_above. Returns 1 under total internal
 /// reflection.
 pub fn fresnel_dielectric(cos_theta_i: f32, eta: f32) -> f32 {
+    if eta == 1.0 {
+        // Index matched: exactly 0, where the general formula would leave
+        // rounding residue (cos θt recomputed from sin² θt).
+        return 0.0;
+    }
     let mut cos_i = cos_theta_i.clamp(-1.0, 1.0);
     let mut eta = eta;
     if cos_i < 0.0 {
         eta = 1.0 / eta;
         cos_i = -cos_i;
     }
-    let sin2_i = 1.0 - cos_i * cos_i;
-    let sin2_t = sin2_i / (eta * eta);
-    if sin2_t >= 1.0 {
+    let cos2_t = transmitted_cos_squared(cos_i, eta);
+    if cos2_t <= 0.0 {
         return 1.0;
     }
-    let cos_t = (1.0 - sin2_t).max(0.0).sqrt();
+    let cos_t = cos2_t.sqrt();
     let parallel = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
     let perpendicular = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
     0.5 * (parallel * parallel + perpendicular * perpendicular)
