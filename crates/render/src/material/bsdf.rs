@@ -95,7 +95,12 @@ impl Bsdf {
     /// the signature so that models evaluating spectra per call can be added
     /// without changing callers.
     #[inline]
-    pub fn evaluate(&self, wo: Vec3, wi: Vec3, _wavelengths: &SampledWavelengths) -> SampledSpectrum {
+    pub fn evaluate(
+        &self,
+        wo: Vec3,
+        wi: Vec3,
+        _wavelengths: &SampledWavelengths,
+    ) -> SampledSpectrum {
         match &self.model {
             BsdfModel::Diffuse(diffuse) => diffuse.evaluate(wo, wi),
             BsdfModel::Conductor(conductor) => conductor.evaluate(wo, wi),

@@ -249,7 +249,10 @@ mod tests {
         let wt = refraction.direction;
         assert!((wt.length() - 1.0).abs() < 1e-6);
         assert!(wt.z < 0.0);
-        assert!((wt.x + sin_i / eta).abs() < 1e-6, "tangential component flips");
+        assert!(
+            (wt.x + sin_i / eta).abs() < 1e-6,
+            "tangential component flips"
+        );
         assert_eq!(refraction.relative_eta, eta);
         // And back: refracting the transmitted direction returns wi (reversibility).
         let back = refract(wt, eta).unwrap();
@@ -279,12 +282,21 @@ mod tests {
             assert!((fresnel_complex(1.0, eta, k) - expected).abs() < 1e-6);
         }
         assert_eq!(fresnel_complex(0.5, 0.0, 0.0), 1.0);
-        assert!((fresnel_complex(0.0, 0.2, 3.0) - 1.0).abs() < 1e-6, "grazing");
+        assert!(
+            (fresnel_complex(0.0, 0.2, 3.0) - 1.0).abs() < 1e-6,
+            "grazing"
+        );
     }
 
     #[test]
     fn complex_square_root_is_principal() {
-        for (re, im) in [(4.0_f32, 0.0_f32), (-4.0, 0.0), (-4.0, -0.0), (3.0, 4.0), (-3.0, -4.0)] {
+        for (re, im) in [
+            (4.0_f32, 0.0_f32),
+            (-4.0, 0.0),
+            (-4.0, -0.0),
+            (3.0, 4.0),
+            (-3.0, -4.0),
+        ] {
             let root = Complex::new(re, im).sqrt();
             assert!(root.re >= 0.0);
             let square = root * root;

@@ -151,7 +151,10 @@ mod tests {
             assert!((axis.length() - 1.0).abs() < 1e-5, "{frame:?}");
         }
         assert!(t.dot(b).abs() < 1e-5 && t.dot(n).abs() < 1e-5 && b.dot(n).abs() < 1e-5);
-        assert!((t.cross(b) - n).length() < 1e-5, "{frame:?} not right-handed");
+        assert!(
+            (t.cross(b) - n).length() < 1e-5,
+            "{frame:?} not right-handed"
+        );
     }
 
     #[test]
@@ -195,7 +198,8 @@ mod tests {
     #[test]
     fn tangent_is_kept_when_valid() {
         let normal = Vec3::new(0.0, 0.0, 2.0);
-        let frame = ShadingFrame::from_normal_and_tangent(normal, Vec3::new(1.0, 0.0, 0.5)).unwrap();
+        let frame =
+            ShadingFrame::from_normal_and_tangent(normal, Vec3::new(1.0, 0.0, 0.5)).unwrap();
         assert_eq!(frame.tangent(), Vec3::X);
         assert_eq!(frame.bitangent(), Vec3::Y);
         assert_orthonormal_right_handed(&frame);

@@ -111,11 +111,10 @@ impl Material {
     /// [`Bsdf::with_transport_mode`] for light paths).
     pub fn bsdf(&self, wavelengths: &SampledWavelengths) -> Bsdf {
         match self {
-            Material::Diffuse { reflectance } => DiffuseBsdf::new_unchecked(
-                reflectance.sample(wavelengths).clamp(0.0, 1.0),
-                true,
-            )
-            .into(),
+            Material::Diffuse { reflectance } => {
+                DiffuseBsdf::new_unchecked(reflectance.sample(wavelengths).clamp(0.0, 1.0), true)
+                    .into()
+            }
             Material::Conductor { eta, k } => ConductorBsdf::new_unchecked(
                 eta.sample(wavelengths).clamp_zero(),
                 k.sample(wavelengths).clamp_zero(),
@@ -137,7 +136,11 @@ impl Material {
 
     /// The BSDF at a hit placed in the hit's shading frame, for world-space
     /// directions.
-    pub fn surface_bsdf(&self, frame: ShadingFrame, wavelengths: &SampledWavelengths) -> SurfaceBsdf {
+    pub fn surface_bsdf(
+        &self,
+        frame: ShadingFrame,
+        wavelengths: &SampledWavelengths,
+    ) -> SurfaceBsdf {
         SurfaceBsdf {
             frame,
             bsdf: self.bsdf(wavelengths),
