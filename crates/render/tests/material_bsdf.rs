@@ -272,9 +272,11 @@ fn diffuse_sampling_fits_its_pdf() {
     ];
     for (index, &wo) in outgoing.iter().enumerate() {
         let p = bsdf_fit_p_value(&two_sided, wo, 100_000, index as u64);
+        eprintln!("diffuse two-sided, wo.z = {:.2}: p = {p:.3}", wo.z);
         assert!(p > P_VALUE_THRESHOLD, "two-sided, wo {wo}: p = {p}");
         if wo.z > 0.0 {
             let p = bsdf_fit_p_value(&one_sided, wo, 100_000, 100 + index as u64);
+            eprintln!("diffuse one-sided, wo.z = {:.2}: p = {p:.3}", wo.z);
             assert!(p > P_VALUE_THRESHOLD, "one-sided, wo {wo}: p = {p}");
         }
     }
@@ -318,6 +320,7 @@ fn concentric_disk_is_uniform() {
     }
     let expected = vec![sample_count as f64 / (RINGS * SECTORS) as f64; RINGS * SECTORS];
     let p = chi_square_p_value(&observed, &expected);
+    eprintln!("concentric disk: p = {p:.3}");
     assert!(p > P_VALUE_THRESHOLD, "p = {p}");
 }
 
@@ -423,6 +426,10 @@ fn diffuse_pdf_integrates_to_one() {
         .enumerate()
     {
         let (mean, standard_error) = pdf_integral_estimate(&two_sided, wo, 200_000, index as u64);
+        eprintln!(
+            "∫ pdf dω, wo.z = {:.2}: {mean:.5} ± {standard_error:.5}",
+            wo.z
+        );
         assert!(
             (mean - 1.0).abs() < 5.0 * standard_error,
             "wo {wo}: {mean} ± {standard_error}"
@@ -558,6 +565,9 @@ fn dielectric_furnace_importance_is_one_and_radiance_scales_by_eta_squared() {
         let mean = sum / n;
         let standard_error = ((sum_squares / n - mean * mean) / (n - 1.0)).sqrt();
         let expected = reflectance + (1.0 - reflectance) / f64::from(path_eta * path_eta);
+        eprintln!(
+            "dielectric radiance furnace, cos {cos_theta}: {mean:.5} ± {standard_error:.5} (expected {expected:.5})"
+        );
         assert!(
             (mean - expected).abs() <= 5.0 * standard_error + 1e-6,
             "cos {cos_theta}: {mean} vs {expected} ± {standard_error}"
