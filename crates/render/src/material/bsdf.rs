@@ -1,0 +1,236 @@
+//! [`Bsdf`]: the scattering function at a surface point, in the local shading
+//! frame (z = shading normal), with the operations every integrator needs:
+//! evaluate, importance-sample, and the density of a sampled direction.
+//!
+//! # Conventions
+//!
+//! - `wo` is the direction towards the previous path vertex (the camera side
+//!   for camera paths), `wi` the sampled or light direction; both point away
+//!   from the surface and have unit length.
+//! - [`Bsdf::evaluate`] returns f(wo, wi) *without* the cosine factor.
+//! - Specular (delta) lobes are reached only by [`Bsdf::sample`]: for them
+//!   `evaluate` and `pdf` are 0 (see [`BsdfSample`] for how value and pdf of a
+//!   delta sample are to be read).
+//!
+//! # Reverse densities (BDPT, MIS)
+//!
+//! Bidirectional methods need the density of sampling the path in the other
+//! direction: at a vertex where the path arrived from `wo` and continued to
+//! `wi`, the forward density is `bsdf.pdf(wo, wi)` and the reverse one
+//! (generating `wo` when sampling from `wi`) is `bsdf.pdf(wi, wo)`; the
+//! matching value is `bsdf.evaluate(wi, wo)`. For the BSDFs here the pdf is
+//! not symmetric in general (the diffuse pdf is |cos θi|/π), so both must be
+//! evaluated. Delta lobes have no density either way; BDPT treats such
+//! vertices as not connectible.
+//!
+//! # Transport mode
+//!
+//! The BSDF adjoint differs from the BSDF at refractive interfaces: radiance
+//! is divided by η² on refraction, importance is not. A [`Bsdf`] carries its
+//! [`TransportMode`] (radiance by default, which is what path tracing and the
+//! camera subpaths of BDPT need); light subpaths use
+//! [`Bsdf::with_transport_mode`]`(TransportMode::Importance)`.
+
+use glam::Vec3;
+
+use super::bsdf_sample::BsdfSample;
+use super::conductor::ConductorBsdf;
+use super::dielectric::DielectricBsdf;
+use super::diffuse::DiffuseBsdf;
+use super::flags::{BsdfFlags, TransportMode};
+use super::shading_frame::ShadingFrame;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+
+/// The scattering models the renderer knows.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum BsdfModel {
+    /// Lambertian reflection.
+    Diffuse(DiffuseBsdf),
+    /// A smooth metal or ideal mirror.
+    Conductor(ConductorBsdf),
+    /// A smooth glass-like interface.
+    Dielectric(DielectricBsdf),
+}
+
+/// A scattering model together with the quantity the path carries, in the
+/// local shading frame. Built per hit (cheaply: a few spectra) for the path's
+/// wavelengths.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bsdf {
+    model: BsdfModel,
+    transport_mode: TransportMode,
+}
+
+impl Bsdf {
+    /// A BSDF for radiance transport.
+    pub fn new(model: BsdfModel) -> Self {
+        Self {
+            model,
+            transport_mode: TransportMode::Radiance,
+        }
+    }
+
+    /// The same BSDF for the given transport mode.
+    pub fn with_transport_mode(self, transport_mode: TransportMode) -> Self {
+        Self {
+            transport_mode,
+            ..self
+        }
+    }
+
+    /// The scattering model.
+    pub fn model(&self) -> &BsdfModel {
+        &self.model
+    }
+
+    /// Radiance (camera paths) or importance (light paths).
+    pub fn transport_mode(&self) -> TransportMode {
+        self.transport_mode
+    }
+
+    /// f(wo, wi), without the cosine factor; 0 for delta lobes.
+    ///
+    /// `wavelengths` must be the set the BSDF was built for. The BSDFs here
+    /// hold their spectra already sampled and do not read it; it is part of
+    /// the signature so that models evaluating spectra per call can be added
+    /// without changing callers.
+    #[inline]
+    pub fn evaluate(
+        &self,
+        wo: Vec3,
+        wi: Vec3,
+        _wavelengths: &SampledWavelengths,
+    ) -> SampledSpectrum {
+        match &self.model {
+            BsdfModel::Diffuse(diffuse) => diffuse.evaluate(wo, wi),
+            BsdfModel::Conductor(conductor) => conductor.evaluate(wo, wi),
+            BsdfModel::Dielectric(dielectric) => dielectric.evaluate(wo, wi),
+        }
+    }
+
+    /// Importance-samples an incident direction for `wo`.
+    ///
+    /// `u_component` ∈ [0, 1) chooses between lobes (the vertex's
+    /// [`crate::sampler::layout::SCATTER_COMPONENT`] dimension) and `u` ∈
+    /// [0, 1)² places the direction within the lobe
+    /// ([`crate::sampler::layout::SCATTER_DIRECTION`]). A dispersive dielectric
+    /// terminates the secondary `wavelengths`. Returns `None` when no
+    /// scattering is possible (grazing or back-facing `wo`, a black lobe, a
+    /// zero density, or a `wi` in the tangent plane), as pbrt-v4 does.
+    ///
+    /// For non-delta lobes the returned value and pdf equal
+    /// `evaluate(wo, wi)` and `pdf(wo, wi)`.
+    #[inline]
+    pub fn sample(
+        &self,
+        wo: Vec3,
+        u_component: f32,
+        u: [f32; 2],
+        wavelengths: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
+        let sample = match &self.model {
+            BsdfModel::Diffuse(diffuse) => diffuse.sample(wo, u),
+            BsdfModel::Conductor(conductor) => conductor.sample(wo),
+            BsdfModel::Dielectric(dielectric) => {
+                dielectric.sample(wo, u_component, wavelengths, self.transport_mode)
+            }
+        }?;
+        if sample.pdf == 0.0 || sample.value.is_black() || sample.wi.z == 0.0 {
+            return None;
+        }
+        Some(sample)
+    }
+
+    /// The density per unit solid angle with which [`Self::sample`] produces
+    /// `wi` from `wo` (0 for delta lobes). `pdf(wi, wo)` is the reverse
+    /// density (see the module docs).
+    #[inline]
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match &self.model {
+            BsdfModel::Diffuse(diffuse) => diffuse.pdf(wo, wi),
+            BsdfModel::Conductor(conductor) => conductor.pdf(wo, wi),
+            BsdfModel::Dielectric(dielectric) => dielectric.pdf(wo, wi),
+        }
+    }
+
+    /// The kinds of scattering this BSDF can do.
+    #[inline]
+    pub fn flags(&self) -> BsdfFlags {
+        match &self.model {
+            BsdfModel::Diffuse(diffuse) => diffuse.flags(),
+            BsdfModel::Conductor(conductor) => conductor.flags(),
+            BsdfModel::Dielectric(dielectric) => dielectric.flags(),
+        }
+    }
+}
+
+impl From<DiffuseBsdf> for Bsdf {
+    fn from(diffuse: DiffuseBsdf) -> Self {
+        Bsdf::new(BsdfModel::Diffuse(diffuse))
+    }
+}
+
+impl From<ConductorBsdf> for Bsdf {
+    fn from(conductor: ConductorBsdf) -> Self {
+        Bsdf::new(BsdfModel::Conductor(conductor))
+    }
+}
+
+impl From<DielectricBsdf> for Bsdf {
+    fn from(dielectric: DielectricBsdf) -> Self {
+        Bsdf::new(BsdfModel::Dielectric(dielectric))
+    }
+}
+
+/// A [`Bsdf`] placed on a surface: the same operations on world-space
+/// directions, converted through the hit's [`ShadingFrame`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceBsdf {
+    /// The hit's shading frame.
+    pub frame: ShadingFrame,
+    /// The local-frame BSDF.
+    pub bsdf: Bsdf,
+}
+
+impl SurfaceBsdf {
+    /// [`Bsdf::evaluate`] for world-space directions.
+    pub fn evaluate(
+        &self,
+        wo_world: Vec3,
+        wi_world: Vec3,
+        wavelengths: &SampledWavelengths,
+    ) -> SampledSpectrum {
+        self.bsdf.evaluate(
+            self.frame.to_local(wo_world),
+            self.frame.to_local(wi_world),
+            wavelengths,
+        )
+    }
+
+    /// [`Bsdf::sample`] for a world-space `wo`; the sample's `wi` is in world
+    /// space.
+    pub fn sample(
+        &self,
+        wo_world: Vec3,
+        u_component: f32,
+        u: [f32; 2],
+        wavelengths: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
+        let mut sample =
+            self.bsdf
+                .sample(self.frame.to_local(wo_world), u_component, u, wavelengths)?;
+        sample.wi = self.frame.to_world(sample.wi);
+        Some(sample)
+    }
+
+    /// [`Bsdf::pdf`] for world-space directions.
+    pub fn pdf(&self, wo_world: Vec3, wi_world: Vec3) -> f32 {
+        self.bsdf
+            .pdf(self.frame.to_local(wo_world), self.frame.to_local(wi_world))
+    }
+
+    /// [`Bsdf::flags`].
+    pub fn flags(&self) -> BsdfFlags {
+        self.bsdf.flags()
+    }
+}

@@ -1,0 +1,94 @@
+//! Warps from the unit square to the directions BSDFs sample: Shirley and
+//! Chiu's concentric disk mapping, cosine-weighted hemisphere sampling (Malley's
+//! method: project the disk up onto the hemisphere), and uniform sphere
+//! sampling (for tests and isotropic phase functions).
+
+use std::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4, PI};
+
+use glam::{Vec2, Vec3};
+
+/// Maps `u` ∈ [0, 1)² to the unit disk with constant density 1/π, keeping
+/// strata compact and adjacent: concentric squares go to concentric circles
+/// (Shirley and Chiu 1997, "A Low Distortion Map Between Disk and Square").
+/// Low distortion matters for QMC points, whose uniformity it preserves.
+#[inline]
+pub fn sample_uniform_disk_concentric(u: [f32; 2]) -> Vec2 {
+    let x = 2.0 * u[0] - 1.0;
+    let y = 2.0 * u[1] - 1.0;
+    if x == 0.0 && y == 0.0 {
+        return Vec2::ZERO;
+    }
+    let (radius, theta) = if x.abs() > y.abs() {
+        (x, FRAC_PI_4 * (y / x))
+    } else {
+        (y, FRAC_PI_2 - FRAC_PI_4 * (x / y))
+    };
+    Vec2::new(radius * theta.cos(), radius * theta.sin())
+}
+
+/// A direction in the upper hemisphere (z ≥ 0) with density cos θ / π per unit
+/// solid angle ([`cosine_hemisphere_pdf`]): a uniform disk point lifted onto
+/// the hemisphere.
+#[inline]
+pub fn sample_cosine_hemisphere(u: [f32; 2]) -> Vec3 {
+    let disk = sample_uniform_disk_concentric(u);
+    let z = (1.0 - disk.length_squared()).max(0.0).sqrt();
+    Vec3::new(disk.x, disk.y, z)
+}
+
+/// The density of [`sample_cosine_hemisphere`]: cos θ / π (per steradian).
+#[inline]
+pub fn cosine_hemisphere_pdf(cos_theta: f32) -> f32 {
+    cos_theta * FRAC_1_PI
+}
+
+/// A direction uniformly distributed on the unit sphere (density 1/(4π)):
+/// z = 1 − 2u₀ is uniform by Archimedes' hat-box theorem, φ = 2πu₁.
+#[inline]
+pub fn sample_uniform_sphere(u: [f32; 2]) -> Vec3 {
+    let z = 1.0 - 2.0 * u[0];
+    let radius = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u[1];
+    Vec3::new(radius * phi.cos(), radius * phi.sin(), z)
+}
+
+/// The density of [`sample_uniform_sphere`]: 1/(4π).
+pub const UNIFORM_SPHERE_PDF: f32 = 0.25 * FRAC_1_PI;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn concentric_mapping_stays_in_the_disk_and_maps_edges_to_the_circle() {
+        let steps = 64;
+        for i in 0..=steps {
+            for j in 0..=steps {
+                let u = [i as f32 / steps as f32, j as f32 / steps as f32];
+                let point = sample_uniform_disk_concentric(u);
+                assert!(point.length() <= 1.0 + 1e-6);
+                let on_square_edge = i == 0 || j == 0 || i == steps || j == steps;
+                if on_square_edge {
+                    assert!((point.length() - 1.0).abs() < 1e-5, "{u:?} -> {point}");
+                }
+            }
+        }
+        assert_eq!(sample_uniform_disk_concentric([0.5, 0.5]), Vec2::ZERO);
+        // The square's centre ring of half-width 1/4 maps to the circle of radius 1/2.
+        assert!((sample_uniform_disk_concentric([0.75, 0.6]).length() - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn hemisphere_and_sphere_samples_are_unit_vectors() {
+        for i in 0..50 {
+            for j in 0..50 {
+                let u = [(i as f32 + 0.5) / 50.0, (j as f32 + 0.5) / 50.0];
+                let hemisphere = sample_cosine_hemisphere(u);
+                assert!((hemisphere.length() - 1.0).abs() < 1e-5 && hemisphere.z >= 0.0);
+                assert!((sample_uniform_sphere(u).length() - 1.0).abs() < 1e-5);
+            }
+        }
+        assert_eq!(sample_cosine_hemisphere([0.5, 0.5]), Vec3::Z);
+        assert_eq!(cosine_hemisphere_pdf(1.0), FRAC_1_PI);
+    }
+}

@@ -1,0 +1,171 @@
+//! [`Material`]: what a scene stores per shape, turned into a [`Bsdf`] at each
+//! hit for the path's wavelengths.
+
+use super::bsdf::{Bsdf, SurfaceBsdf};
+use super::conductor::ConductorBsdf;
+use super::dielectric::DielectricBsdf;
+use super::diffuse::DiffuseBsdf;
+use super::error::MaterialError;
+use super::shading_frame::ShadingFrame;
+use crate::spectrum::{SampledWavelengths, Spectrum, VISIBLE_LAMBDA_MAX, VISIBLE_LAMBDA_MIN};
+
+/// The surface description of a shape.
+///
+/// Spectra are validated by [`Material::validate`] (the checked constructors
+/// call it), once per scene; [`Material::bsdf`] then never fails. Building a
+/// variant directly skips validation: `bsdf` still returns something usable
+/// (see each variant for how bad values are treated), but the scene loader
+/// should call `validate`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Material {
+    /// Two-sided Lambertian reflection. Reflectance values are clamped to
+    /// [0, 1] at each hit (as pbrt-v4's diffuse material does), so a
+    /// reflectance spectrum cannot create energy.
+    Diffuse {
+        /// The albedo.
+        reflectance: Spectrum,
+    },
+    /// A smooth metal with complex index of refraction `eta` + i`k` relative
+    /// to the surrounding medium (tabulated data such as pbrt-v4's
+    /// `metal-Cu-eta` / `metal-Cu-k`). Negative or NaN values are clamped to
+    /// 0 at each hit.
+    Conductor {
+        /// Real part η of the index of refraction.
+        eta: Spectrum,
+        /// Extinction coefficient κ.
+        k: Spectrum,
+    },
+    /// An ideal mirror: reflectance 1 at every angle and wavelength.
+    Mirror,
+    /// A smooth dielectric (glass, water) with index `eta` inside relative to
+    /// the outside (the side the normal points to). A [`Spectrum::Constant`]
+    /// index means no dispersion; any other spectrum is treated as dispersive
+    /// (the BSDF keeps only the hero wavelength when it refracts). A value of
+    /// 0, NaN or below at the hero wavelength (e.g. outside a table's range)
+    /// is treated as 1, an index-matched interface, as pbrt-v4 does.
+    Dielectric {
+        /// Relative index of refraction.
+        eta: Spectrum,
+    },
+}
+
+impl Material {
+    /// A validated [`Material::Diffuse`].
+    pub fn diffuse(reflectance: Spectrum) -> Result<Self, MaterialError> {
+        let material = Material::Diffuse { reflectance };
+        material.validate()?;
+        Ok(material)
+    }
+
+    /// A validated [`Material::Conductor`].
+    pub fn conductor(eta: Spectrum, k: Spectrum) -> Result<Self, MaterialError> {
+        let material = Material::Conductor { eta, k };
+        material.validate()?;
+        Ok(material)
+    }
+
+    /// A validated [`Material::Dielectric`].
+    pub fn dielectric(eta: Spectrum) -> Result<Self, MaterialError> {
+        let material = Material::Dielectric { eta };
+        material.validate()?;
+        Ok(material)
+    }
+
+    /// Checks the spectra at every integer wavelength of the visible range
+    /// ([`VISIBLE_LAMBDA_MIN`]–[`VISIBLE_LAMBDA_MAX`] nm, where paths sample
+    /// wavelengths): reflectances, η and κ must be finite and non-negative; a
+    /// dielectric's η must be positive somewhere (a zero is allowed, e.g.
+    /// outside a table's range, but logged as a warning since it makes the
+    /// interface invisible there).
+    pub fn validate(&self) -> Result<(), MaterialError> {
+        match self {
+            Material::Diffuse { reflectance } => {
+                check_finite_non_negative("diffuse reflectance", reflectance)
+            }
+            Material::Conductor { eta, k } => {
+                check_finite_non_negative("conductor eta", eta)?;
+                check_finite_non_negative("conductor k", k)
+            }
+            Material::Mirror => Ok(()),
+            Material::Dielectric { eta } => {
+                check_finite_non_negative("dielectric eta", eta)?;
+                let zeros = visible_wavelengths()
+                    .filter(|&lambda| eta.evaluate(lambda) == 0.0)
+                    .count();
+                if zeros == visible_wavelengths().count() {
+                    return Err(MaterialError::NonPositiveIndexOfRefraction { value: 0.0 });
+                }
+                if zeros > 0 {
+                    log::warn!(
+                        "dielectric index of refraction is 0 at {zeros} visible wavelengths; \
+                         the interface is index-matched (invisible) there"
+                    );
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// The local-frame BSDF at a hit for the path's `wavelengths`, in
+    /// [`crate::material::TransportMode::Radiance`] (use
+    /// [`Bsdf::with_transport_mode`] for light paths).
+    pub fn bsdf(&self, wavelengths: &SampledWavelengths) -> Bsdf {
+        match self {
+            Material::Diffuse { reflectance } => {
+                DiffuseBsdf::new_unchecked(reflectance.sample(wavelengths).clamp(0.0, 1.0), true)
+                    .into()
+            }
+            Material::Conductor { eta, k } => ConductorBsdf::new_unchecked(
+                eta.sample(wavelengths).clamp_zero(),
+                k.sample(wavelengths).clamp_zero(),
+            )
+            .into(),
+            Material::Mirror => ConductorBsdf::perfect_mirror().into(),
+            Material::Dielectric { eta } => {
+                let hero_eta = eta.evaluate(wavelengths.hero());
+                let hero_eta = if hero_eta.is_finite() && hero_eta > 0.0 {
+                    hero_eta
+                } else {
+                    1.0
+                };
+                let dispersive = !matches!(eta, Spectrum::Constant(_));
+                DielectricBsdf::new_unchecked(hero_eta, dispersive).into()
+            }
+        }
+    }
+
+    /// The BSDF at a hit placed in the hit's shading frame, for world-space
+    /// directions.
+    pub fn surface_bsdf(
+        &self,
+        frame: ShadingFrame,
+        wavelengths: &SampledWavelengths,
+    ) -> SurfaceBsdf {
+        SurfaceBsdf {
+            frame,
+            bsdf: self.bsdf(wavelengths),
+        }
+    }
+}
+
+/// Every integer wavelength (nm) of the visible range.
+fn visible_wavelengths() -> impl Iterator<Item = f32> {
+    (VISIBLE_LAMBDA_MIN as i32..=VISIBLE_LAMBDA_MAX as i32).map(|lambda| lambda as f32)
+}
+
+/// [`MaterialError::InvalidSpectrumValue`] at the first visible wavelength
+/// where `spectrum` is NaN, infinite or negative.
+fn check_finite_non_negative(what: &'static str, spectrum: &Spectrum) -> Result<(), MaterialError> {
+    for lambda in visible_wavelengths() {
+        let value = spectrum.evaluate(lambda);
+        if !(value.is_finite() && value >= 0.0) {
+            return Err(MaterialError::InvalidSpectrumValue {
+                what,
+                requirement: "finite and non-negative",
+                value,
+                lambda,
+            });
+        }
+    }
+    Ok(())
+}
