@@ -180,13 +180,14 @@ impl Geometry {
         }
     }
 
+    /// The ray in obvhs' form for the node tests. Negative zeros in the
+    /// direction are replaced by positive zeros (`-0 + 0 = +0`): obvhs picks the
+    /// near slab plane from `direction < 0` but takes the reciprocal's sign from
+    /// the zero's sign, so a `-0` component would swap near and far and make the
+    /// ray miss every box (e.g. for `-Vec3::Y`, whose x and z are `-0`).
     fn obvhs_ray(ray: &Ray, t_max: f32) -> obvhs::ray::Ray {
-        obvhs::ray::Ray::new(
-            Vec3A::from(ray.origin),
-            Vec3A::from(ray.direction),
-            0.0,
-            t_max,
-        )
+        let direction = Vec3A::from(ray.direction) + Vec3A::ZERO;
+        obvhs::ray::Ray::new(Vec3A::from(ray.origin), direction, 0.0, t_max)
     }
 
     /// The closest hit of `ray` with `0 < t < t_max`, or `None`. The direction
