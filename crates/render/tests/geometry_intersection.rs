@@ -304,10 +304,10 @@ fn spawned_rays_do_not_self_intersect_far_from_the_origin() {
         if outward.dot(n) < 0.0 {
             outward = -outward;
         }
-        if let Some(again) = geometry.intersect(&spawn_ray(&hit, outward), f32::INFINITY) {
-            if again.shape_index == hit.shape_index {
-                failures += 1;
-            }
+        if let Some(again) = geometry.intersect(&spawn_ray(&hit, outward), f32::INFINITY)
+            && again.shape_index == hit.shape_index
+        {
+            failures += 1;
         }
         // Refracted-like ray into the convex shape: a mesh must be hit again on a
         // different (planar) triangle; the analytic sphere at the far root of the

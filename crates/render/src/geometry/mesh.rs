@@ -259,10 +259,8 @@ impl TriangleMesh {
         } else {
             Vec3::ZERO
         };
-        if !(dpdu.length_squared() > 0.0)
-            || !dpdu.is_finite()
-            || dpdu.cross(geometric_normal) == Vec3::ZERO
-        {
+        let usable = dpdu.is_finite() && dpdu.cross(geometric_normal) != Vec3::ZERO;
+        if !usable {
             dpdu = coordinate_frame(geometric_normal).0;
         }
         let shading_normal = match &self.normals {

@@ -85,7 +85,7 @@ pub fn spawn_ray_to_point(hit: &SurfaceHit, point: Vec3, normal: Vec3) -> Option
 fn segment(origin: Vec3, target: Vec3, time: f32) -> Option<(Ray, f32)> {
     let offset = target - origin;
     let distance = offset.length();
-    if !(distance > 0.0) || !distance.is_finite() {
+    if distance <= 0.0 || !distance.is_finite() {
         return None;
     }
     Some((

@@ -187,7 +187,7 @@ impl Transform {
     pub fn as_translation_uniform_scale(&self) -> Option<(Vec3, f32)> {
         let linear = Mat3::from_mat4(self.matrix);
         let scale = linear.x_axis.x;
-        if !(scale > 0.0) {
+        if scale.is_nan() || scale <= 0.0 {
             return None;
         }
         let difference = linear - Mat3::from_diagonal(Vec3::splat(scale));
