@@ -1,0 +1,247 @@
+//! Sampling building blocks for shapes: area-preserving maps from the unit
+//! square to triangles, disks and spheres, an alias table for picking mesh
+//! triangles by area, and the sample record shapes return.
+
+use std::f32::consts::{FRAC_PI_4, PI};
+
+use glam::{Vec2, Vec3};
+
+use super::GeometryError;
+
+/// A point sampled on a shape's surface with the density it was sampled with,
+/// expressed per unit area (see [`ShapeSample::solid_angle_pdf`] for the
+/// conversion to solid angle at a reference point).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShapeSample {
+    /// The sampled point (world space).
+    pub point: Vec3,
+    /// Unit geometric normal at the point, facing as authored (outward for
+    /// spheres, the winding side for triangles, `+z` side for disks).
+    pub normal: Vec3,
+    /// Probability density with respect to surface area.
+    pub pdf_area: f32,
+}
+
+impl ShapeSample {
+    /// The density of this sample per unit solid angle as seen from `reference`.
+    pub fn solid_angle_pdf(&self, reference: Vec3) -> f32 {
+        area_pdf_to_solid_angle(self.pdf_area, reference, self.point, self.normal)
+    }
+}
+
+/// Converts a density per unit area at `point` (with unit `normal`) to a density
+/// per unit solid angle at `reference`: `pdf_area · d² / |cos θ|`, where `d` is the
+/// distance and `θ` the angle between the normal and the direction to the
+/// reference. Returns 0 (rather than infinity) when the point is seen exactly
+/// edge-on or coincides with the reference, so callers can reject the sample.
+pub fn area_pdf_to_solid_angle(pdf_area: f32, reference: Vec3, point: Vec3, normal: Vec3) -> f32 {
+    let to_reference = reference - point;
+    let distance_squared = to_reference.length_squared();
+    if distance_squared == 0.0 {
+        return 0.0;
+    }
+    let cosine = normal.dot(to_reference).abs() / distance_squared.sqrt();
+    if cosine == 0.0 {
+        return 0.0;
+    }
+    pdf_area * distance_squared / cosine
+}
+
+/// Uniform barycentric coordinates `(b0, b1, b2)` from a point of the unit square,
+/// using the low-distortion area-preserving map of Heitz, "A Low-Distortion Map
+/// Between Triangle and Square" (2019): the square is folded along its diagonal
+/// so nearby square points stay nearby on the triangle (better for QMC than the
+/// square-root parametrisation).
+pub fn sample_uniform_triangle(u: Vec2) -> [f32; 3] {
+    let (b0, b1) = if u.y > u.x {
+        let b0 = 0.5 * u.x;
+        (b0, u.y - b0)
+    } else {
+        let b1 = 0.5 * u.y;
+        (u.x - b1, b1)
+    };
+    [b0, b1, 1.0 - b0 - b1]
+}
+
+/// A uniform point of the unit disk from the unit square by the concentric map of
+/// Shirley & Chiu, "A Low Distortion Map Between Disk and Square" (1997):
+/// concentric squares go to concentric circles, so strata keep their shape.
+pub fn sample_uniform_disk_concentric(u: Vec2) -> Vec2 {
+    let offset = 2.0 * u - Vec2::ONE;
+    if offset == Vec2::ZERO {
+        return Vec2::ZERO;
+    }
+    let (radius, theta) = if offset.x.abs() > offset.y.abs() {
+        (offset.x, FRAC_PI_4 * (offset.y / offset.x))
+    } else {
+        (
+            offset.y,
+            2.0 * FRAC_PI_4 - FRAC_PI_4 * (offset.x / offset.y),
+        )
+    };
+    radius * Vec2::new(theta.cos(), theta.sin())
+}
+
+/// A uniform direction on the unit sphere (Archimedes' hat-box theorem: `z`
+/// uniform in `[-1, 1]`, azimuth uniform).
+pub fn sample_uniform_sphere(u: Vec2) -> Vec3 {
+    let z = 1.0 - 2.0 * u.x;
+    let radius = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3::new(radius * phi.cos(), radius * phi.sin(), z)
+}
+
+/// Two unit vectors completing the unit vector `n` to a right-handed orthonormal
+/// frame `(s, t, n)`, branch-free except for the sign, after Duff et al.,
+/// "Building an Orthonormal Basis, Revisited" (JCGT 2017).
+pub fn coordinate_frame(n: Vec3) -> (Vec3, Vec3) {
+    let sign = 1.0f32.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (
+        Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        Vec3::new(b, sign + n.y * n.y * a, -n.y),
+    )
+}
+
+/// Walker's alias method (with Vose's linear-time construction) for sampling an
+/// index proportional to non-negative weights in O(1) with one uniform number.
+#[derive(Clone, Debug)]
+pub struct AliasTable {
+    /// Per bin: probability of keeping the bin (else take its alias).
+    keep_probability: Vec<f32>,
+    alias: Vec<u32>,
+    /// Normalised probabilities of each index.
+    probability: Vec<f32>,
+}
+
+impl AliasTable {
+    /// Builds the table; fails on an empty list, a negative or non-finite weight,
+    /// or an all-zero list.
+    pub fn new(weights: &[f32]) -> Result<Self, GeometryError> {
+        if weights.is_empty() {
+            return Err(GeometryError::InvalidMesh(
+                "alias table needs at least one weight".into(),
+            ));
+        }
+        if weights.iter().any(|w| !(w.is_finite() && *w >= 0.0)) {
+            return Err(GeometryError::NonFinite("alias table weight"));
+        }
+        let total: f64 = weights.iter().map(|&w| w as f64).sum();
+        if total <= 0.0 {
+            return Err(GeometryError::InvalidMesh(
+                "alias table weights sum to zero".into(),
+            ));
+        }
+        let count = weights.len();
+        let probability: Vec<f32> = weights.iter().map(|&w| (w as f64 / total) as f32).collect();
+        let mut scaled: Vec<f64> = weights
+            .iter()
+            .map(|&w| w as f64 / total * count as f64)
+            .collect();
+        let mut keep_probability = vec![1.0f32; count];
+        let mut alias: Vec<u32> = (0..count as u32).collect();
+        let (mut small, mut large): (Vec<usize>, Vec<usize>) =
+            (0..count).partition(|&i| scaled[i] < 1.0);
+        while let (Some(&s), Some(&l)) = (small.last(), large.last()) {
+            small.pop();
+            keep_probability[s] = scaled[s] as f32;
+            alias[s] = l as u32;
+            scaled[l] -= 1.0 - scaled[s];
+            if scaled[l] < 1.0 {
+                large.pop();
+                small.push(l);
+            }
+        }
+        // Whatever remains is 1 up to rounding.
+        for i in small.into_iter().chain(large) {
+            keep_probability[i] = 1.0;
+            alias[i] = i as u32;
+        }
+        Ok(Self {
+            keep_probability,
+            alias,
+            probability,
+        })
+    }
+
+    /// Number of entries.
+    pub fn len(&self) -> usize {
+        self.probability.len()
+    }
+
+    /// Whether there are no entries (never true for a constructed table).
+    pub fn is_empty(&self) -> bool {
+        self.probability.is_empty()
+    }
+
+    /// The probability of index `i`.
+    pub fn probability(&self, i: usize) -> f32 {
+        self.probability[i]
+    }
+
+    /// An index drawn with probability proportional to its weight from `u` in `[0, 1)`.
+    pub fn sample(&self, u: f32) -> usize {
+        let count = self.len();
+        let scaled = u * count as f32;
+        let bin = (scaled as usize).min(count - 1);
+        let fraction = scaled - bin as f32;
+        if fraction < self.keep_probability[bin] {
+            bin
+        } else {
+            self.alias[bin] as usize
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_abs_diff_eq;
+
+    #[test]
+    fn alias_table_reproduces_weights() {
+        let weights = [1.0, 0.0, 3.0, 6.0];
+        let table = AliasTable::new(&weights).unwrap();
+        let n = 100_000;
+        let mut counts = [0usize; 4];
+        for i in 0..n {
+            counts[table.sample((i as f32 + 0.5) / n as f32)] += 1;
+        }
+        for (count, weight) in counts.iter().zip(weights) {
+            // A stratified sweep reproduces the probabilities to O(count/n).
+            assert_abs_diff_eq!(*count as f32 / n as f32, weight / 10.0, epsilon = 1e-3);
+        }
+        assert!(AliasTable::new(&[]).is_err());
+        assert!(AliasTable::new(&[0.0]).is_err());
+        assert!(AliasTable::new(&[-1.0, 2.0]).is_err());
+    }
+
+    #[test]
+    fn frame_is_orthonormal() {
+        for n in [
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::new(0.3, -0.4, 0.5).normalize(),
+            Vec3::X,
+        ] {
+            let (s, t) = coordinate_frame(n);
+            assert_abs_diff_eq!(s.dot(t), 0.0, epsilon = 1e-6);
+            assert_abs_diff_eq!(s.dot(n), 0.0, epsilon = 1e-6);
+            assert_abs_diff_eq!(s.cross(t).dot(n), 1.0, epsilon = 1e-6);
+        }
+    }
+
+    #[test]
+    fn maps_stay_in_domain() {
+        for i in 0..32 {
+            for j in 0..32 {
+                let u = Vec2::new(i as f32 / 31.0, j as f32 / 31.0);
+                let b = sample_uniform_triangle(u);
+                assert!(b.iter().all(|&x| x >= -1e-6));
+                assert!(sample_uniform_disk_concentric(u).length() <= 1.0 + 1e-6);
+                assert_abs_diff_eq!(sample_uniform_sphere(u).length(), 1.0, epsilon = 1e-5);
+            }
+        }
+    }
+}

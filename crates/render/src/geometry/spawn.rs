@@ -1,0 +1,115 @@
+//! Spawning secondary rays from surfaces without self-intersection, after
+//! Wächter & Binder, "A Fast and Robust Method for Avoiding Self-Intersection",
+//! Ray Tracing Gems (2019), chapter 6.
+//!
+//! A computed hit point is off the true surface by a few units in the last place
+//! (ULPs) of its coordinates. The method moves the origin along the geometric
+//! normal (flipped to the side the new ray leaves by) by a fixed number of ULPs
+//! per coordinate, done with integer arithmetic on the float bit patterns, so the
+//! offset scales with the magnitude of each coordinate. Near the world origin the
+//! ULPs get arbitrarily small, so coordinates with magnitude below `1/32` get a
+//! small absolute offset instead. The constants are the ones given in the chapter
+//! (`origin = 1/32`, `float_scale = 1/65536`, `int_scale = 256`).
+
+use glam::Vec3;
+
+use super::{Ray, SurfaceHit};
+
+/// Below this coordinate magnitude the offset is absolute (Wächter & Binder's `origin`).
+const ABSOLUTE_OFFSET_THRESHOLD: f32 = 1.0 / 32.0;
+/// Absolute offset scale near the origin (Wächter & Binder's `float_scale`).
+const ABSOLUTE_OFFSET_SCALE: f32 = 1.0 / 65536.0;
+/// ULPs of offset for a coordinate whose normal component is 1 (`int_scale`).
+const ULP_OFFSET_SCALE: f32 = 256.0;
+
+/// Shadow rays stop this fraction of the distance short of their target (pbrt-v4's
+/// `ShadowEpsilon`), so the target surface itself is not reported as an occluder.
+pub const SHADOW_EPSILON: f32 = 1e-4;
+
+/// `point` moved off its surface (unit geometric normal `normal`) to the side
+/// `direction` points to, far enough that a ray leaving from it in `direction`
+/// does not hit the surface it started on.
+pub fn offset_ray_origin(point: Vec3, normal: Vec3, direction: Vec3) -> Vec3 {
+    let normal = if normal.dot(direction) < 0.0 {
+        -normal
+    } else {
+        normal
+    };
+    let offset_component = |p: f32, n: f32| -> f32 {
+        if p.abs() < ABSOLUTE_OFFSET_THRESHOLD {
+            p + ABSOLUTE_OFFSET_SCALE * n
+        } else {
+            let ulps = (ULP_OFFSET_SCALE * n) as i32;
+            // Adding to the bit pattern grows the magnitude; for negative
+            // coordinates growing the magnitude moves towards -inf.
+            let ulps = if p < 0.0 { -ulps } else { ulps };
+            f32::from_bits((p.to_bits() as i32).wrapping_add(ulps) as u32)
+        }
+    };
+    Vec3::new(
+        offset_component(point.x, normal.x),
+        offset_component(point.y, normal.y),
+        offset_component(point.z, normal.z),
+    )
+}
+
+/// A ray leaving `hit` in `direction`, its origin offset by [`offset_ray_origin`].
+pub fn spawn_ray(hit: &SurfaceHit, direction: Vec3) -> Ray {
+    Ray::with_time(
+        offset_ray_origin(hit.point, hit.geometric_normal, direction),
+        direction,
+        hit.time,
+    )
+}
+
+/// A shadow ray from `hit` towards `target`: returns the ray (unit direction,
+/// origin offset off the surface) and the `t_max` to trace it to, which stops
+/// [`SHADOW_EPSILON`] (relative) short of `target`. If the target lies on a
+/// surface, offset it first (see [`spawn_ray_to_point`] with both ends offset).
+/// Returns `None` if the target coincides with the origin.
+pub fn spawn_ray_to(hit: &SurfaceHit, target: Vec3) -> Option<(Ray, f32)> {
+    let origin = offset_ray_origin(hit.point, hit.geometric_normal, target - hit.point);
+    segment(origin, target, hit.time)
+}
+
+/// A shadow ray between two surface points, both offset off their surfaces
+/// towards each other (pbrt-v4's `SpawnRayTo` between two interactions): the
+/// target `point` with unit normal `normal` is typically a sampled point on an
+/// area light. Returns the ray and its `t_max`, or `None` for coincident points.
+pub fn spawn_ray_to_point(hit: &SurfaceHit, point: Vec3, normal: Vec3) -> Option<(Ray, f32)> {
+    let origin = offset_ray_origin(hit.point, hit.geometric_normal, point - hit.point);
+    let target = offset_ray_origin(point, normal, origin - point);
+    segment(origin, target, hit.time)
+}
+
+fn segment(origin: Vec3, target: Vec3, time: f32) -> Option<(Ray, f32)> {
+    let offset = target - origin;
+    let distance = offset.length();
+    if distance <= 0.0 || !distance.is_finite() {
+        return None;
+    }
+    Some((
+        Ray::with_time(origin, offset / distance, time),
+        distance * (1.0 - SHADOW_EPSILON),
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn offset_moves_to_the_side_of_the_direction() {
+        for p in [
+            Vec3::new(1e4, -1e4, 0.001),
+            Vec3::new(0.5, -3.0, 7.0),
+            Vec3::ZERO,
+        ] {
+            let n = Vec3::new(0.6, 0.0, 0.8);
+            let above = offset_ray_origin(p, n, n);
+            let below = offset_ray_origin(p, n, -n);
+            assert!((above - p).dot(n) > 0.0, "{p}");
+            assert!((below - p).dot(n) < 0.0, "{p}");
+        }
+    }
+}
