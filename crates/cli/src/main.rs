@@ -1,5 +1,5 @@
-//! The `lqmc` command: point sets and lattices today; rendering, comparison
-//! and studies as the renderer grows.
+//! The `lqmc` command: rendering, point sets and lattices; comparison and
+//! studies as the project grows.
 //!
 //! Exit status: 0 on success, 2 for bad input (one line on stderr), 1 when an
 //! operation fails for another reason (e.g. a file cannot be written).
@@ -9,6 +9,7 @@ mod json;
 mod lattice_command;
 mod plot;
 mod points_command;
+mod render_command;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -23,6 +24,10 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Render a scene to EXR (or PFM) and PNG.
+    Render(render_command::RenderArgs),
+    /// List the built-in scenes.
+    Scenes,
     /// Print points of a sequence or point set (CSV or JSON), with
     /// discrepancies and plots.
     Points(points_command::PointsArgs),
@@ -37,6 +42,8 @@ fn main() -> ExitCode {
         Err(error) => return error::report_clap_error(error),
     };
     let result = match cli.command {
+        Command::Render(args) => render_command::run(&args),
+        Command::Scenes => render_command::list_scenes(),
         Command::Points(args) => points_command::run(&args),
         Command::Lattice(args) => lattice_command::run(&args),
     };

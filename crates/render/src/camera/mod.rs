@@ -134,13 +134,17 @@ impl PerspectiveCamera {
                 settings.lens_radius
             )));
         }
-        if settings.lens_radius > 0.0 && !(settings.focus_distance > 0.0) {
+        if settings.lens_radius > 0.0
+            && (settings.focus_distance.is_nan() || settings.focus_distance <= 0.0)
+        {
             return Err(CameraError::Invalid(format!(
                 "focus distance {} must be positive",
                 settings.focus_distance
             )));
         }
-        if !(settings.shutter[0] <= settings.shutter[1]) {
+        if settings.shutter.iter().any(|t| !t.is_finite())
+            || settings.shutter[0] > settings.shutter[1]
+        {
             return Err(CameraError::Invalid(format!(
                 "shutter closes ({}) before it opens ({})",
                 settings.shutter[1], settings.shutter[0]

@@ -93,7 +93,7 @@ pub trait SampleSource {
 /// it is the [`SampleSource`] of that pixel sample. The numbers depend only
 /// on the seed, the pixel, the sample index and the dimension, so images do
 /// not depend on the number of threads or the order of work.
-pub trait PixelSampler: SampleSource + Send {
+pub trait PixelSampler: SampleSource + Send + Sync {
     /// Positions the sampler at sample `sample_index` of `pixel`.
     fn start_pixel_sample(&mut self, pixel: (u32, u32), sample_index: u64);
 

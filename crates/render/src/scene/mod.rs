@@ -1,5 +1,234 @@
 //! Scenes: the renderer-independent [`description`] that built-in scenes and
-//! loaders produce, and the [`builtin`] scenes.
+//! loaders produce, the [`builtin`] scenes, and [`Scene`], what integrators
+//! trace: geometry with its acceleration structure, a material and an
+//! optional light per shape, the lights and the camera.
 
 pub mod builtin;
 pub mod description;
+
+use crate::camera::{CameraError, PerspectiveCamera};
+use crate::film::{BoxFilter, Filter, GaussianFilter, TriangleFilter};
+use crate::geometry::{Disk, Geometry, GeometryError, Shape, Sphere, Transform, TriangleMesh};
+use crate::light::{Light, LightSampler};
+use crate::material::Material;
+use crate::spectrum::{RgbAlbedoSpectrum, RgbIlluminantSpectrum, RgbUnboundedSpectrum, Spectrum};
+use description::{
+    FilterDescription, LightDescription, MaterialDescription, SceneDescription, ShapeGeometry,
+};
+use glam::{Affine3A, Mat4};
+
+/// Why a scene cannot be built from its description.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// A shape's geometry is invalid.
+    #[error("shape {index}: {source}")]
+    Geometry {
+        index: usize,
+        #[source]
+        source: GeometryError,
+    },
+    /// The acceleration structure could not be built.
+    #[error("{0}")]
+    Accelerator(GeometryError),
+    /// A colour or material parameter is invalid.
+    #[error("{what}: {message}")]
+    Parameter { what: String, message: String },
+    /// The camera is invalid.
+    #[error(transparent)]
+    Camera(#[from] CameraError),
+    /// The scene emits no light.
+    #[error("the scene has no light sources")]
+    NoLights,
+}
+
+/// What a shape is made of.
+#[derive(Debug, Clone)]
+pub struct ShapeInfo {
+    /// The material (`None` for a black surface that absorbs everything).
+    pub material: Option<Material>,
+    /// The index of the shape's area light in [`Scene::lights`].
+    pub light: Option<u32>,
+    /// The shape's front is the side opposite its stored normals.
+    pub flip_normals: bool,
+}
+
+/// A scene ready for rendering.
+#[derive(Debug)]
+pub struct Scene {
+    /// The scene's name.
+    pub name: String,
+    /// Surfaces and their acceleration structure.
+    pub geometry: Geometry,
+    /// Per shape (same order as the geometry's shapes).
+    pub shapes: Vec<ShapeInfo>,
+    /// All lights: area lights first, in shape order, then the others.
+    pub lights: Vec<Light>,
+    /// Chooses lights for next-event estimation.
+    pub light_sampler: LightSampler,
+    /// Indices of the lights at infinity (seen by rays that escape).
+    pub environment_lights: Vec<u32>,
+    /// The camera.
+    pub camera: PerspectiveCamera,
+    /// The pixel reconstruction filter.
+    pub filter: Filter,
+    /// The scene's suggested maximum depth (Mitsuba's convention).
+    pub max_depth: Option<u32>,
+    /// The scene's suggested samples per pixel.
+    pub samples_per_pixel: Option<u64>,
+}
+
+fn parameter_error(what: &str, error: impl std::fmt::Display) -> SceneError {
+    SceneError::Parameter {
+        what: what.to_string(),
+        message: error.to_string(),
+    }
+}
+
+fn transform(matrix: Affine3A, index: usize) -> Result<Transform, SceneError> {
+    Transform::from_matrix(Mat4::from(matrix))
+        .map_err(|source| SceneError::Geometry { index, source })
+}
+
+fn material(description: &MaterialDescription) -> Result<Option<Material>, SceneError> {
+    let albedo = |rgb: [f32; 3], what: &str| -> Result<Spectrum, SceneError> {
+        Ok(Spectrum::RgbAlbedo(
+            RgbAlbedoSpectrum::new(rgb).map_err(|e| parameter_error(what, e))?,
+        ))
+    };
+    let unbounded = |rgb: [f32; 3], what: &str| -> Result<Spectrum, SceneError> {
+        Ok(Spectrum::RgbUnbounded(
+            RgbUnboundedSpectrum::new(rgb).map_err(|e| parameter_error(what, e))?,
+        ))
+    };
+    let material = match description {
+        MaterialDescription::Diffuse { reflectance } => {
+            Material::diffuse(albedo(*reflectance, "diffuse reflectance")?)
+        }
+        MaterialDescription::Mirror => Ok(Material::Mirror),
+        MaterialDescription::Conductor { eta, k } => Material::conductor(
+            unbounded(*eta, "conductor eta")?,
+            unbounded(*k, "conductor k")?,
+        ),
+        MaterialDescription::Dielectric { eta } => Material::dielectric(Spectrum::Constant(
+            crate::spectrum::ConstantSpectrum::new(*eta)
+                .map_err(|e| parameter_error("dielectric eta", e))?,
+        )),
+        MaterialDescription::Black => return Ok(None),
+    };
+    material
+        .map(Some)
+        .map_err(|e| parameter_error("material", e))
+}
+
+fn illuminant(rgb: [f32; 3], what: &str) -> Result<Spectrum, SceneError> {
+    Ok(Spectrum::RgbIlluminant(
+        RgbIlluminantSpectrum::new(rgb).map_err(|e| parameter_error(what, e))?,
+    ))
+}
+
+impl Scene {
+    /// Builds the scene: geometry and BVH, spectra from colours, lights.
+    pub fn build(description: &SceneDescription) -> Result<Self, SceneError> {
+        let mut shapes = Vec::with_capacity(description.shapes.len());
+        let mut infos = Vec::with_capacity(description.shapes.len());
+        let mut lights = Vec::new();
+        for (index, shape) in description.shapes.iter().enumerate() {
+            let geometry_error = |source| SceneError::Geometry { index, source };
+            let built = match &shape.geometry {
+                ShapeGeometry::Mesh {
+                    positions,
+                    normals,
+                    triangles,
+                } => Shape::Mesh(
+                    TriangleMesh::new(
+                        positions.clone(),
+                        normals.clone(),
+                        None,
+                        triangles.clone(),
+                        &transform(Affine3A::IDENTITY, index)?,
+                    )
+                    .map_err(geometry_error)?,
+                ),
+                ShapeGeometry::Sphere { center, radius } => {
+                    Shape::Sphere(Sphere::new(*center, *radius).map_err(geometry_error)?)
+                }
+                ShapeGeometry::Rectangle { to_world } => Shape::Mesh(
+                    TriangleMesh::rectangle(&transform(*to_world, index)?)
+                        .map_err(geometry_error)?,
+                ),
+                ShapeGeometry::Cube { to_world } => Shape::Mesh(
+                    TriangleMesh::cube(&transform(*to_world, index)?).map_err(geometry_error)?,
+                ),
+                ShapeGeometry::Disk { to_world } => {
+                    Shape::Disk(Disk::new(transform(*to_world, index)?).map_err(geometry_error)?)
+                }
+            };
+            shapes.push(built);
+            let light = match shape.emission {
+                Some(rgb) if rgb.iter().any(|&c| c > 0.0) => {
+                    lights.push(Light::Area {
+                        shape_index: index as u32,
+                        radiance: illuminant(rgb, "emitted radiance")?,
+                        flip_normals: shape.flip_normals,
+                        scale: rgb.iter().copied().fold(0.0, f32::max),
+                    });
+                    Some(lights.len() as u32 - 1)
+                }
+                _ => None,
+            };
+            infos.push(ShapeInfo {
+                material: material(&shape.material)?,
+                light,
+                flip_normals: shape.flip_normals,
+            });
+        }
+        let geometry = Geometry::new(shapes).map_err(SceneError::Accelerator)?;
+        let (scene_center, scene_radius) = geometry.bounds().bounding_sphere();
+        let mut environment_lights = Vec::new();
+        for light in &description.lights {
+            lights.push(match light {
+                LightDescription::Point {
+                    position,
+                    intensity,
+                } => Light::Point {
+                    position: *position,
+                    intensity: illuminant(*intensity, "point light intensity")?,
+                },
+                LightDescription::ConstantEnvironment { radiance } => {
+                    environment_lights.push(lights.len() as u32);
+                    Light::ConstantEnvironment {
+                        radiance: illuminant(*radiance, "environment radiance")?,
+                        scene_center,
+                        scene_radius,
+                    }
+                }
+            });
+        }
+        if lights.is_empty() {
+            return Err(SceneError::NoLights);
+        }
+        let powers: Vec<f32> = lights.iter().map(|light| light.power(&geometry)).collect();
+        let filter = match description.filter {
+            FilterDescription::Box { radius } => BoxFilter::new([radius; 2]).map(Filter::Box),
+            FilterDescription::Tent { radius } => {
+                TriangleFilter::new([radius; 2]).map(Filter::Triangle)
+            }
+            FilterDescription::Gaussian { radius, sigma } => {
+                GaussianFilter::new([radius; 2], sigma).map(Filter::Gaussian)
+            }
+        }
+        .map_err(|e| parameter_error("filter", e))?;
+        Ok(Self {
+            name: description.name.clone(),
+            geometry,
+            shapes: infos,
+            light_sampler: LightSampler::new(&powers),
+            lights,
+            environment_lights,
+            camera: PerspectiveCamera::new(&description.camera)?,
+            filter,
+            max_depth: description.max_depth,
+            samples_per_pixel: description.samples_per_pixel,
+        })
+    }
+}

@@ -1,0 +1,265 @@
+//! `lqmc render` and `lqmc scenes`: render a scene to EXR and PNG.
+
+use crate::error::{CliError, usage};
+use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+use render::image::{Metadata, write_png};
+use render::integrators::IntegratorKind;
+use render::renderer::{RenderSettings, render};
+use render::sampler::SamplerKind;
+use render::scene::Scene;
+use render::scene::builtin::{BUILTIN_SCENES, DEFAULT_SCENE, builtin_scene};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+/// The integrators, as command-line values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum IntegratorName {
+    /// Path tracing with next-event estimation and MIS.
+    Path,
+}
+
+/// The samplers, as command-line values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SamplerName {
+    /// Faure-permuted Halton, per-pixel enumeration (LQMC's).
+    Halton,
+    /// Owen-scrambled Sobol per pixel.
+    Sobol,
+    /// Independent random numbers (PCG).
+    Independent,
+}
+
+/// The MIS heuristics, as command-line values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum HeuristicName {
+    Power,
+    Balance,
+}
+
+/// Arguments of `lqmc render`.
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// The scene: `builtin:NAME` (see `lqmc scenes`); default builtin:cornell-box.
+    pub scene: Option<String>,
+    /// The integrator.
+    #[arg(long, value_enum, default_value_t = IntegratorName::Path)]
+    pub integrator: IntegratorName,
+    /// The sampler.
+    #[arg(long, value_enum, default_value_t = SamplerName::Halton)]
+    pub sampler: SamplerName,
+    /// Samples per pixel (default: the scene's suggestion, else 16).
+    #[arg(long)]
+    pub spp: Option<u64>,
+    /// Render for this many seconds (with --spp: at most that many samples).
+    #[arg(long, value_name = "SECONDS")]
+    pub time: Option<f64>,
+    /// Seed of every random choice.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Worker threads (default: all cores).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    /// Image resolution WxH (default: the scene's).
+    #[arg(long, value_parser = crate::points_command::parse_pair)]
+    pub resolution: Option<(u32, u32)>,
+    /// Maximum path depth in segments, Mitsuba's convention: 1 shows emitters
+    /// only, 2 adds direct light (default: the scene's, else 6).
+    #[arg(long)]
+    pub max_depth: Option<u32>,
+    /// Multiple importance sampling heuristic.
+    #[arg(long, value_enum, default_value_t = HeuristicName::Power)]
+    pub mis: HeuristicName,
+    /// Output image (.exr, .pfm or .png); a PNG is also written beside an
+    /// EXR or PFM.
+    #[arg(short, long, default_value = "render.exr")]
+    pub output: PathBuf,
+    /// Exposure of the PNG in stops.
+    #[arg(long, default_value_t = 0.0)]
+    pub exposure: f32,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// Runs `lqmc scenes`.
+pub fn list_scenes() -> Result<(), CliError> {
+    for (name, description) in BUILTIN_SCENES {
+        println!("builtin:{name:<18} {description}");
+    }
+    Ok(())
+}
+
+/// Runs `lqmc render`.
+pub fn run(args: &RenderArgs) -> Result<(), CliError> {
+    let scene_name = args.scene.as_deref().unwrap_or("builtin:cornell-box");
+    let mut description = match scene_name.strip_prefix("builtin:") {
+        Some(name) => builtin_scene(name).ok_or_else(|| {
+            let names: Vec<&str> = BUILTIN_SCENES.iter().map(|(n, _)| *n).collect();
+            usage(format!(
+                "unknown built-in scene '{name}' (known: {})",
+                names.join(", ")
+            ))
+        })?,
+        None if Path::new(scene_name).exists() => {
+            return Err(usage(format!(
+                "cannot read {scene_name}: scene files (Mitsuba XML, pbrt-v4) are not supported yet; use builtin:NAME"
+            )));
+        }
+        None => {
+            return Err(usage(format!(
+                "no scene '{scene_name}': not a file, and built-in scenes are named builtin:NAME (default builtin:{DEFAULT_SCENE})"
+            )));
+        }
+    };
+    if let Some((width, height)) = args.resolution {
+        if width == 0 || height == 0 {
+            return Err(usage("--resolution needs a width and height of at least 1"));
+        }
+        description.camera.resolution = [width, height];
+    }
+    if args.spp == Some(0) {
+        return Err(usage("--spp must be at least 1"));
+    }
+    let time_budget = match args.time {
+        Some(seconds) if !(seconds > 0.0 && seconds.is_finite()) => {
+            return Err(usage("--time must be a positive number of seconds"));
+        }
+        Some(seconds) => Some(Duration::from_secs_f64(seconds)),
+        None => None,
+    };
+    if args.max_depth == Some(0) {
+        return Err(usage("--max-depth must be at least 1"));
+    }
+    let extension = args
+        .output
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if !matches!(extension.as_deref(), Some("exr" | "pfm" | "png")) {
+        return Err(usage(format!(
+            "cannot write {}: the output must end in .exr, .pfm or .png",
+            args.output.display()
+        )));
+    }
+
+    let scene =
+        Scene::build(&description).map_err(|error| usage(format!("{scene_name}: {error}")))?;
+    let samples_per_pixel = match (args.spp, time_budget) {
+        (Some(spp), _) => spp,
+        (None, Some(_)) => u64::MAX / (1 << 32),
+        (None, None) => scene.samples_per_pixel.unwrap_or(16),
+    };
+    let settings = RenderSettings {
+        integrator: match args.integrator {
+            IntegratorName::Path => IntegratorKind::Path,
+        },
+        sampler: match args.sampler {
+            SamplerName::Halton => SamplerKind::Halton,
+            SamplerName::Sobol => SamplerKind::Sobol,
+            SamplerName::Independent => SamplerKind::Independent,
+        },
+        samples_per_pixel,
+        time_budget,
+        seed: args.seed,
+        max_depth: args.max_depth.or(scene.max_depth).unwrap_or(6),
+        heuristic: match args.mis {
+            HeuristicName::Power => render::integrators::MisHeuristic::Power,
+            HeuristicName::Balance => render::integrators::MisHeuristic::Balance,
+        },
+        threads: args.threads,
+        ..RenderSettings::default()
+    };
+
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        // A second Ctrl-C while the image is written falls through to the default.
+        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
+    }
+    let bar = if args.quiet {
+        ProgressBar::hidden()
+    } else {
+        let bar = ProgressBar::new(100);
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{bar:40} {percent:>3}% {elapsed_precise} ETA {eta_precise} {msg}",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        bar
+    };
+    let started = std::time::Instant::now();
+    let progress = |done: u64, total: u64| {
+        let fraction = match time_budget {
+            Some(budget) if args.spp.is_none() => {
+                started.elapsed().as_secs_f64() / budget.as_secs_f64()
+            }
+            _ => done as f64 / total.max(1) as f64,
+        };
+        bar.set_position((fraction.min(1.0) * 100.0) as u64);
+        let seconds = started.elapsed().as_secs_f64().max(1e-9);
+        bar.set_message(format!("{:.3} M samples/s", done as f64 / seconds / 1e6));
+    };
+    let output = render(&scene, &settings, &stop, &progress)
+        .map_err(|error| CliError::Failure(error.to_string()))?;
+    bar.finish_and_clear();
+
+    let statistics = output.statistics;
+    let seconds = statistics.elapsed.as_secs_f64().max(1e-9);
+    let mut metadata = Metadata::new();
+    metadata.insert("integrator".into(), settings.integrator.name().into());
+    metadata.insert("sampler".into(), settings.sampler.name().into());
+    metadata.insert(
+        "spp".into(),
+        statistics.completed_samples_per_pixel.to_string(),
+    );
+    metadata.insert("seed".into(), settings.seed.to_string());
+    metadata.insert("renderTimeSeconds".into(), format!("{seconds:.3}"));
+    metadata.insert("scene".into(), scene_name.to_string());
+    metadata.insert("maxDepth".into(), settings.max_depth.to_string());
+    let spp = output.statistics.samples as f64
+        / (scene.camera.resolution()[0] as f64 * scene.camera.resolution()[1] as f64);
+    let splat_scale = 1.0 / spp.max(1.0);
+    output
+        .film
+        .write(&args.output, splat_scale, &metadata)
+        .map_err(|error| CliError::Failure(error.to_string()))?;
+    let mut written = vec![args.output.display().to_string()];
+    if extension.as_deref() != Some("png") {
+        let png = args.output.with_extension("png");
+        write_png(
+            &png,
+            &output.film.image(splat_scale),
+            args.exposure,
+            &metadata,
+        )
+        .map_err(|error| CliError::Failure(error.to_string()))?;
+        written.push(png.display().to_string());
+    }
+    let stopped = if stop.load(Ordering::Relaxed) {
+        " (interrupted)"
+    } else if statistics.stopped_early {
+        " (time budget reached)"
+    } else {
+        ""
+    };
+    println!(
+        "rendered {scene_name} {}x{} with {} / {}: {:.1} samples per pixel{stopped}",
+        scene.camera.resolution()[0],
+        scene.camera.resolution()[1],
+        settings.integrator.name(),
+        settings.sampler.name(),
+        spp,
+    );
+    println!(
+        "time {seconds:.3} s, {:.3} M samples/s, {:.3} M rays/s, {} NaN/Inf samples dropped",
+        statistics.samples as f64 / seconds / 1e6,
+        statistics.rays as f64 / seconds / 1e6,
+        statistics.nonfinite_samples,
+    );
+    println!("wrote {}", written.join(" and "));
+    Ok(())
+}

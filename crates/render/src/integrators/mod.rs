@@ -1,0 +1,103 @@
+//! Integrators: estimators of the radiance arriving at the camera. Each
+//! takes its numbers from a [`crate::sampler::SampleSource`] following the
+//! dimension layout of [`crate::sampler::layout`].
+
+pub mod path;
+pub mod path_vertex;
+
+/// The integrators a user can choose.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum IntegratorKind {
+    /// Unidirectional path tracing with next-event estimation and MIS.
+    Path,
+}
+
+impl IntegratorKind {
+    /// Every integrator with its command-line name.
+    pub const ALL: [(IntegratorKind, &'static str); 1] = [(IntegratorKind::Path, "path")];
+
+    /// The integrator called `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.iter().find(|(_, n)| *n == name).map(|(k, _)| *k)
+    }
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        Self::ALL.iter().find(|(k, _)| *k == self).unwrap().1
+    }
+}
+
+/// How multiple importance sampling weighs next-event estimation against
+/// BSDF sampling.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MisHeuristic {
+    /// Veach's power heuristic with exponent 2 (the default).
+    #[default]
+    Power,
+    /// Veach's balance heuristic.
+    Balance,
+}
+
+impl MisHeuristic {
+    /// The weight of a technique with density `own` against one with `other`.
+    #[inline]
+    pub fn weight(self, own: f32, other: f32) -> f32 {
+        match self {
+            MisHeuristic::Power => {
+                let (a, b) = (own * own, other * other);
+                if a.is_infinite() {
+                    1.0
+                } else if a + b == 0.0 {
+                    0.0
+                } else {
+                    a / (a + b)
+                }
+            }
+            MisHeuristic::Balance => {
+                if own + other == 0.0 {
+                    0.0
+                } else {
+                    own / (own + other)
+                }
+            }
+        }
+    }
+}
+
+/// Counters an integrator keeps while tracing.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TraceCounters {
+    /// Closest-hit rays.
+    pub closest_hit_rays: u64,
+    /// Shadow (any-hit) rays.
+    pub shadow_rays: u64,
+}
+
+impl TraceCounters {
+    /// All rays traced.
+    pub fn rays(&self) -> u64 {
+        self.closest_hit_rays + self.shadow_rays
+    }
+
+    /// Adds another set of counters.
+    pub fn add(&mut self, other: &TraceCounters) {
+        self.closest_hit_rays += other.closest_hit_rays;
+        self.shadow_rays += other.shadow_rays;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn heuristics_sum_to_one() {
+        for heuristic in [MisHeuristic::Power, MisHeuristic::Balance] {
+            let (a, b) = (0.3, 2.1);
+            let total = heuristic.weight(a, b) + heuristic.weight(b, a);
+            assert!((total - 1.0).abs() < 1e-6);
+            assert_eq!(heuristic.weight(0.0, 0.0), 0.0);
+        }
+        assert_eq!(MisHeuristic::Power.weight(f32::INFINITY, 1.0), 1.0);
+    }
+}

@@ -1,0 +1,238 @@
+//! Lights: diffuse area lights on shapes, point lights and a constant
+//! environment, with the sampling that next-event estimation needs and the
+//! densities that multiple importance sampling needs.
+//!
+//! All densities returned here are per unit solid angle at the reference
+//! point, and do not include the probability of choosing the light (see
+//! [`LightSampler`]).
+
+mod light_sampler;
+
+pub use light_sampler::LightSampler;
+
+use crate::geometry::{Geometry, Shape};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
+use glam::{Vec2, Vec3};
+
+/// A light source.
+#[derive(Debug, Clone)]
+pub enum Light {
+    /// A shape emitting `radiance` from its front side (the side its
+    /// geometric normal points to, after `flip_normals`).
+    Area {
+        shape_index: u32,
+        radiance: Spectrum,
+        /// Emission and sampling use the reversed normal.
+        flip_normals: bool,
+        /// The emitted radiance's luminance-like scale, for light selection.
+        scale: f32,
+    },
+    /// A point light with radiant intensity `intensity` (W/sr per unit).
+    Point { position: Vec3, intensity: Spectrum },
+    /// Radiance from every direction at infinity.
+    ConstantEnvironment {
+        radiance: Spectrum,
+        /// The scene's bounding sphere, to place sampled points and weigh power.
+        scene_center: Vec3,
+        scene_radius: f32,
+    },
+}
+
+/// A light sample for next-event estimation.
+#[derive(Debug, Clone, Copy)]
+pub struct LightSample {
+    /// Incident radiance arriving at the reference point from the sample.
+    pub radiance: SampledSpectrum,
+    /// Unit direction from the reference point towards the light.
+    pub wi: Vec3,
+    /// The point on the light (far away for infinite lights), the end of the
+    /// shadow ray.
+    pub point: Vec3,
+    /// The light's surface normal at the point (zero for point and infinite lights).
+    pub normal: Vec3,
+    /// Density per unit solid angle (1 for a delta light).
+    pub pdf: f32,
+    /// True for lights that cannot be hit by rays (point lights).
+    pub is_delta: bool,
+    /// True for lights at infinity: the shadow ray is unbounded.
+    pub is_infinite: bool,
+}
+
+impl Light {
+    /// True for lights with a delta distribution (never hit by rays, no MIS).
+    pub fn is_delta(&self) -> bool {
+        matches!(self, Light::Point { .. })
+    }
+
+    /// True for lights at infinity.
+    pub fn is_infinite(&self) -> bool {
+        matches!(self, Light::ConstantEnvironment { .. })
+    }
+
+    /// A scalar proportional to the emitted power, for choosing lights in
+    /// proportion to it (Σ of the spectrum's maximum is enough for that).
+    pub fn power(&self, geometry: &Geometry) -> f32 {
+        match self {
+            Light::Area {
+                shape_index, scale, ..
+            } => {
+                let area = geometry.shapes()[*shape_index as usize].surface_area();
+                scale * area * std::f32::consts::PI
+            }
+            Light::Point { intensity, .. } => 4.0 * std::f32::consts::PI * intensity.max_value(),
+            Light::ConstantEnvironment {
+                radiance,
+                scene_radius,
+                ..
+            } => {
+                std::f32::consts::PI
+                    * scene_radius
+                    * scene_radius
+                    * std::f32::consts::PI
+                    * radiance.max_value()
+            }
+        }
+    }
+
+    /// Samples incident radiance at `reference` with the light-position
+    /// numbers `u` and a number `u_primitive` choosing a triangle of a mesh.
+    pub fn sample_incident(
+        &self,
+        geometry: &Geometry,
+        reference: Vec3,
+        u_primitive: f32,
+        u: [f32; 2],
+        wavelengths: &SampledWavelengths,
+    ) -> Option<LightSample> {
+        match self {
+            Light::Area {
+                shape_index,
+                radiance,
+                flip_normals,
+                ..
+            } => {
+                let shape: &Shape = &geometry.shapes()[*shape_index as usize];
+                let sample = shape.sample_from(reference, u_primitive, Vec2::from(u))?;
+                let normal = if *flip_normals {
+                    -sample.normal
+                } else {
+                    sample.normal
+                };
+                let to_light = sample.point - reference;
+                let distance_squared = to_light.length_squared();
+                if distance_squared == 0.0 {
+                    return None;
+                }
+                let wi = to_light / distance_squared.sqrt();
+                // Emission leaves the front side only.
+                if normal.dot(-wi) <= 0.0 {
+                    return None;
+                }
+                let pdf = shape.pdf_solid_angle_from(reference, sample.point, sample.normal);
+                if !(pdf > 0.0 && pdf.is_finite()) {
+                    return None;
+                }
+                Some(LightSample {
+                    radiance: radiance.sample(wavelengths),
+                    wi,
+                    point: sample.point,
+                    normal,
+                    pdf,
+                    is_delta: false,
+                    is_infinite: false,
+                })
+            }
+            Light::Point {
+                position,
+                intensity,
+            } => {
+                let to_light = *position - reference;
+                let distance_squared = to_light.length_squared();
+                if distance_squared == 0.0 {
+                    return None;
+                }
+                Some(LightSample {
+                    radiance: intensity.sample(wavelengths) / distance_squared,
+                    wi: to_light / distance_squared.sqrt(),
+                    point: *position,
+                    normal: Vec3::ZERO,
+                    pdf: 1.0,
+                    is_delta: true,
+                    is_infinite: false,
+                })
+            }
+            Light::ConstantEnvironment {
+                radiance,
+                scene_radius,
+                ..
+            } => {
+                let wi = crate::geometry::sample_uniform_sphere(Vec2::from(u));
+                Some(LightSample {
+                    radiance: radiance.sample(wavelengths),
+                    wi,
+                    point: reference + wi * (4.0 * scene_radius.max(1.0)),
+                    normal: Vec3::ZERO,
+                    pdf: 1.0 / (4.0 * std::f32::consts::PI),
+                    is_delta: false,
+                    is_infinite: true,
+                })
+            }
+        }
+    }
+
+    /// The solid-angle density with which [`Light::sample_incident`] picks
+    /// the point `point` (normal `normal`, as stored in the geometry, i.e.
+    /// before any flip) seen from `reference`; for infinite lights the
+    /// density of direction `point - reference`.
+    pub fn pdf_incident(
+        &self,
+        geometry: &Geometry,
+        reference: Vec3,
+        point: Vec3,
+        normal: Vec3,
+    ) -> f32 {
+        match self {
+            Light::Area { shape_index, .. } => geometry.shapes()[*shape_index as usize]
+                .pdf_solid_angle_from(reference, point, normal),
+            Light::Point { .. } => 0.0,
+            Light::ConstantEnvironment { .. } => 1.0 / (4.0 * std::f32::consts::PI),
+        }
+    }
+
+    /// Radiance emitted by an area light at a point with geometric normal
+    /// `normal` (as stored in the geometry) towards `wo`.
+    pub fn emitted_radiance(
+        &self,
+        normal: Vec3,
+        wo: Vec3,
+        wavelengths: &SampledWavelengths,
+    ) -> SampledSpectrum {
+        match self {
+            Light::Area {
+                radiance,
+                flip_normals,
+                ..
+            } => {
+                let front = if *flip_normals { -normal } else { normal };
+                if front.dot(wo) > 0.0 {
+                    radiance.sample(wavelengths)
+                } else {
+                    SampledSpectrum::zero()
+                }
+            }
+            _ => SampledSpectrum::zero(),
+        }
+    }
+
+    /// Radiance arriving from infinity along `direction` (environment lights).
+    pub fn environment_radiance(
+        &self,
+        _direction: Vec3,
+        wavelengths: &SampledWavelengths,
+    ) -> SampledSpectrum {
+        match self {
+            Light::ConstantEnvironment { radiance, .. } => radiance.sample(wavelengths),
+            _ => SampledSpectrum::zero(),
+        }
+    }
+}

@@ -1,0 +1,231 @@
+//! The render loop: image tiles in parallel with rayon, one pixel sample at a
+//! time, in passes so that a time budget or an interruption still leaves a
+//! consistent image. Tiles are merged into the film in a fixed order, so a
+//! seed gives the same image whatever the number of threads.
+
+use crate::film::{Film, FilmError, PixelBounds};
+use crate::geometry::Ray;
+use crate::integrators::path::{self, PathSettings};
+use crate::integrators::{IntegratorKind, MisHeuristic, TraceCounters};
+use crate::sampler::{PixelSampler, SamplerKind, layout};
+use crate::scene::Scene;
+use crate::spectrum::{SampledWavelengths, to_linear_srgb};
+use glam::Vec2;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// What to render and how.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RenderSettings {
+    /// The integrator (default path).
+    pub integrator: IntegratorKind,
+    /// The sampler (default Halton).
+    pub sampler: SamplerKind,
+    /// Samples per pixel to render (with a time budget: at most this many).
+    pub samples_per_pixel: u64,
+    /// Stop after this much time, at the end of a tile.
+    pub time_budget: Option<Duration>,
+    /// The seed of every random choice.
+    pub seed: u64,
+    /// Maximum path depth, Mitsuba's convention (segments).
+    pub max_depth: u32,
+    /// The MIS heuristic.
+    pub heuristic: MisHeuristic,
+    /// Worker threads (0: all cores).
+    pub threads: usize,
+    /// Tile side in pixels (default 16).
+    pub tile_size: usize,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            integrator: IntegratorKind::Path,
+            sampler: SamplerKind::Halton,
+            samples_per_pixel: 16,
+            time_budget: None,
+            seed: 0,
+            max_depth: 6,
+            heuristic: MisHeuristic::Power,
+            threads: 0,
+            tile_size: 16,
+        }
+    }
+}
+
+/// What a render measured.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RenderStatistics {
+    /// Pixel samples (camera paths) traced.
+    pub samples: u64,
+    /// Rays traced (closest hit and shadow).
+    pub rays: u64,
+    /// Samples whose value was NaN or infinite, dropped from the image.
+    pub nonfinite_samples: u64,
+    /// Wall-clock time of the render.
+    pub elapsed: Duration,
+    /// Samples per pixel completed by every pixel.
+    pub completed_samples_per_pixel: u64,
+    /// True if the render stopped early (time budget or interruption).
+    pub stopped_early: bool,
+}
+
+/// Why a render failed.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// The film could not be set up.
+    #[error(transparent)]
+    Film(#[from] FilmError),
+    /// The thread pool could not be created.
+    #[error("cannot start {threads} render threads: {message}")]
+    Threads { threads: usize, message: String },
+}
+
+/// The rendered film and statistics.
+pub struct RenderOutput {
+    /// The accumulated film.
+    pub film: Film,
+    /// Measurements of the render.
+    pub statistics: RenderStatistics,
+}
+
+/// Renders `scene`. `stop` is polled between tiles (set it from a Ctrl-C
+/// handler); `progress` receives the number of pixel samples done and the
+/// total.
+pub fn render(
+    scene: &Scene,
+    settings: &RenderSettings,
+    stop: &AtomicBool,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<RenderOutput, RenderError> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(settings.threads)
+        .build()
+        .map_err(|error| RenderError::Threads {
+            threads: settings.threads,
+            message: error.to_string(),
+        })?;
+    pool.install(|| render_in_pool(scene, settings, stop, progress))
+}
+
+fn render_in_pool(
+    scene: &Scene,
+    settings: &RenderSettings,
+    stop: &AtomicBool,
+    progress: &(dyn Fn(u64, u64) + Sync),
+) -> Result<RenderOutput, RenderError> {
+    let start = Instant::now();
+    let [width, height] = scene.camera.resolution();
+    let mut film = Film::new([width as usize, height as usize], scene.filter)?;
+    let tiles = film.tile_bounds(settings.tile_size.max(1))?;
+    let prototype = settings.sampler.create(settings.seed, (width, height));
+    let path_settings = PathSettings {
+        max_depth: settings.max_depth,
+        heuristic: settings.heuristic,
+        ..PathSettings::default()
+    };
+    let pixel_count = width as u64 * height as u64;
+    let total = pixel_count * settings.samples_per_pixel;
+    // Progressive passes keep a time budget or an interruption from leaving
+    // some pixels far behind others.
+    let pass_size = if settings.time_budget.is_some() {
+        1
+    } else {
+        settings.samples_per_pixel.clamp(1, 4)
+    };
+    let out_of_time = || {
+        stop.load(Ordering::Relaxed)
+            || settings
+                .time_budget
+                .is_some_and(|budget| start.elapsed() >= budget)
+    };
+    let mut statistics = RenderStatistics::default();
+    let mut first_sample = 0;
+    while first_sample < settings.samples_per_pixel && !out_of_time() {
+        let end_sample = (first_sample + pass_size).min(settings.samples_per_pixel);
+        let results: Vec<Option<(crate::film::FilmTile, TraceCounters, u64)>> = tiles
+            .par_iter()
+            .map(|bounds| {
+                if out_of_time() {
+                    return None;
+                }
+                let mut sampler = prototype.clone_sampler();
+                Some(render_tile(
+                    scene,
+                    &film,
+                    &path_settings,
+                    *bounds,
+                    first_sample..end_sample,
+                    sampler.as_mut(),
+                ))
+            })
+            .collect();
+        let mut complete = true;
+        for result in results {
+            match result {
+                Some((tile, counters, samples)) => {
+                    film.merge_tile(&tile)?;
+                    statistics.rays += counters.rays();
+                    statistics.samples += samples;
+                }
+                None => complete = false,
+            }
+        }
+        if complete {
+            statistics.completed_samples_per_pixel = end_sample;
+        }
+        progress(statistics.samples, total);
+        first_sample = end_sample;
+    }
+    statistics.stopped_early = statistics.completed_samples_per_pixel < settings.samples_per_pixel;
+    statistics.nonfinite_samples = film.nonfinite_samples();
+    statistics.elapsed = start.elapsed();
+    Ok(RenderOutput { film, statistics })
+}
+
+/// Renders samples `samples` of every pixel of a tile.
+fn render_tile(
+    scene: &Scene,
+    film: &Film,
+    settings: &PathSettings,
+    bounds: PixelBounds,
+    samples: std::ops::Range<u64>,
+    sampler: &mut dyn PixelSampler,
+) -> (crate::film::FilmTile, TraceCounters, u64) {
+    let mut tile = film
+        .new_tile(bounds)
+        .expect("tiles come from the film's own bounds");
+    let mut counters = TraceCounters::default();
+    let mut count = 0;
+    for y in bounds.min[1]..bounds.max[1] {
+        for x in bounds.min[0]..bounds.max[0] {
+            for sample_index in samples.clone() {
+                sampler.start_pixel_sample((x as u32, y as u32), sample_index);
+                let position = film.camera_sample_position([x, y], sampler.get_2d(layout::FILM));
+                let camera_ray = scene.camera.generate_ray(
+                    Vec2::from(position.raster_position),
+                    sampler.get_2d(layout::LENS),
+                    sampler.get(layout::TIME),
+                );
+                let mut wavelengths =
+                    SampledWavelengths::sample_visible(sampler.get(layout::WAVELENGTH));
+                let ray = Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time);
+                let radiance = path::radiance(
+                    scene,
+                    settings,
+                    ray,
+                    &mut wavelengths,
+                    &mut *sampler,
+                    &mut counters,
+                    None,
+                );
+                let rgb = to_linear_srgb(&radiance, &wavelengths);
+                // Non-finite values are counted and dropped by the tile.
+                let _ = tile.add_sample([x, y], rgb, position.weight);
+                count += 1;
+            }
+        }
+    }
+    (tile, counters, count)
+}
