@@ -1,0 +1,130 @@
+//! End-to-end tests of `lqmc render` and `lqmc scenes`.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn lqmc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lqmc"))
+        .args(args)
+        .output()
+        .expect("the lqmc binary runs")
+}
+
+fn temporary_directory(name: &str) -> PathBuf {
+    let directory = std::env::temp_dir().join(format!("lqmc-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&directory).unwrap();
+    directory
+}
+
+#[test]
+fn scenes_lists_every_builtin() {
+    let output = lqmc(&["scenes"]);
+    assert!(output.status.success());
+    let text = String::from_utf8(output.stdout).unwrap();
+    for name in [
+        "cornell-box",
+        "dof-spheres",
+        "glass-sphere-box",
+        "office",
+        "furnace",
+    ] {
+        assert!(text.contains(&format!("builtin:{name}")), "{name} missing");
+    }
+}
+
+#[test]
+fn render_writes_exr_and_png_with_metadata_and_reports_rates() {
+    let directory = temporary_directory("render");
+    let exr = directory.join("furnace.exr");
+    let output = lqmc(&[
+        "render",
+        "builtin:furnace",
+        "--resolution",
+        "8x8",
+        "--spp",
+        "4",
+        "--sampler",
+        "sobol",
+        "--seed",
+        "5",
+        "--quiet",
+        "-o",
+        exr.to_str().unwrap(),
+    ]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let text = String::from_utf8(output.stdout).unwrap();
+    for expected in [
+        "samples/s",
+        "rays/s",
+        "NaN/Inf samples dropped",
+        "4.0 samples per pixel",
+    ] {
+        assert!(text.contains(expected), "'{expected}' missing in {text}");
+    }
+    let contents = render::image::read_exr(&exr).unwrap();
+    assert_eq!((contents.image.width(), contents.image.height()), (8, 8));
+    assert_eq!(
+        contents.metadata.get("sampler").map(String::as_str),
+        Some("sobol")
+    );
+    assert_eq!(contents.metadata.get("spp").map(String::as_str), Some("4"));
+    assert_eq!(contents.metadata.get("seed").map(String::as_str), Some("5"));
+    assert_eq!(
+        contents.metadata.get("integrator").map(String::as_str),
+        Some("path")
+    );
+    assert!(contents.metadata.contains_key("renderTimeSeconds"));
+    // The furnace is 1 everywhere; 64 pixels × 4 samples average close to it.
+    let mean = contents.image.mean();
+    assert!(mean.iter().all(|&m| (m - 1.0).abs() < 0.1), "{mean:?}");
+    assert!(directory.join("furnace.png").exists());
+    std::fs::remove_dir_all(directory).unwrap();
+}
+
+#[test]
+fn time_budget_stops_and_still_writes() {
+    let directory = temporary_directory("time");
+    let pfm = directory.join("box.pfm");
+    let output = lqmc(&[
+        "render",
+        "builtin:cornell-box",
+        "--resolution",
+        "16x16",
+        "--time",
+        "0.3",
+        "--quiet",
+        "-o",
+        pfm.to_str().unwrap(),
+    ]);
+    assert!(output.status.success());
+    let text = String::from_utf8(output.stdout).unwrap();
+    assert!(text.contains("time budget reached"), "{text}");
+    assert!(render::image::read_pfm(&pfm).is_ok());
+    std::fs::remove_dir_all(directory).unwrap();
+}
+
+#[test]
+fn bad_render_input_is_one_line_and_status_two() {
+    let cases: &[&[&str]] = &[
+        &["render", "builtin:teapot"],
+        &["render", "no-such-file.xml"],
+        &["render", "builtin:furnace", "--spp", "0"],
+        &["render", "builtin:furnace", "--resolution", "0x4"],
+        &["render", "builtin:furnace", "--time", "-1"],
+        &["render", "builtin:furnace", "--max-depth", "0"],
+        &["render", "builtin:furnace", "-o", "image.txt"],
+        &["render", "builtin:furnace", "--sampler", "zsobol"],
+        &["render", "builtin:furnace", "--integrator", "bdpt"],
+    ];
+    for args in cases {
+        let output = lqmc(args);
+        assert_eq!(output.status.code(), Some(2), "{args:?}");
+        let stderr = String::from_utf8(output.stderr).unwrap();
+        assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
+        assert!(stderr.starts_with("lqmc: "), "{args:?}: {stderr}");
+    }
+}
