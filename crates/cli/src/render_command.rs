@@ -30,6 +30,8 @@ pub enum SamplerName {
     Sobol,
     /// Independent random numbers (PCG).
     Independent,
+    /// Randomized rank-1 lattice (CBC, N = spp rounded up to a power of two).
+    Lattice,
 }
 
 /// The MIS heuristics, as command-line values.
@@ -160,6 +162,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             SamplerName::Halton => SamplerKind::Halton,
             SamplerName::Sobol => SamplerKind::Sobol,
             SamplerName::Independent => SamplerKind::Independent,
+            SamplerName::Lattice => SamplerKind::Lattice,
         },
         samples_per_pixel,
         time_budget,

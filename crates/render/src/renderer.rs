@@ -119,7 +119,10 @@ fn render_in_pool(
     let [width, height] = scene.camera.resolution();
     let mut film = Film::new([width as usize, height as usize], scene.filter)?;
     let tiles = film.tile_bounds(settings.tile_size.max(1))?;
-    let prototype = settings.sampler.create(settings.seed, (width, height));
+    let prototype =
+        settings
+            .sampler
+            .create(settings.seed, (width, height), settings.samples_per_pixel);
     let path_settings = PathSettings {
         max_depth: settings.max_depth,
         heuristic: settings.heuristic,

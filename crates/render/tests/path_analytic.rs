@@ -24,10 +24,11 @@ use render::scene::description::{
 };
 use std::sync::atomic::AtomicBool;
 
-const SAMPLERS: [SamplerKind; 3] = [
+const SAMPLERS: [SamplerKind; 4] = [
     SamplerKind::Halton,
     SamplerKind::Sobol,
     SamplerKind::Independent,
+    SamplerKind::Lattice,
 ];
 
 fn render_images(description: &SceneDescription, settings: &RenderSettings) -> (Image, Image) {

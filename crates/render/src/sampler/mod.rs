@@ -113,14 +113,19 @@ pub enum SamplerKind {
     Halton,
     /// Sobol, Owen-scrambled per pixel (hash-based).
     Sobol,
+    /// A rank-1 lattice rule with N = samples per pixel rounded up to a power
+    /// of two (fast CBC, 32 dimensions, γ_j = 1/32), rotated per pixel
+    /// (Cranley–Patterson): randomized QMC as in Kollig & Keller.
+    Lattice,
 }
 
 impl SamplerKind {
     /// Every sampler with its command-line name.
-    pub const ALL: [(SamplerKind, &'static str); 3] = [
+    pub const ALL: [(SamplerKind, &'static str); 4] = [
         (SamplerKind::Independent, "independent"),
         (SamplerKind::Halton, "halton"),
         (SamplerKind::Sobol, "sobol"),
+        (SamplerKind::Lattice, "lattice"),
     ];
 
     /// The sampler called `name`.
@@ -133,12 +138,34 @@ impl SamplerKind {
         Self::ALL.iter().find(|(k, _)| *k == self).unwrap().1
     }
 
-    /// Builds the sampler for an image of `resolution` pixels.
-    pub fn create(self, seed: u64, resolution: (u32, u32)) -> Box<dyn PixelSampler> {
+    /// Builds the sampler for an image of `resolution` pixels and
+    /// `samples_per_pixel` samples (which sizes the lattice).
+    pub fn create(
+        self,
+        seed: u64,
+        resolution: (u32, u32),
+        samples_per_pixel: u64,
+    ) -> Box<dyn PixelSampler> {
         match self {
             SamplerKind::Independent => Box::new(IndependentSampler::new(seed)),
             SamplerKind::Halton => Box::new(HaltonSampler::new(seed, resolution)),
             SamplerKind::Sobol => Box::new(SobolSampler::new(seed)),
+            SamplerKind::Lattice => {
+                const LATTICE_DIMENSIONS: usize = 32;
+                let point_count = samples_per_pixel.clamp(4, 1 << 24).next_power_of_two();
+                let lattice = qmc::cbc::cbc(
+                    point_count,
+                    LATTICE_DIMENSIONS,
+                    &qmc::cbc::ProductWeights::lqmc_default(LATTICE_DIMENSIONS),
+                )
+                .expect("fast CBC handles powers of two")
+                .lattice;
+                Box::new(PointSetSampler::new(
+                    std::sync::Arc::new(lattice),
+                    "lattice",
+                    seed,
+                ))
+            }
         }
     }
 }

@@ -8,7 +8,7 @@ use std::sync::Arc;
 fn all_samplers() -> Vec<Box<dyn PixelSampler>> {
     let mut samplers: Vec<Box<dyn PixelSampler>> = SamplerKind::ALL
         .iter()
-        .map(|(kind, _)| kind.create(7, (16, 9)))
+        .map(|(kind, _)| kind.create(7, (16, 9), 64))
         .collect();
     let points: Arc<dyn qmc::PointSet> = Arc::new(Halton::new(8, HaltonScramble::Owen, 3).unwrap());
     samplers.push(Box::new(PointSetSampler::new(points, "owen-halton", 7)));
@@ -77,7 +77,7 @@ fn every_dimension_is_uniform_on_average() {
 fn halton_film_dimensions_stratify_each_pixel() {
     // With 2^a 3^b ≥ resolution, six consecutive samples of a pixel have
     // film positions (dims 0, 1) in distinct cells of a 2×3 grid of the pixel.
-    let mut sampler = SamplerKind::Halton.create(1, (5, 4));
+    let mut sampler = SamplerKind::Halton.create(1, (5, 4), 6);
     for pixel in [(0u32, 0u32), (4, 3), (2, 1)] {
         let mut cells = [false; 6];
         for sample in 0..6 {
@@ -94,7 +94,7 @@ fn halton_film_dimensions_stratify_each_pixel() {
 fn sobol_first_samples_of_a_pixel_are_a_net() {
     // The first 16 samples of a pixel, dims (0, 1), put one point in every
     // cell of a 4×4 grid: Owen scrambling keeps the (0, 4, 2)-net.
-    let mut sampler = SamplerKind::Sobol.create(9, (4, 4));
+    let mut sampler = SamplerKind::Sobol.create(9, (4, 4), 16);
     let mut cells = [0u32; 16];
     for sample in 0..16 {
         sampler.start_pixel_sample((2, 3), sample);
