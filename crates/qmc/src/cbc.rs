@@ -46,6 +46,7 @@ use rustfft::num_complex::Complex;
 
 use crate::lattice::Rank1Lattice;
 use crate::point_set::PointSetError;
+use crate::summation::NeumaierSum;
 
 /// Relative tolerance within which two candidate errors count as a tie (the FFT
 /// evaluates errors to about `1e-15` relative; genuine differences are far larger).
@@ -158,7 +159,7 @@ pub fn squared_worst_case_error(point_count: u64, generator: &[u64], weights: &[
             weight * common * common * unit_kernel_sum(point_count)
         })
         .sum();
-    let mut remainder_sum = CompensatedSum::default();
+    let mut remainder_sum = NeumaierSum::default();
     for index in 0..point_count {
         // excess = Π (1 + a_j) − 1, remainder = excess − Σ a_j, both built up
         // without cancellation.
@@ -270,7 +271,7 @@ fn direct_excess_kernel_sum(
 ) -> f64 {
     let count = excess.len();
     let step = candidate as usize;
-    let mut sum = CompensatedSum::default();
+    let mut sum = NeumaierSum::default();
     let mut residue = 0usize;
     for value in excess {
         sum.add(value * kernel_value(residue));
@@ -280,33 +281,6 @@ fn direct_excess_kernel_sum(
         }
     }
     sum.total()
-}
-
-/// Neumaier's compensated summation: the sums of CBC cancel to a result many
-/// orders of magnitude below their terms, so the rounding of each addition is
-/// carried along instead of lost.
-#[derive(Debug, Default, Clone, Copy)]
-struct CompensatedSum {
-    sum: f64,
-    compensation: f64,
-}
-
-impl CompensatedSum {
-    #[inline]
-    fn add(&mut self, value: f64) {
-        let total = self.sum + value;
-        if self.sum.abs() >= value.abs() {
-            self.compensation += (self.sum - total) + value;
-        } else {
-            self.compensation += (value - total) + self.sum;
-        }
-        self.sum = total;
-    }
-
-    #[inline]
-    fn total(self) -> f64 {
-        self.sum + self.compensation
-    }
 }
 
 /// `e²` after adding a dimension with weight `γ` and candidate `z`, from the

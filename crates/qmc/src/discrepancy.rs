@@ -31,6 +31,7 @@
 //! summation.
 
 use crate::point_set::{PointSet, PointSetError, check_request};
+use crate::summation::NeumaierSum;
 
 /// The L2-type discrepancies with a closed form, as named by scipy.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -47,32 +48,6 @@ pub enum L2Discrepancy {
     /// Mixture discrepancy of Zhou, Fang and Ning, a mix of the centered and
     /// wrap-around kernels (scipy's `"MD"`).
     Mixture,
-}
-
-/// Compensated (Neumaier) running sum: keeps the low-order bits lost when a
-/// small term is added to a large total.
-#[derive(Debug, Clone, Copy, Default)]
-struct CompensatedSum {
-    sum: f64,
-    compensation: f64,
-}
-
-impl CompensatedSum {
-    #[inline]
-    fn add(&mut self, value: f64) {
-        let total = self.sum + value;
-        if self.sum.abs() >= value.abs() {
-            self.compensation += (self.sum - total) + value;
-        } else {
-            self.compensation += (value - total) + self.sum;
-        }
-        self.sum = total;
-    }
-
-    #[inline]
-    fn value(&self) -> f64 {
-        self.sum + self.compensation
-    }
 }
 
 /// Checks the flat point layout and returns the number of points.
@@ -161,13 +136,13 @@ fn kernel_sums(
     pair: impl Fn(f64, f64) -> f64,
 ) -> (f64, f64) {
     let rows: Vec<&[f64]> = points.chunks_exact(dimensions).collect();
-    let mut single_sum = CompensatedSum::default();
-    let mut diagonal_sum = CompensatedSum::default();
-    let mut off_diagonal_sum = CompensatedSum::default();
+    let mut single_sum = NeumaierSum::default();
+    let mut diagonal_sum = NeumaierSum::default();
+    let mut off_diagonal_sum = NeumaierSum::default();
     for (i, row_i) in rows.iter().enumerate() {
         single_sum.add(row_i.iter().map(|&x| single(x)).product());
         diagonal_sum.add(row_i.iter().map(|&x| pair(x, x)).product());
-        let mut row_sum = CompensatedSum::default();
+        let mut row_sum = NeumaierSum::default();
         for row_j in &rows[i + 1..] {
             row_sum.add(
                 row_i
@@ -177,11 +152,11 @@ fn kernel_sums(
                     .product(),
             );
         }
-        off_diagonal_sum.add(row_sum.value());
+        off_diagonal_sum.add(row_sum.total());
     }
     (
-        single_sum.value(),
-        diagonal_sum.value() + 2.0 * off_diagonal_sum.value(),
+        single_sum.total(),
+        diagonal_sum.total() + 2.0 * off_diagonal_sum.total(),
     )
 }
 
@@ -436,16 +411,5 @@ mod tests {
     fn single_centre_point() {
         assert!((star_discrepancy(&[0.5, 0.5], 2).unwrap() - 0.75).abs() < 1e-15);
         assert!((star_discrepancy(&[0.5], 1).unwrap() - 0.5).abs() < 1e-15);
-    }
-
-    #[test]
-    fn compensated_sum_keeps_small_terms() {
-        let mut sum = CompensatedSum::default();
-        sum.add(1.0);
-        for _ in 0..1000 {
-            sum.add(1e-17);
-        }
-        sum.add(-1.0);
-        assert!((sum.value() - 1e-14).abs() < 1e-20);
     }
 }

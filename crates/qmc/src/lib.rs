@@ -35,5 +35,6 @@ pub mod radical_inverse;
 pub mod random;
 pub mod replication;
 pub mod sobol;
+pub mod summation;
 
 pub use point_set::{PointSet, PointSetError};

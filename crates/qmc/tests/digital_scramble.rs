@@ -7,22 +7,8 @@ use qmc::digital_scramble::{DigitalOrder, DigitalScramble, DigitalSequence, Scra
 use qmc::niederreiter::Niederreiter;
 use qmc::sobol::Sobol;
 
-/// True iff the `2^m` points (digits of two coordinates) form a (0, m, 2)-net in
-/// base 2: one point in every elementary interval of area 2^-m.
-fn is_zero_m_two_net(points: &[(u32, u32)], m: u32) -> bool {
-    (0..=m).all(|k| {
-        let mut seen = vec![false; 1 << m];
-        points.iter().all(|&(x, y)| {
-            let cell_x = if k == 0 { 0 } else { (x >> (32 - k)) as usize };
-            let cell_y = if k == m {
-                0
-            } else {
-                (y >> (32 - (m - k))) as usize
-            };
-            !std::mem::replace(&mut seen[(cell_x << (m - k)) | cell_y], true)
-        })
-    })
-}
+mod common;
+use common::is_zero_m_two_net;
 
 fn first_two_dimensions<S: DigitalSequence>(set: &S, start: u64, m: u32) -> Vec<(u32, u32)> {
     (start..start + (1 << m))

@@ -7,6 +7,9 @@ use qmc::PointSet;
 use qmc::digital_scramble::DigitalSequence;
 use qmc::sobol::{DigitalOrder, MAX_DIMENSIONS, Sobol};
 
+mod common;
+use common::is_zero_m_two_net;
+
 fn assert_rows_equal<const W: usize>(
     sobol: &Sobol,
     start: u64,
@@ -80,25 +83,6 @@ fn natural_and_gray_code_orders_give_the_same_first_two_to_the_m_points() {
     }
     // ... while the orders themselves differ.
     assert_ne!(natural.sample_bits(2, 0), gray.sample_bits(2, 0));
-}
-
-/// True iff the `2^m` points, given by their two coordinates' digits, have exactly
-/// one point in every elementary interval [a 2^-k, (a+1) 2^-k) × [b 2^-(m-k),
-/// (b+1) 2^-(m-k)) for every k = 0 … m: a (0, m, 2)-net in base 2.
-fn is_zero_m_two_net(points: &[(u32, u32)], m: u32) -> bool {
-    assert_eq!(points.len(), 1 << m);
-    (0..=m).all(|k| {
-        let mut seen = vec![false; 1 << m];
-        points.iter().all(|&(x, y)| {
-            let cell_x = if k == 0 { 0 } else { (x >> (32 - k)) as usize };
-            let cell_y = if k == m {
-                0
-            } else {
-                (y >> (32 - (m - k))) as usize
-            };
-            !std::mem::replace(&mut seen[(cell_x << (m - k)) | cell_y], true)
-        })
-    })
 }
 
 #[test]

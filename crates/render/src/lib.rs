@@ -13,3 +13,4 @@ pub mod renderer;
 pub mod sampler;
 pub mod scene;
 pub mod spectrum;
+pub mod statistics;

@@ -5,29 +5,18 @@
 use std::f32::consts::PI;
 
 use approx::assert_abs_diff_eq;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use render::geometry::{
     Disk, Geometry, Ray, Shape, Sphere, Transform, TriangleMesh, sample_uniform_sphere, spawn_ray,
     spawn_ray_to,
 };
 
-/// SplitMix64: a tiny deterministic generator for test inputs.
-struct TestRng(u64);
+mod common;
+use common::TestRng;
 
+/// Random directions and points for these tests, on top of the shared
+/// uniform numbers.
 impl TestRng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn uniform(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn uniform2(&mut self) -> Vec2 {
-        Vec2::new(self.uniform(), self.uniform())
-    }
     fn direction(&mut self) -> Vec3 {
         sample_uniform_sphere(self.uniform2())
     }

@@ -5,132 +5,24 @@
 
 use std::f64::consts::PI;
 
-use glam::{DVec3, Vec2, Vec3};
+use glam::{DVec3, Vec3};
 use render::geometry::{Disk, Shape, Sphere, Transform, TriangleMesh, coordinate_frame};
+use render::statistics::chi_square_test;
 
-/// SplitMix64: a tiny deterministic generator for test inputs.
-struct TestRng(u64);
-
-impl TestRng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn uniform(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn uniform2(&mut self) -> Vec2 {
-        Vec2::new(self.uniform(), self.uniform())
-    }
-}
-
-/// `ln Γ(x)` for `x > 0`: shift up to `x ≥ 10` with `Γ(x+1) = xΓ(x)`, then the
-/// Stirling series to the `x⁻⁵` term (truncation error below 1e-10 there, the next term being 1/(1680 x⁷)).
-fn ln_gamma(mut x: f64) -> f64 {
-    let mut shift = 0.0;
-    while x < 10.0 {
-        shift -= x.ln();
-        x += 1.0;
-    }
-    let inverse = 1.0 / x;
-    let inverse2 = inverse * inverse;
-    shift + (x - 0.5) * x.ln() - x
-        + 0.5 * (2.0 * PI).ln()
-        + inverse * (1.0 / 12.0 - inverse2 * (1.0 / 360.0 - inverse2 / 1260.0))
-}
-
-/// The regularised upper incomplete gamma function `Q(a, x) = Γ(a, x)/Γ(a)`:
-/// the power series of `P(a, x)` for `x < a + 1`, otherwise the continued fraction
-/// of `Q` evaluated with the modified Lentz method.
-fn regularized_upper_gamma(a: f64, x: f64) -> f64 {
-    if x <= 0.0 {
-        return 1.0;
-    }
-    let log_prefactor = a * x.ln() - x - ln_gamma(a);
-    if x < a + 1.0 {
-        // P(a, x) = e^{-x} x^a / Γ(a+1) · Σ_n x^n / ((a+1)…(a+n)).
-        let (mut term, mut sum, mut denominator) = (1.0 / a, 1.0 / a, a);
-        for _ in 0..10_000 {
-            denominator += 1.0;
-            term *= x / denominator;
-            sum += term;
-            if term.abs() < sum.abs() * 1e-15 {
-                break;
-            }
-        }
-        1.0 - sum * log_prefactor.exp()
-    } else {
-        // Q(a, x) = e^{-x} x^a · 1/(x+1-a- 1·(1-a)/(x+3-a- 2·(2-a)/(x+5-a- …))).
-        let tiny = 1e-300;
-        let mut b = x + 1.0 - a;
-        let mut c = 1.0 / tiny;
-        let mut d = 1.0 / b;
-        let mut fraction = d;
-        for i in 1..10_000 {
-            let an = -(i as f64) * (i as f64 - a);
-            b += 2.0;
-            d = an * d + b;
-            if d.abs() < tiny {
-                d = tiny;
-            }
-            c = b + an / c;
-            if c.abs() < tiny {
-                c = tiny;
-            }
-            d = 1.0 / d;
-            let delta = d * c;
-            fraction *= delta;
-            if (delta - 1.0).abs() < 1e-15 {
-                break;
-            }
-        }
-        fraction * log_prefactor.exp()
-    }
-}
-
-/// Pearson's chi-square test of observed counts against expected counts. Bins
-/// with expected count below 5 are pooled (and the pool joined to the smallest
-/// regular bin if it is still below 5). Returns the p-value.
-fn chi_square_p_value(observed: &[f64], expected: &[f64]) -> f64 {
-    let mut bins: Vec<(f64, f64)> = Vec::new();
-    let (mut pooled_observed, mut pooled_expected) = (0.0, 0.0);
-    for (&o, &e) in observed.iter().zip(expected) {
-        if e < 5.0 {
-            pooled_observed += o;
-            pooled_expected += e;
-        } else {
-            bins.push((o, e));
-        }
-    }
-    if pooled_expected >= 5.0 {
-        bins.push((pooled_observed, pooled_expected));
-    } else if pooled_expected > 0.0 || pooled_observed > 0.0 {
-        let smallest = bins
-            .iter_mut()
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .expect("at least one bin with expected count ≥ 5");
-        smallest.0 += pooled_observed;
-        smallest.1 += pooled_expected;
-    }
-    let statistic: f64 = bins.iter().map(|(o, e)| (o - e) * (o - e) / e).sum();
-    let degrees_of_freedom = (bins.len() - 1) as f64;
-    regularized_upper_gamma(0.5 * degrees_of_freedom, 0.5 * statistic)
-}
+mod common;
+use common::TestRng;
 
 const P_VALUE_THRESHOLD: f64 = 1e-4;
 const SAMPLES: usize = 200_000;
 const GRID: usize = 16;
 
 /// Histogram of points of `[0,1]²` on a `GRID × GRID` grid.
-fn histogram(points: impl Iterator<Item = (f64, f64)>) -> Vec<f64> {
-    let mut counts = vec![0.0; GRID * GRID];
+fn histogram(points: impl Iterator<Item = (f64, f64)>) -> Vec<u64> {
+    let mut counts = vec![0; GRID * GRID];
     for (x, y) in points {
         let i = ((x * GRID as f64) as usize).min(GRID - 1);
         let j = ((y * GRID as f64) as usize).min(GRID - 1);
-        counts[j * GRID + i] += 1.0;
+        counts[j * GRID + i] += 1;
     }
     counts
 }
@@ -138,23 +30,8 @@ fn histogram(points: impl Iterator<Item = (f64, f64)>) -> Vec<f64> {
 fn assert_uniform_on_square(points: impl Iterator<Item = (f64, f64)>, what: &str) {
     let observed = histogram(points);
     let expected = vec![SAMPLES as f64 / (GRID * GRID) as f64; GRID * GRID];
-    let p = chi_square_p_value(&observed, &expected);
+    let p = chi_square_test(&observed, &expected).p_value;
     assert!(p > P_VALUE_THRESHOLD, "{what}: chi-square p-value {p}");
-}
-
-#[test]
-fn chi_square_helper_is_calibrated() {
-    // Q(1, x) = e^{-x}; Q(k/2, x/2) for k = 2 is the chi-square tail e^{-x/2}.
-    assert!((regularized_upper_gamma(1.0, 2.5) - (-2.5f64).exp()).abs() < 1e-9);
-    assert!((regularized_upper_gamma(1.0, 0.3) - (-0.3f64).exp()).abs() < 1e-9);
-    // Q(1/2, x) = erfc(√x); erfc(1) = 0.157299207050285.
-    assert!((regularized_upper_gamma(0.5, 1.0) - 0.157_299_207_050_285).abs() < 1e-10);
-    // The median of chi-square with 100 dof is about 99.3341.
-    assert!((regularized_upper_gamma(50.0, 0.5 * 99.3341) - 0.5).abs() < 1e-4);
-    assert!((ln_gamma(5.0) - 24f64.ln()).abs() < 1e-9);
-    // Gross misfit is detected.
-    let observed = vec![150.0, 50.0, 100.0, 100.0];
-    assert!(chi_square_p_value(&observed, &[100.0; 4]) < 1e-6);
 }
 
 /// Barycentric coordinates `(b1, b2)` of `p` in triangle `(p0, p1, p2)`.
@@ -202,7 +79,7 @@ fn triangle_sampling_is_uniform() {
             SAMPLES as f64 * fraction * cell * 2.0
         })
         .collect();
-    let p = chi_square_p_value(&observed, &expected);
+    let p = chi_square_test(&observed, &expected).p_value;
     assert!(p > P_VALUE_THRESHOLD, "triangle: p = {p}");
 }
 

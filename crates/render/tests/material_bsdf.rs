@@ -26,129 +26,10 @@ use render::material::{
     fresnel_complex, fresnel_dielectric, sample_uniform_disk_concentric, sample_uniform_sphere,
 };
 use render::spectrum::{SampledSpectrum, SampledWavelengths};
+use render::statistics::chi_square_test;
 
 /// p-values below this fail a goodness-of-fit test.
 const P_VALUE_THRESHOLD: f64 = 1e-4;
-
-// ---------------------------------------------------------------------------
-// Chi-square machinery.
-
-/// ln Γ(x) for x > 0 by the Lanczos approximation (g = 7, 9 coefficients as
-/// published by Godfrey; relative error ~1e-15).
-fn ln_gamma(x: f64) -> f64 {
-    const G: f64 = 7.0;
-    const COEFFICIENTS: [f64; 9] = [
-        0.999_999_999_999_809_9,
-        676.520_368_121_885_1,
-        -1_259.139_216_722_402_8,
-        771.323_428_777_653_1,
-        -176.615_029_162_140_6,
-        12.507_343_278_686_905,
-        -0.138_571_095_265_720_12,
-        9.984_369_578_019_572e-6,
-        1.505_632_735_149_311_6e-7,
-    ];
-    if x < 0.5 {
-        // Reflection formula Γ(x) Γ(1 − x) = π / sin(πx).
-        return (PI / (PI * x).sin()).ln() - ln_gamma(1.0 - x);
-    }
-    let x = x - 1.0;
-    let mut sum = COEFFICIENTS[0];
-    for (index, &coefficient) in COEFFICIENTS.iter().enumerate().skip(1) {
-        sum += coefficient / (x + index as f64);
-    }
-    let t = x + G + 0.5;
-    0.5 * (2.0 * PI).ln() + (x + 0.5) * t.ln() - t + sum.ln()
-}
-
-/// The regularised upper incomplete gamma function Q(a, x) = Γ(a, x)/Γ(a):
-/// the series for P = 1 − Q when x < a + 1, else Lentz's continued fraction
-/// (Numerical Recipes, 3rd ed., §6.2).
-fn regularized_upper_gamma(a: f64, x: f64) -> f64 {
-    if x <= 0.0 {
-        return 1.0;
-    }
-    let log_prefactor = -x + a * x.ln() - ln_gamma(a);
-    if x < a + 1.0 {
-        let mut term = 1.0 / a;
-        let mut sum = term;
-        let mut denominator = a;
-        for _ in 0..10_000 {
-            denominator += 1.0;
-            term *= x / denominator;
-            sum += term;
-            if term.abs() < sum.abs() * 1e-15 {
-                break;
-            }
-        }
-        1.0 - sum * log_prefactor.exp()
-    } else {
-        const TINY: f64 = 1e-300;
-        let mut b = x + 1.0 - a;
-        let mut c = 1.0 / TINY;
-        let mut d = 1.0 / b;
-        let mut h = d;
-        for i in 1..10_000 {
-            let an = -(i as f64) * (i as f64 - a);
-            b += 2.0;
-            d = an * d + b;
-            if d.abs() < TINY {
-                d = TINY;
-            }
-            c = b + an / c;
-            if c.abs() < TINY {
-                c = TINY;
-            }
-            d = 1.0 / d;
-            let delta = d * c;
-            h *= delta;
-            if (delta - 1.0).abs() < 1e-15 {
-                break;
-            }
-        }
-        log_prefactor.exp() * h
-    }
-}
-
-/// Pearson's chi-square p-value of `observed` counts against `expected`
-/// counts. Bins are merged, in order, until each merged bin expects at least
-/// 5 samples. Samples in a bin that expects none give p = 0.
-fn chi_square_p_value(observed: &[u64], expected: &[f64]) -> f64 {
-    assert_eq!(observed.len(), expected.len());
-    let mut statistic = 0.0;
-    let mut bins = 0usize;
-    let (mut pending_observed, mut pending_expected) = (0.0, 0.0);
-    for (&count, &mean) in observed.iter().zip(expected) {
-        if mean <= 0.0 && count > 0 {
-            return 0.0;
-        }
-        pending_observed += count as f64;
-        pending_expected += mean;
-        if pending_expected >= 5.0 {
-            statistic += (pending_observed - pending_expected).powi(2) / pending_expected;
-            bins += 1;
-            pending_observed = 0.0;
-            pending_expected = 0.0;
-        }
-    }
-    if pending_expected > 0.0 {
-        statistic += (pending_observed - pending_expected).powi(2) / pending_expected;
-        bins += 1;
-    }
-    let degrees_of_freedom = bins.saturating_sub(1).max(1) as f64;
-    regularized_upper_gamma(degrees_of_freedom / 2.0, statistic / 2.0)
-}
-
-#[test]
-fn chi_square_helper_matches_known_quantiles() {
-    // χ² quantiles (Abramowitz and Stegun, table 26.8): P(χ²₁ > 3.841) = 0.05,
-    // P(χ²₁₀ > 23.209) = 0.01, P(χ²₂ > x) = e^(−x/2).
-    assert!((regularized_upper_gamma(0.5, 3.841_459 / 2.0) - 0.05).abs() < 1e-6);
-    assert!((regularized_upper_gamma(5.0, 23.209_251 / 2.0) - 0.01).abs() < 1e-6);
-    assert!((regularized_upper_gamma(1.0, 3.0) - (-3.0_f64).exp()).abs() < 1e-12);
-    assert!((regularized_upper_gamma(100.0, 60.0) - 0.999_999_4).abs() < 1e-6);
-    assert!((ln_gamma(10.0) - 362_880.0_f64.ln()).abs() < 1e-12);
-}
 
 // ---------------------------------------------------------------------------
 // Direction histograms over the sphere.
@@ -249,7 +130,7 @@ fn bsdf_fit_p_value(bsdf: &Bsdf, wo: Vec3, sample_count: u64, seed: u64) -> f64 
         (total - 1.0).abs() < 1e-4,
         "pdf quadrature integrates to {total}"
     );
-    chi_square_p_value(&observed, &expected)
+    chi_square_test(&observed, &expected).p_value
 }
 
 fn grey(value: f32) -> SampledSpectrum {
@@ -297,7 +178,7 @@ fn chi_square_rejects_a_wrong_sampler() {
         observed[cell_of(wi)] += 1;
     }
     let expected = expected_counts(|wi| diffuse.pdf(wo, wi), sample_count);
-    assert!(chi_square_p_value(&observed, &expected) < 1e-12);
+    assert!(chi_square_test(&observed, &expected).p_value < 1e-12);
 }
 
 #[test]
@@ -319,7 +200,7 @@ fn concentric_disk_is_uniform() {
         observed[ring * SECTORS + sector] += 1;
     }
     let expected = vec![sample_count as f64 / (RINGS * SECTORS) as f64; RINGS * SECTORS];
-    let p = chi_square_p_value(&observed, &expected);
+    let p = chi_square_test(&observed, &expected).p_value;
     eprintln!("concentric disk: p = {p:.3}");
     assert!(p > P_VALUE_THRESHOLD, "p = {p}");
 }
@@ -347,7 +228,7 @@ fn dielectric_chooses_reflection_with_probability_r() {
             reflectance * sample_count as f64,
             (1.0 - reflectance) * sample_count as f64,
         ];
-        let p = chi_square_p_value(&observed, &expected);
+        let p = chi_square_test(&observed, &expected).p_value;
         assert!(
             p > P_VALUE_THRESHOLD,
             "η {eta}, cos {cos_theta}: {observed:?} vs {expected:?}"

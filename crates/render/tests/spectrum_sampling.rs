@@ -15,95 +15,16 @@ use render::spectrum::{
     SampledWavelengths, Spectrum, VISIBLE_LAMBDA_MAX, VISIBLE_LAMBDA_MIN, cie_x, cie_y, cie_z,
     d65_illuminant, to_xyz, visible_wavelength_pdf, xyz_to_linear_srgb,
 };
+use render::statistics::chi_square_test;
 
 // ---------------------------------------------------------------------------
-// Chi-square machinery.
-
-/// ln Γ(x) for x > 0 by the Lanczos approximation (g = 7, 9 terms; coefficients
-/// as published by Godfrey, accurate to ~1e-15).
-fn ln_gamma(x: f64) -> f64 {
-    const COEFFICIENTS: [f64; 9] = [
-        0.999_999_999_999_809_9,
-        676.520_368_121_885_1,
-        -1_259.139_216_722_402_8,
-        771.323_428_777_653_1,
-        -176.615_029_162_140_6,
-        12.507_343_278_686_905,
-        -0.138_571_095_265_720_12,
-        9.984_369_578_019_572e-6,
-        1.505_632_735_149_311_6e-7,
-    ];
-    if x < 0.5 {
-        // Reflection: Γ(x) Γ(1 − x) = π / sin(π x).
-        return (std::f64::consts::PI / (std::f64::consts::PI * x).sin()).ln() - ln_gamma(1.0 - x);
-    }
-    let x = x - 1.0;
-    let mut sum = COEFFICIENTS[0];
-    for (index, coefficient) in COEFFICIENTS.iter().enumerate().skip(1) {
-        sum += coefficient / (x + index as f64);
-    }
-    let t = x + 7.5;
-    0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + sum.ln()
-}
-
-/// Regularised upper incomplete gamma Q(a, x) = Γ(a, x) / Γ(a): the power series
-/// of P = 1 − Q for x < a + 1, the Lentz continued fraction for Q otherwise.
-fn regularised_upper_gamma(a: f64, x: f64) -> f64 {
-    if x <= 0.0 {
-        return 1.0;
-    }
-    let log_prefactor = a * x.ln() - x - ln_gamma(a);
-    if x < a + 1.0 {
-        let mut term = 1.0 / a;
-        let mut sum = term;
-        let mut n = a;
-        for _ in 0..10_000 {
-            n += 1.0;
-            term *= x / n;
-            sum += term;
-            if term.abs() < sum.abs() * 1e-16 {
-                break;
-            }
-        }
-        1.0 - sum * log_prefactor.exp()
-    } else {
-        let tiny = 1e-300;
-        let mut b = x + 1.0 - a;
-        let mut c = 1.0 / tiny;
-        let mut d = 1.0 / b;
-        let mut h = d;
-        for i in 1..10_000 {
-            let an = -(i as f64) * (i as f64 - a);
-            b += 2.0;
-            d = an * d + b;
-            if d.abs() < tiny {
-                d = tiny;
-            }
-            c = b + an / c;
-            if c.abs() < tiny {
-                c = tiny;
-            }
-            d = 1.0 / d;
-            let delta = d * c;
-            h *= delta;
-            if (delta - 1.0).abs() < 1e-16 {
-                break;
-            }
-        }
-        log_prefactor.exp() * h
-    }
-}
-
-/// P-value of a chi-square statistic with `degrees` degrees of freedom.
-fn chi_square_p_value(statistic: f64, degrees: usize) -> f64 {
-    regularised_upper_gamma(degrees as f64 / 2.0, statistic / 2.0)
-}
+// Chi-square goodness of fit.
 
 /// Pearson's chi-square test of `samples` in [`min`, `max`] against the density
 /// `pdf`, with `bins` equal bins whose expected counts come from Simpson
-/// integration of the pdf; bins expecting fewer than 5 samples are merged with
-/// their neighbours. Returns the p-value.
-fn chi_square_test(
+/// integration of the pdf (see [`chi_square_test`] for the merging of bins that
+/// expect few samples). Returns the p-value.
+fn wavelength_fit_p_value(
     samples: &[f32],
     min: f64,
     max: f64,
@@ -111,10 +32,10 @@ fn chi_square_test(
     pdf: impl Fn(f64) -> f64,
 ) -> f64 {
     let width = (max - min) / bins as f64;
-    let mut observed = vec![0.0_f64; bins];
+    let mut observed = vec![0u64; bins];
     for &sample in samples {
         let bin = (((f64::from(sample) - min) / width) as usize).min(bins - 1);
-        observed[bin] += 1.0;
+        observed[bin] += 1;
     }
     let expected: Vec<f64> = (0..bins)
         .map(|bin| {
@@ -135,40 +56,10 @@ fn chi_square_test(
             sum * h / 3.0 * samples.len() as f64
         })
         .collect();
-    let mut statistic = 0.0;
-    let mut cells = 0;
-    let (mut pending_observed, mut pending_expected) = (0.0, 0.0);
-    for (observed, expected) in observed.iter().zip(&expected) {
-        pending_observed += observed;
-        pending_expected += expected;
-        if pending_expected >= 5.0 {
-            statistic += (pending_observed - pending_expected).powi(2) / pending_expected;
-            cells += 1;
-            pending_observed = 0.0;
-            pending_expected = 0.0;
-        }
-    }
-    if pending_expected > 0.0 {
-        statistic += (pending_observed - pending_expected).powi(2) / pending_expected;
-        cells += 1;
-    }
-    chi_square_p_value(statistic, cells - 1)
+    chi_square_test(&observed, &expected).p_value
 }
 
 const P_VALUE_THRESHOLD: f64 = 1e-4;
-
-#[test]
-fn chi_square_helper_is_calibrated() {
-    // Q(1, x) = e^{−x}; chi-square with 2 dof has survival e^{−x/2}.
-    assert!((regularised_upper_gamma(1.0, 0.7) - (-0.7_f64).exp()).abs() < 1e-12);
-    assert!((regularised_upper_gamma(1.0, 7.0) - (-7.0_f64).exp()).abs() < 1e-12);
-    assert!((ln_gamma(5.0) - 24.0_f64.ln()).abs() < 1e-12);
-    assert!((ln_gamma(0.5) - std::f64::consts::PI.sqrt().ln()).abs() < 1e-12);
-    // Chi-square(10) median ≈ 9.341818.
-    assert!((chi_square_p_value(9.341_818, 10) - 0.5).abs() < 1e-5);
-    // Chi-square(100) survival at 120 = 0.0844067 (scipy; large-argument branch).
-    assert!((chi_square_p_value(120.0, 100) - 0.084_406_7).abs() < 1e-6);
-}
 
 #[test]
 fn chi_square_rejects_a_wrong_density() {
@@ -177,7 +68,7 @@ fn chi_square_rejects_a_wrong_density() {
     let samples: Vec<f32> = (0..20_000)
         .map(|_| VISIBLE_LAMBDA_MIN + random.next_f32() * (VISIBLE_LAMBDA_MAX - VISIBLE_LAMBDA_MIN))
         .collect();
-    let p_value = chi_square_test(&samples, 360.0, 830.0, 94, |lambda| {
+    let p_value = wavelength_fit_p_value(&samples, 360.0, 830.0, 94, |lambda| {
         f64::from(visible_wavelength_pdf(lambda as f32))
     });
     assert!(p_value < P_VALUE_THRESHOLD, "p = {p_value}");
@@ -197,7 +88,7 @@ fn visible_wavelengths_follow_their_pdf() {
         }
     }
     for (index, samples) in per_index.iter().enumerate() {
-        let p_value = chi_square_test(
+        let p_value = wavelength_fit_p_value(
             samples,
             f64::from(VISIBLE_LAMBDA_MIN),
             f64::from(VISIBLE_LAMBDA_MAX),
@@ -221,7 +112,7 @@ fn uniform_wavelengths_follow_their_pdf() {
             SampledWavelengths::sample_uniform(random.next_f32(), 400.0, 700.0).unwrap();
         samples.push(wavelengths.hero());
     }
-    let p_value = chi_square_test(&samples, 400.0, 700.0, 60, |_| 1.0 / 300.0);
+    let p_value = wavelength_fit_p_value(&samples, 400.0, 700.0, 60, |_| 1.0 / 300.0);
     assert!(p_value > P_VALUE_THRESHOLD, "p = {p_value}");
 }
 

@@ -281,8 +281,8 @@ impl Default for Filter {
 
 #[cfg(test)]
 mod tests {
-    use super::super::chi_square::chi_square_p_value;
     use super::*;
+    use crate::statistics::chi_square_test;
     use qmc::random::SeekablePcg;
 
     fn filters_under_test() -> Vec<(&'static str, Filter)> {
@@ -396,7 +396,7 @@ mod tests {
                     expected.push(mass * SAMPLES as f64);
                 }
             }
-            let p_value = chi_square_p_value(&observed, &expected);
+            let p_value = chi_square_test(&observed, &expected).p_value;
             println!("{name}: chi-square p-value {p_value:.4}");
             assert!(p_value > 1e-4, "{name}: chi-square p-value {p_value}");
 
@@ -431,7 +431,7 @@ mod tests {
                 integrate(&claimed, edges(index % BINS), edges(index / BINS)) * SAMPLES as f64
             })
             .collect();
-        let p_value = chi_square_p_value(&observed, &expected);
+        let p_value = chi_square_test(&observed, &expected).p_value;
         assert!(p_value < 1e-4, "p-value {p_value}");
     }
 

@@ -9,8 +9,6 @@
 //! counts for that pixel only); splats are spread over the pixels around
 //! them with the filter. See [`Film`] for determinism.
 
-#[cfg(test)]
-mod chi_square;
 mod error_function;
 mod film_tile;
 mod filter;

@@ -32,6 +32,7 @@
 
 mod halton;
 mod independent;
+mod pixel_randomization;
 mod point_set;
 mod sobol;
 
@@ -176,14 +177,16 @@ pub(crate) fn to_f32(value: f64) -> f32 {
     (value as f32).min(ONE_MINUS_EPSILON_F32)
 }
 
+/// The pixel's coordinates packed into one word for hashing.
+#[inline]
+pub(crate) fn pixel_key(pixel: (u32, u32)) -> u64 {
+    ((pixel.0 as u64) << 32) | pixel.1 as u64
+}
+
 /// A key for one pixel sample, hashed from the seed, the pixel and the index.
 #[inline]
 pub(crate) fn pixel_sample_key(seed: u64, pixel: (u32, u32), sample_index: u64) -> u64 {
-    qmc::hash::hash3(
-        seed,
-        ((pixel.0 as u64) << 32) | pixel.1 as u64,
-        sample_index,
-    )
+    qmc::hash::hash3(seed, pixel_key(pixel), sample_index)
 }
 
 #[cfg(test)]

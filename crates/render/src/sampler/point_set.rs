@@ -2,11 +2,11 @@
 //! pixel, decorrelated between pixels by a per-pixel Cranley–Patterson
 //! rotation (a random shift modulo one per pixel and dimension).
 
+use super::pixel_randomization::PixelRandomization;
 use super::{PixelSampler, SampleSource, to_f32};
 use qmc::PointSet;
 use qmc::cranley_patterson::shift_modulo_one;
-use qmc::hash::{hash2, hash3, to_unit_f64};
-use qmc::random::SeekablePcg;
+use qmc::hash::to_unit_f64;
 use std::sync::Arc;
 
 /// Point `j` of the set for sample `j` of every pixel, shifted per pixel.
@@ -16,10 +16,7 @@ use std::sync::Arc;
 pub struct PointSetSampler {
     points: Arc<dyn PointSet>,
     name: String,
-    seed: u64,
-    pixel_seed: u64,
-    index: u64,
-    fallback: SeekablePcg,
+    randomization: PixelRandomization,
 }
 
 impl PointSetSampler {
@@ -28,10 +25,7 @@ impl PointSetSampler {
         Self {
             points,
             name: name.into(),
-            seed,
-            pixel_seed: 0,
-            index: 0,
-            fallback: SeekablePcg::new(seed, 0),
+            randomization: PixelRandomization::new(seed),
         }
     }
 }
@@ -39,27 +33,24 @@ impl PointSetSampler {
 impl SampleSource for PointSetSampler {
     #[inline]
     fn get(&mut self, dimension: usize) -> f32 {
-        let in_set = dimension < self.points.dimensions()
-            && self.points.len().is_none_or(|len| self.index < len);
+        let index = self.randomization.index();
+        let in_set =
+            dimension < self.points.dimensions() && self.points.len().is_none_or(|len| index < len);
         if in_set {
-            let shift = to_unit_f64(hash2(self.pixel_seed, dimension as u64));
+            let shift = to_unit_f64(self.randomization.dimension_hash(dimension));
             to_f32(shift_modulo_one(
-                self.points.sample(self.index, dimension),
+                self.points.sample(index, dimension),
                 shift,
             ))
         } else {
-            self.fallback.seek(dimension as u64);
-            self.fallback.next_f32()
+            self.randomization.fallback(dimension)
         }
     }
 }
 
 impl PixelSampler for PointSetSampler {
     fn start_pixel_sample(&mut self, pixel: (u32, u32), sample_index: u64) {
-        let pixel_key = ((pixel.0 as u64) << 32) | pixel.1 as u64;
-        self.pixel_seed = hash2(self.seed, pixel_key);
-        self.index = sample_index;
-        self.fallback = SeekablePcg::new(self.seed, hash3(self.seed, pixel_key, sample_index));
+        self.randomization.start(pixel, sample_index);
     }
 
     fn clone_sampler(&self) -> Box<dyn PixelSampler> {

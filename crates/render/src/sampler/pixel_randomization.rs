@@ -1,0 +1,61 @@
+//! The per-pixel randomness of the samplers that use the same point set in
+//! every pixel and decorrelate pixels by randomizing it per pixel (a
+//! Cranley–Patterson shift, an Owen scrambling): a seed per pixel from which
+//! each dimension's randomization is hashed, and a PCG stream per pixel
+//! sample for the dimensions (or sample indices) the point set does not cover.
+
+use super::{pixel_key, pixel_sample_key};
+use qmc::hash::hash2;
+use qmc::random::SeekablePcg;
+
+/// The current pixel sample's randomization; [`PixelRandomization::start`]
+/// moves it to a new pixel sample.
+#[derive(Debug, Clone)]
+pub(crate) struct PixelRandomization {
+    seed: u64,
+    pixel_seed: u64,
+    index: u64,
+    fallback: SeekablePcg,
+}
+
+impl PixelRandomization {
+    /// The randomization chosen by `seed`, before any pixel sample starts.
+    pub(crate) fn new(seed: u64) -> Self {
+        Self {
+            seed,
+            pixel_seed: 0,
+            index: 0,
+            fallback: SeekablePcg::new(seed, 0),
+        }
+    }
+
+    /// Moves to sample `sample_index` of `pixel`.
+    pub(crate) fn start(&mut self, pixel: (u32, u32), sample_index: u64) {
+        self.pixel_seed = hash2(self.seed, pixel_key(pixel));
+        self.index = sample_index;
+        self.fallback =
+            SeekablePcg::new(self.seed, pixel_sample_key(self.seed, pixel, sample_index));
+    }
+
+    /// The index of the current sample within its pixel.
+    #[inline]
+    pub(crate) fn index(&self) -> u64 {
+        self.index
+    }
+
+    /// 64 random bits for `dimension` in the current pixel, the same for
+    /// every sample of the pixel (so all its samples share one randomization
+    /// of the point set).
+    #[inline]
+    pub(crate) fn dimension_hash(&self, dimension: usize) -> u64 {
+        hash2(self.pixel_seed, dimension as u64)
+    }
+
+    /// The current pixel sample's pseudo-random number for `dimension`, for
+    /// dimensions and indices beyond the point set.
+    #[inline]
+    pub(crate) fn fallback(&mut self, dimension: usize) -> f32 {
+        self.fallback.seek(dimension as u64);
+        self.fallback.next_f32()
+    }
+}
