@@ -62,8 +62,14 @@ impl DenselySampledSpectrum {
 
     /// The value at `lambda` nm (nearest tabulated wavelength; 0 outside).
     pub fn evaluate(&self, lambda: f32) -> f32 {
-        let offset = lambda.round() - self.lambda_min as f32;
-        if offset >= 0.0 && offset < self.values.len() as f32 {
+        // Rounding by truncation of λ + 0.5 (λ > 0 here) avoids a libm call
+        // for `round` on CPUs without SSE4.1, the default target.
+        if lambda.is_nan() || lambda <= 0.0 {
+            return 0.0;
+        }
+        let nearest = (lambda + 0.5) as i64;
+        let offset = nearest - self.lambda_min as i64;
+        if offset >= 0 && (offset as usize) < self.values.len() {
             self.values[offset as usize]
         } else {
             0.0

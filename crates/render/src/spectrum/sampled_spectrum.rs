@@ -116,11 +116,19 @@ impl SampledSpectrum {
     }
 
     /// Applies `function` to every component.
+    #[inline]
     pub fn map(&self, function: impl Fn(f32) -> f32) -> SampledSpectrum {
-        Self::new(self.values.map(function))
+        // An indexed loop: `array::map` did not inline in the path tracer's
+        // profile.
+        let mut values = self.values;
+        for value in values.iter_mut() {
+            *value = function(*value);
+        }
+        Self::new(values)
     }
 
     /// Combines two spectra component by component.
+    #[inline]
     pub fn zip(
         &self,
         other: &SampledSpectrum,

@@ -38,11 +38,16 @@ const VISIBLE_DENSITY_CENTRE: f64 = 538.0;
 /// tanh(k (λ − centre)) at both ends of the visible range: the CDF of
 /// sech²(k (λ − centre)) is proportional to tanh(k (λ − centre)) minus its value at
 /// [`VISIBLE_LAMBDA_MIN`].
+/// Computed once: every path samples four wavelengths, and two `tanh`
+/// calls per wavelength were a measurable part of a path's cost.
 fn visible_tanh_at_ends() -> (f64, f64) {
-    let k = VISIBLE_DENSITY_STEEPNESS;
-    let at_min = (k * (f64::from(VISIBLE_LAMBDA_MIN) - VISIBLE_DENSITY_CENTRE)).tanh();
-    let at_max = (k * (f64::from(VISIBLE_LAMBDA_MAX) - VISIBLE_DENSITY_CENTRE)).tanh();
-    (at_min, at_max)
+    static ENDS: std::sync::LazyLock<(f64, f64)> = std::sync::LazyLock::new(|| {
+        let k = VISIBLE_DENSITY_STEEPNESS;
+        let at_min = (k * (f64::from(VISIBLE_LAMBDA_MIN) - VISIBLE_DENSITY_CENTRE)).tanh();
+        let at_max = (k * (f64::from(VISIBLE_LAMBDA_MAX) - VISIBLE_DENSITY_CENTRE)).tanh();
+        (at_min, at_max)
+    });
+    *ENDS
 }
 
 /// Density (1/nm) of [`sample_visible_wavelength`] at `lambda` nm; 0 outside
