@@ -17,7 +17,9 @@ infinite), in two ways:
   on 1 and 2 pthreads. No Python in the timed loop, so it is Embree's own speed;
   the difference to `embreex` is the binding's overhead.
 
-Each figure is the median of --runs runs over all rays (Mrays/s). The checksum
+Each figure is the median of --runs runs over all rays (Mrays/s, wall clock;
+single-threaded runs also per CPU-second of the tracing thread, which does not
+count time spent waiting for a core on a shared machine). The checksum
 (number of hits and float64 sum of hit distances) and a per-ray comparison with
 our distances (`<name>.ours_t.f32`) confirm both engines traced the same rays.
 The embreex overhead per call is also shown by tracing in batches of several
@@ -167,13 +169,17 @@ def load_scene(directory, name):
 
 
 def median_rate(runs, ray_count, trace):
-    """Median Mrays/s over `runs` calls of `trace()`, and its last result."""
-    rates, result = [], None
+    """Median wall-clock Mrays/s over `runs` calls of `trace()`, median Mrays/s
+    per CPU-second of the calling thread (meaningful when the calling thread
+    does all the work: one thread), and the last call's result."""
+    wall_rates, cpu_rates, result = [], [], None
     for _ in range(runs):
+        cpu_start = time.thread_time()
         start = time.perf_counter()
         result = trace()
-        rates.append(ray_count / (time.perf_counter() - start) / 1e6)
-    return float(np.median(rates)), result
+        wall_rates.append(ray_count / (time.perf_counter() - start) / 1e6)
+        cpu_rates.append(ray_count / max(time.thread_time() - cpu_start, 1e-9) / 1e6)
+    return float(np.median(wall_rates)), float(np.median(cpu_rates)), result
 
 
 def checksum(distances):
@@ -303,7 +309,7 @@ def binding_overhead(engine, origins, directions, runs):
             for start in range(0, len(origins), batch):
                 engine.scene.run(origins[start:start + batch], directions[start:start + batch],
                                  query="DISTANCE")
-        rate, _ = median_rate(runs, len(origins), trace_batches)
+        rate, _, _ = median_rate(runs, len(origins), trace_batches)
         rates.append(f"{batch}: {rate:.3f}")
     print("  embreex 1 thread by batch size (rays per call: Mrays/s): " + ", ".join(rates))
 
@@ -339,13 +345,14 @@ def main():
             print(f"  {engine.label} BVH built in {time.perf_counter() - start:.2f} s")
             engine.trace(origins, directions, 1)  # warm-up
             for threads in arguments.threads:
-                rate, distances = median_rate(
+                rate, cpu_rate, distances = median_rate(
                     arguments.runs, len(origins), lambda: engine.trace(origins, directions, threads)
                 )
                 hits, total = checksum(distances)
+                cpu_note = f" ({cpu_rate:.3f} per CPU-second)" if threads == 1 else ""
                 print(
-                    f"  {engine.label:>7} {threads} thread(s): {rate:8.3f} Mrays/s "
-                    f"(median of {arguments.runs}), hits {hits}, sum t {total:.6f}"
+                    f"  {engine.label:>7} {threads} thread(s): {rate:8.3f} Mrays/s{cpu_note}, "
+                    f"median of {arguments.runs}, hits {hits}, sum t {total:.6f}"
                 )
             compare(name, engine.label, distances, ours)
             if engine.label == "embreex" and not arguments.no_batches:

@@ -3,7 +3,7 @@
 //! `scripts/perf/embree_throughput.py`) can trace the same work.
 //!
 //! ```text
-//! cargo run --release -p render --example ray_throughput -- [--export DIR] [--threads T] [--rays N] [--runs R] [--scene NAME]
+//! cargo run --release -p render --example ray_throughput -- [--export DIR] [--threads T] [--rays N] [--runs R] [--scene NAME] [--diagnose]
 //! ```
 //!
 //! Scenes (deterministic, one triangle mesh each):
@@ -21,6 +21,13 @@
 //! all available), and a checksum is printed: the number of hits and the sum of
 //! hit distances (f64).
 //!
+//! With `--diagnose`, the same triangles also go into an obvhs CWBVH built with
+//! the same preset as [`Geometry`] (`medium_build`), traced single-threaded with
+//! obvhs' own Möller–Trumbore `RtTriangle` test and no hit record, and the
+//! average numbers of nodes visited and triangles tested per ray are counted:
+//! this separates the cost of the BVH and its traversal from the cost of our
+//! primitive test and hit construction.
+//!
 //! With `--export DIR`, per scene `<name>.vertices.f32` (vertex count × 3 f32),
 //! `<name>.indices.u32` (triangle count × 3 u32), `<name>.origins.f32`,
 //! `<name>.directions.f32` (ray count × 3 f32 each) and `<name>.ours_t.f32` (our
@@ -30,9 +37,10 @@
 use std::f32::consts::PI;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
-use glam::{Vec2, Vec3};
+// `UVec2` is used unqualified inside obvhs' `traverse!` macro.
+use glam::{UVec2, Vec2, Vec3, Vec3A};
 use qmc::random::SeekablePcg;
 use rayon::prelude::*;
 use render::geometry::{Bounds3, Geometry, Ray, Transform, TriangleMesh, sample_uniform_sphere};
@@ -49,6 +57,8 @@ struct Options {
     runs: usize,
     /// Only the scene of this name, if given.
     scene: Option<String>,
+    /// Also trace with obvhs' own traversal and triangles, and count visits.
+    diagnose: bool,
 }
 
 fn parse_options() -> Result<Options, String> {
@@ -58,6 +68,7 @@ fn parse_options() -> Result<Options, String> {
         rays: 1 << 20,
         runs: 5,
         scene: None,
+        diagnose: false,
     };
     let mut arguments = std::env::args().skip(1);
     while let Some(argument) = arguments.next() {
@@ -76,6 +87,7 @@ fn parse_options() -> Result<Options, String> {
             "--rays" => options.rays = positive("--rays", value("--rays")?)?,
             "--runs" => options.runs = positive("--runs", value("--runs")?)?,
             "--scene" => options.scene = Some(value("--scene")?),
+            "--diagnose" => options.diagnose = true,
             "--help" | "-h" => {
                 return Err(
                     "usage: ray_throughput [--export DIR] [--threads T] [--rays N] [--runs R]"
@@ -87,6 +99,9 @@ fn parse_options() -> Result<Options, String> {
     }
     Ok(options)
 }
+
+/// A scene's name, how to build its mesh, and the seed of its rays.
+type SceneRecipe = (&'static str, fn() -> SceneMesh, u64);
 
 /// Vertex positions and triangle indices of one test scene.
 struct SceneMesh {
@@ -239,17 +254,49 @@ fn trace_parallel(geometry: &Geometry, rays: &[Ray]) -> Checksum {
     })
 }
 
+/// CPU time consumed so far by the calling thread, from Linux's
+/// `/proc/thread-self/schedstat` (first field: nanoseconds on a CPU); `None`
+/// elsewhere. Unlike wall-clock time it does not count time the thread waits
+/// for a core, so it stays meaningful on a machine shared with other jobs.
+fn thread_cpu_time() -> Option<Duration> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let nanoseconds = text.split_whitespace().next()?.parse().ok()?;
+    Some(Duration::from_nanos(nanoseconds))
+}
+
+/// Throughputs of one measurement.
+struct Rates {
+    /// Median wall-clock Mrays/s.
+    wall: f64,
+    /// Median Mrays/s per CPU-second of the calling thread (meaningful for
+    /// single-threaded runs only).
+    cpu: Option<f64>,
+}
+
 /// Median Mrays/s of `runs` timed calls, and the checksum of the last call.
-fn measure(runs: usize, rays: usize, mut trace: impl FnMut() -> Checksum) -> (f64, Checksum) {
-    let mut rates = Vec::with_capacity(runs);
+fn measure(runs: usize, rays: usize, mut trace: impl FnMut() -> Checksum) -> (Rates, Checksum) {
+    let mut wall_rates = Vec::with_capacity(runs);
+    let mut cpu_rates = Vec::with_capacity(runs);
     let mut checksum = Checksum::default();
+    let megarays = rays as f64 / 1e6;
     for _ in 0..runs {
+        let cpu_start = thread_cpu_time();
         let start = Instant::now();
         checksum = std::hint::black_box(trace());
-        rates.push(rays as f64 / start.elapsed().as_secs_f64() / 1e6);
+        wall_rates.push(megarays / start.elapsed().as_secs_f64());
+        if let (Some(begin), Some(end)) = (cpu_start, thread_cpu_time()) {
+            cpu_rates.push(megarays / (end - begin).as_secs_f64());
+        }
     }
-    rates.sort_by(f64::total_cmp);
-    (rates[runs / 2], checksum)
+    let median = |mut rates: Vec<f64>| {
+        rates.sort_by(f64::total_cmp);
+        rates.get(rates.len() / 2).copied()
+    };
+    let rates = Rates {
+        wall: median(wall_rates).unwrap_or(0.0),
+        cpu: median(cpu_rates),
+    };
+    (rates, checksum)
 }
 
 fn write_raw(
@@ -315,6 +362,90 @@ fn export(
     )
 }
 
+/// Traces `rays` through an obvhs CWBVH over `mesh` with obvhs' own triangle
+/// test (see the module documentation) and prints the throughput and the
+/// average nodes visited and triangles tested per ray.
+fn diagnose(mesh: &SceneMesh, rays: &[Ray], runs: usize) {
+    use obvhs::cwbvh::builder::build_cwbvh_from_tris;
+    use obvhs::rt_triangle::RtTriangle;
+    use obvhs::triangle::Triangle;
+
+    let triangles: Vec<Triangle> = mesh
+        .indices
+        .iter()
+        .map(|triangle| {
+            let [v0, v1, v2] = triangle.map(|i| Vec3A::from(mesh.positions[i as usize]));
+            Triangle { v0, v1, v2 }
+        })
+        .collect();
+    let bvh = build_cwbvh_from_tris(
+        &triangles,
+        obvhs::BvhBuildParams::medium_build(),
+        &mut Duration::default(),
+    );
+    let leaf_triangles: Vec<RtTriangle> = bvh
+        .primitive_indices
+        .iter()
+        .map(|&i| RtTriangle::from(&triangles[i as usize]))
+        .collect();
+    let obvhs_rays: Vec<obvhs::ray::Ray> = rays
+        .iter()
+        .map(|ray| {
+            // `+ 0` turns -0 into +0 (see `Geometry`'s note on obvhs' slab test).
+            obvhs::ray::Ray::new_inf(
+                Vec3A::from(ray.origin),
+                Vec3A::from(ray.direction) + Vec3A::ZERO,
+            )
+        })
+        .collect();
+    let trace_builtin = || {
+        obvhs_rays.iter().fold(Checksum::default(), |sum, ray| {
+            let mut hit = obvhs::ray::RayHit::none();
+            let found =
+                bvh.ray_traverse(*ray, &mut hit, |ray, id| leaf_triangles[id].intersect(ray));
+            sum.add(found.then_some(hit.t))
+        })
+    };
+    let (rates, sum) = measure(runs, rays.len(), trace_builtin);
+    let (mut nodes_visited, mut triangles_tested) = (0u64, 0u64);
+    for ray in &obvhs_rays {
+        let mut traversal_ray = *ray;
+        let mut state = bvh.new_traversal(traversal_ray.direction);
+        let mut node;
+        obvhs::traverse!(
+            bvh,
+            node,
+            state,
+            {
+                nodes_visited += 1;
+                node.intersect_ray(&traversal_ray, state.oct_inv4)
+            },
+            {
+                triangles_tested += 1;
+                let t = leaf_triangles[state.primitive_id as usize].intersect(&traversal_ray);
+                if t < traversal_ray.tmax {
+                    traversal_ray.tmax = t;
+                }
+            }
+        );
+    }
+    let per_ray = |count: u64| count as f64 / rays.len() as f64;
+    println!(
+        "  obvhs builtin (Möller–Trumbore, no hit record), 1 thread: {:8.3} Mrays/s ({:.3} per CPU-second), hits {}, sum t {:.6}",
+        rates.wall,
+        rates.cpu.unwrap_or(f64::NAN),
+        sum.hits,
+        sum.distance_sum
+    );
+    println!(
+        "  BVH: {} nodes of {} bytes; per ray {:.1} nodes visited, {:.1} triangles tested",
+        bvh.nodes.len(),
+        std::mem::size_of_val(&bvh.nodes[0]),
+        per_ray(nodes_visited),
+        per_ray(triangles_tested)
+    );
+}
+
 fn run(options: &Options) -> Result<(), Box<dyn std::error::Error>> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.threads)
@@ -322,7 +453,7 @@ fn run(options: &Options) -> Result<(), Box<dyn std::error::Error>> {
     if let Some(directory) = &options.export {
         std::fs::create_dir_all(directory)?;
     }
-    let scenes: [(&str, fn() -> SceneMesh, u64); 2] = [
+    let scenes: [SceneRecipe; 2] = [
         ("sphere_in_box", || sphere_in_box(128, 128), 1),
         ("displaced_grid", || displaced_grid(710), 2),
     ];
@@ -367,18 +498,23 @@ fn run(options: &Options) -> Result<(), Box<dyn std::error::Error>> {
         let (parallel_rate, parallel_sum) = measure(options.runs, rays.len(), || {
             pool.install(|| trace_parallel(&geometry, &rays))
         });
-        for (label, rate, sum) in [
-            ("1 thread".to_string(), single_rate, single_sum),
-            (
-                format!("{} threads", options.threads),
-                parallel_rate,
-                parallel_sum,
-            ),
-        ] {
-            println!(
-                "  ours {label:>10}: {rate:8.3} Mrays/s (median of {}), hits {}, sum t {:.6}",
-                options.runs, sum.hits, sum.distance_sum
-            );
+        let cpu_note = single_rate
+            .cpu
+            .map_or(String::new(), |rate| format!(" ({rate:.3} per CPU-second)"));
+        println!(
+            "  ours   1 thread : {:8.3} Mrays/s{cpu_note}, median of {}, hits {}, sum t {:.6}",
+            single_rate.wall, options.runs, single_sum.hits, single_sum.distance_sum
+        );
+        println!(
+            "  ours {:>2} threads: {:8.3} Mrays/s, median of {}, hits {}, sum t {:.6}",
+            options.threads,
+            parallel_rate.wall,
+            options.runs,
+            parallel_sum.hits,
+            parallel_sum.distance_sum
+        );
+        if options.diagnose {
+            diagnose(&mesh, &rays, options.runs);
         }
         if single_sum.hits != parallel_sum.hits {
             return Err("single-threaded and parallel hit counts differ".into());
