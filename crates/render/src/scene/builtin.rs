@@ -187,7 +187,8 @@ fn cornell_box() -> SceneDescription {
         shapes,
         lights: Vec::new(),
         max_depth: Some(6),
-        samples_per_pixel: Some(64),
+        // Few enough that `lqmc render` with no arguments takes a few seconds.
+        samples_per_pixel: Some(16),
     }
 }
 
