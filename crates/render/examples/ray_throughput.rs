@@ -176,26 +176,7 @@ fn sphere_in_box(segments: u32, rings: u32) -> SceneMesh {
 
 /// A height field over `[-1, 1]²` of `quads` × `quads` quads (two triangles each).
 fn displaced_grid(quads: u32) -> SceneMesh {
-    let vertices_per_side = quads + 1;
-    let mut positions = Vec::with_capacity((vertices_per_side * vertices_per_side) as usize);
-    for j in 0..vertices_per_side {
-        for i in 0..vertices_per_side {
-            let x = 2.0 * i as f32 / quads as f32 - 1.0;
-            let z = 2.0 * j as f32 / quads as f32 - 1.0;
-            let height =
-                0.15 * (7.0 * x).sin() * (5.0 * z).cos() + 0.05 * (31.0 * x + 17.0 * z).sin();
-            positions.push(Vec3::new(x, height, z));
-        }
-    }
-    let mut indices = Vec::with_capacity(2 * (quads * quads) as usize);
-    for j in 0..quads {
-        for i in 0..quads {
-            let a = j * vertices_per_side + i;
-            let (b, c, d) = (a + 1, a + vertices_per_side, a + vertices_per_side + 1);
-            indices.push([a, c, d]);
-            indices.push([a, d, b]);
-        }
-    }
+    let (positions, indices) = render::geometry::procedural::displaced_grid(quads);
     SceneMesh {
         name: "displaced_grid",
         positions,

@@ -26,6 +26,7 @@ mod disk;
 mod error;
 mod hit;
 mod mesh;
+pub mod procedural;
 mod ray;
 mod sampling;
 mod shape;
