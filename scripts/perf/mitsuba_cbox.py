@@ -27,7 +27,8 @@ import tempfile
 import time
 from pathlib import Path
 
-SCENE = Path("/work/shared/scenes/mitsuba-data/scenes/cbox/cbox-rgb.xml")
+# ../shared beside the checkout (DEVELOPERS.md).
+SCENE = Path(__file__).resolve().parents[3] / "shared/scenes/mitsuba-data/scenes/cbox/cbox-rgb.xml"
 
 
 def mitsuba_paths_per_second(variant, args):

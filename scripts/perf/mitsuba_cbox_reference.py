@@ -22,7 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-SCENE = Path("/work/shared/scenes/mitsuba-data/scenes/cbox/cbox-rgb.xml")
+# ../shared beside the checkout (DEVELOPERS.md).
+SCENE = Path(__file__).resolve().parents[3] / "shared/scenes/mitsuba-data/scenes/cbox/cbox-rgb.xml"
 OUTPUT = Path(__file__).resolve().parents[2] / "crates/render/tests/data"
 
 
