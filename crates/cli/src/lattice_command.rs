@@ -1,5 +1,14 @@
 //! `lqmc lattice`: component-by-component construction of a rank-1 lattice.
 
+/// Prints a line to stdout, ignoring a closed pipe (e.g. `| head`): results
+/// are already written to files or complete, so there is nothing to report.
+macro_rules! say {
+    ($($argument:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout().lock(), $($argument)*);
+    }};
+}
+
 use crate::error::{CliError, usage};
 use crate::json::Json;
 use clap::Args;
@@ -57,13 +66,13 @@ pub fn run(args: &LatticeArgs) -> Result<(), CliError> {
             ("generator", Json::integers(generator)),
             ("e2", Json::Number(squared_error)),
         ]);
-        println!("{}", json.render());
+        say!("{}", json.render());
     } else {
         let generator: Vec<String> = generator.iter().map(u64::to_string).collect();
-        println!("points: {}", args.points);
-        println!("dims: {}", args.dims);
-        println!("generator: {}", generator.join(","));
-        println!("e2: {squared_error:?}");
+        say!("points: {}", args.points);
+        say!("dims: {}", args.dims);
+        say!("generator: {}", generator.join(","));
+        say!("e2: {squared_error:?}");
     }
     Ok(())
 }

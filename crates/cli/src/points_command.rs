@@ -233,9 +233,13 @@ pub fn run(args: &PointsArgs) -> Result<(), CliError> {
             Ok(())
         })
     };
-    written
-        .and_then(|()| out.flush())
-        .map_err(|error| CliError::Failure(format!("cannot write to stdout: {error}")))
+    match written.and_then(|()| out.flush()) {
+        // A reader that stops early (`| head`) is not an error.
+        Err(error) if error.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        result => {
+            result.map_err(|error| CliError::Failure(format!("cannot write to stdout: {error}")))
+        }
+    }
 }
 
 fn write_csv(out: &mut impl Write, points: &[f64], dims: usize) -> std::io::Result<()> {

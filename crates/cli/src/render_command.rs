@@ -1,5 +1,14 @@
 //! `lqmc render` and `lqmc scenes`: render a scene to EXR and PNG.
 
+/// Prints a line to stdout, ignoring a closed pipe (e.g. `| head`): results
+/// are already written to files or complete, so there is nothing to report.
+macro_rules! say {
+    ($($argument:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout().lock(), $($argument)*);
+    }};
+}
+
 use crate::error::{CliError, usage};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -89,7 +98,7 @@ pub struct RenderArgs {
 /// Runs `lqmc scenes`.
 pub fn list_scenes() -> Result<(), CliError> {
     for (name, description) in BUILTIN_SCENES {
-        println!("builtin:{name:<18} {description}");
+        say!("builtin:{name:<18} {description}");
     }
     Ok(())
 }
@@ -249,7 +258,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     } else {
         ""
     };
-    println!(
+    say!(
         "rendered {scene_name} {}x{} with {} / {}: {:.1} samples per pixel{stopped}",
         scene.camera.resolution()[0],
         scene.camera.resolution()[1],
@@ -257,12 +266,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         settings.sampler.name(),
         spp,
     );
-    println!(
+    say!(
         "time {seconds:.3} s, {:.3} M samples/s, {:.3} M rays/s, {} NaN/Inf samples dropped",
         statistics.samples as f64 / seconds / 1e6,
         statistics.rays as f64 / seconds / 1e6,
         statistics.nonfinite_samples,
     );
-    println!("wrote {}", written.join(" and "));
+    say!("wrote {}", written.join(" and "));
     Ok(())
 }
