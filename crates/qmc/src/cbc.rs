@@ -346,14 +346,7 @@ pub fn plain_cbc(
                     .map(|candidate| (*candidate, evaluate(*candidate))),
             )
         };
-        let mut residue = 0usize;
-        for value in excess.iter_mut() {
-            *value += weight * kernel[residue] * (1.0 + *value);
-            residue += chosen as usize;
-            if residue >= count {
-                residue -= count;
-            }
-        }
+        include_component(&mut excess, &kernel, weight, chosen);
         previous_error = error;
         generator.push(chosen);
         squared_errors.push(error);
@@ -458,14 +451,7 @@ pub fn fast_cbc(
                 error_with_candidate(previous_error, weight, kernel_sum, sum, inverse_count)
             })
         };
-        let mut residue = 0usize;
-        for value in excess.iter_mut() {
-            *value += weight * kernel[residue] * (1.0 + *value);
-            residue += chosen as usize;
-            if residue >= count {
-                residue -= count;
-            }
-        }
+        include_component(&mut excess, &kernel, weight, chosen);
         previous_error = error;
         generator.push(chosen);
         squared_errors.push(error);
@@ -474,6 +460,22 @@ pub fn fast_cbc(
         lattice: Rank1Lattice::new(point_count, generator)?,
         squared_errors,
     })
+}
+
+/// Multiplies the chosen component into the running products: with
+/// `excess[k] = Π_j (1 + γ_j ω({k z_j / N})) − 1` over the components so far,
+/// the new component `z` (weight `γ`) makes it
+/// `excess[k] + γ ω({k z / N}) (1 + excess[k])`, where `kernel[r] = ω(r / N)`.
+fn include_component(excess: &mut [f64], kernel: &[f64], weight: f64, chosen: u64) {
+    let count = excess.len();
+    let mut residue = 0usize;
+    for value in excess.iter_mut() {
+        *value += weight * kernel[residue] * (1.0 + *value);
+        residue += chosen as usize;
+        if residue >= count {
+            residue -= count;
+        }
+    }
 }
 
 /// CBC with the fastest applicable algorithm: [`fast_cbc`] for odd prime `N`,
