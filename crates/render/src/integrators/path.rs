@@ -73,18 +73,16 @@ pub fn radiance(
             for &index in &scene.environment_lights {
                 let light = &scene.lights[index as usize];
                 let emitted = light.environment_radiance(ray.direction, wavelengths);
-                let weight = if specular_bounce {
-                    1.0
-                } else {
-                    let light_pdf = scene.light_sampler.probability(index as usize)
-                        * light.pdf_incident(
-                            &scene.geometry,
-                            previous_point,
-                            previous_point + ray.direction,
-                            Vec3::ZERO,
-                        );
-                    settings.heuristic.weight(previous_bsdf_pdf, light_pdf)
-                };
+                let weight = emission_weight(
+                    scene,
+                    settings,
+                    index,
+                    specular_bounce,
+                    previous_point,
+                    previous_bsdf_pdf,
+                    previous_point + ray.direction,
+                    Vec3::ZERO,
+                );
                 radiance += throughput * emitted * weight;
             }
             break;
@@ -98,18 +96,16 @@ pub fn radiance(
             let light = &scene.lights[light_index as usize];
             let emitted = light.emitted_radiance(raw_hit.geometric_normal, wo, wavelengths);
             if !emitted.is_black() {
-                let weight = if specular_bounce {
-                    1.0
-                } else {
-                    let light_pdf = scene.light_sampler.probability(light_index as usize)
-                        * light.pdf_incident(
-                            &scene.geometry,
-                            previous_point,
-                            raw_hit.point,
-                            raw_hit.geometric_normal,
-                        );
-                    settings.heuristic.weight(previous_bsdf_pdf, light_pdf)
-                };
+                let weight = emission_weight(
+                    scene,
+                    settings,
+                    light_index,
+                    specular_bounce,
+                    previous_point,
+                    previous_bsdf_pdf,
+                    raw_hit.point,
+                    raw_hit.geometric_normal,
+                );
                 radiance += throughput * emitted * weight;
             }
         }
@@ -201,6 +197,31 @@ pub fn radiance(
         depth += 1;
     }
     radiance
+}
+
+/// The MIS weight of emission reached by BSDF sampling: 1 after a specular
+/// bounce (next-event estimation cannot produce that path), otherwise the
+/// heuristic of the BSDF density against the density with which next-event
+/// estimation from `previous_point` would have chosen light `light_index` and
+/// sampled `point` (normal `normal` as stored; zero for infinite lights).
+#[allow(clippy::too_many_arguments)]
+fn emission_weight(
+    scene: &Scene,
+    settings: &PathSettings,
+    light_index: u32,
+    specular_bounce: bool,
+    previous_point: Vec3,
+    previous_bsdf_pdf: f32,
+    point: Vec3,
+    normal: Vec3,
+) -> f32 {
+    if specular_bounce {
+        return 1.0;
+    }
+    let light = &scene.lights[light_index as usize];
+    let light_pdf = scene.light_sampler.probability(light_index as usize)
+        * light.pdf_incident(&scene.geometry, previous_point, point, normal);
+    settings.heuristic.weight(previous_bsdf_pdf, light_pdf)
 }
 
 /// Next-event estimation at `hit`: one light sample, MIS-weighted against
