@@ -18,6 +18,7 @@ use render::renderer::{RenderSettings, render};
 use render::sampler::SamplerKind;
 use render::scene::Scene;
 use render::scene::builtin::{BUILTIN_SCENES, DEFAULT_SCENE, builtin_scene};
+use render::scene::loader::{LoadOptions, load_scene_file};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -53,7 +54,8 @@ pub enum HeuristicName {
 /// Arguments of `lqmc render`.
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// The scene: `builtin:NAME` (see `lqmc scenes`); default builtin:cornell-box.
+    /// The scene: a Mitsuba 3 XML (`.xml`) or pbrt-v4 (`.pbrt`) file, or
+    /// `builtin:NAME` (see `lqmc scenes`); default builtin:cornell-box.
     pub scene: Option<String>,
     /// The integrator.
     #[arg(long, value_enum, default_value_t = IntegratorName::Path)]
@@ -93,6 +95,18 @@ pub struct RenderArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// A scene-file parameter, NAME=VALUE (Mitsuba's `$NAME`, as
+    /// `mitsuba -D`); may be repeated.
+    #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_definition)]
+    pub define: Vec<(String, String)>,
+}
+
+/// Parses `NAME=VALUE` of `--define`.
+fn parse_definition(text: &str) -> Result<(String, String), String> {
+    match text.split_once('=') {
+        Some((name, value)) if !name.is_empty() => Ok((name.to_string(), value.to_string())),
+        _ => Err(format!("expected NAME=VALUE, got '{text}'")),
+    }
 }
 
 /// Runs `lqmc scenes`.
@@ -115,9 +129,17 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             ))
         })?,
         None if Path::new(scene_name).exists() => {
-            return Err(usage(format!(
-                "cannot read {scene_name}: scene files (Mitsuba XML, pbrt-v4) are not supported yet; use builtin:NAME"
-            )));
+            let options = LoadOptions {
+                parameters: args.define.clone(),
+            };
+            let loaded = load_scene_file(Path::new(scene_name), &options)
+                .map_err(|error| usage(error.to_string()))?;
+            for warning in &loaded.warnings {
+                if !args.quiet {
+                    eprintln!("lqmc: warning: {warning}");
+                }
+            }
+            loaded.description
         }
         None => {
             return Err(usage(format!(

@@ -14,3 +14,4 @@ pub mod sampler;
 pub mod scene;
 pub mod spectrum;
 pub mod statistics;
+pub mod texture;

@@ -20,7 +20,7 @@ use render::scene::Scene;
 use render::scene::builtin::builtin_scene;
 use render::scene::description::{
     FilterDescription, LightDescription, MaterialDescription, SceneDescription, ShapeDescription,
-    ShapeGeometry,
+    ShapeGeometry, SpectrumDescription,
 };
 use std::sync::atomic::AtomicBool;
 
@@ -123,15 +123,16 @@ fn white_furnace() -> SceneDescription {
                 center: Vec3::ZERO,
                 radius: 1.0,
             },
-            MaterialDescription::Diffuse {
-                reflectance: [0.8, 0.8, 0.8],
-            },
+            MaterialDescription::diffuse_rgb([0.8, 0.8, 0.8]),
         )],
         lights: vec![LightDescription::ConstantEnvironment {
-            radiance: [1.0, 1.0, 1.0],
+            radiance: SpectrumDescription::Rgb([1.0, 1.0, 1.0]),
         }],
         max_depth: Some(6),
         samples_per_pixel: Some(16),
+        media: Vec::new(),
+        camera_medium: None,
+        integrator: None,
     }
 }
 

@@ -10,7 +10,7 @@
 use super::path_vertex::PathVertex;
 use super::{MisHeuristic, TraceCounters};
 use crate::geometry::{Ray, SurfaceHit, offset_ray_origin, spawn_ray, spawn_ray_to_point};
-use crate::material::{ShadingFrame, SurfaceBsdf};
+use crate::material::SurfaceBsdf;
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -117,11 +117,7 @@ pub fn radiance(
         let Some(material) = &info.material else {
             break;
         };
-        let frame = ShadingFrame::from_unit_normal(hit.shading_normal);
-        let bsdf = SurfaceBsdf {
-            frame,
-            bsdf: material.bsdf(wavelengths),
-        };
+        let bsdf = material.surface_bsdf_at(&hit, wavelengths);
         let flags = bsdf.flags();
         // Light sampling and its densities are taken from the hit point moved
         // off the surface to the side of `wo`, so that a point on a sphere

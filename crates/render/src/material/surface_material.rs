@@ -7,7 +7,9 @@ use super::dielectric::DielectricBsdf;
 use super::diffuse::DiffuseBsdf;
 use super::error::MaterialError;
 use super::shading_frame::ShadingFrame;
+use crate::geometry::SurfaceHit;
 use crate::spectrum::{SampledWavelengths, Spectrum, VISIBLE_LAMBDA_MAX, VISIBLE_LAMBDA_MIN};
+use crate::texture::{SpectrumTexture, TextureContext};
 
 /// The surface description of a shape.
 ///
@@ -23,7 +25,10 @@ pub enum Material {
     /// reflectance spectrum cannot create energy.
     Diffuse {
         /// The albedo.
-        reflectance: Spectrum,
+        reflectance: SpectrumTexture,
+        /// Both faces reflect (pbrt-v4, Mitsuba `twosided`); otherwise the
+        /// back is black (Mitsuba's plain `diffuse`).
+        two_sided: bool,
     },
     /// A smooth metal with complex index of refraction `eta` + i`k` relative
     /// to the surrounding medium (tabulated data such as pbrt-v4's
@@ -52,7 +57,10 @@ pub enum Material {
 impl Material {
     /// A validated [`Material::Diffuse`].
     pub fn diffuse(reflectance: Spectrum) -> Result<Self, MaterialError> {
-        let material = Material::Diffuse { reflectance };
+        let material = Material::Diffuse {
+            reflectance: SpectrumTexture::Constant(reflectance),
+            two_sided: true,
+        };
         material.validate()?;
         Ok(material)
     }
@@ -79,9 +87,10 @@ impl Material {
     /// interface invisible there).
     pub fn validate(&self) -> Result<(), MaterialError> {
         match self {
-            Material::Diffuse { reflectance } => {
-                check_finite_non_negative("diffuse reflectance", reflectance)
-            }
+            Material::Diffuse { reflectance, .. } => match reflectance.as_constant() {
+                Some(reflectance) => check_finite_non_negative("diffuse reflectance", reflectance),
+                None => Ok(()),
+            },
             Material::Conductor { eta, k } => {
                 check_finite_non_negative("conductor eta", eta)?;
                 check_finite_non_negative("conductor k", k)
@@ -109,12 +118,32 @@ impl Material {
     /// The local-frame BSDF at a hit for the path's `wavelengths`, in
     /// [`crate::material::TransportMode::Radiance`] (use
     /// [`Bsdf::with_transport_mode`] for light paths).
+    ///
+    /// Textures are looked up at uv = (0, 0); integrators use
+    /// [`Self::surface_bsdf_at`].
     pub fn bsdf(&self, wavelengths: &SampledWavelengths) -> Bsdf {
+        let context = TextureContext {
+            uv: glam::Vec2::ZERO,
+            point: glam::Vec3::ZERO,
+        };
+        self.bsdf_with_context(&context, wavelengths)
+    }
+
+    /// The local-frame BSDF with textures evaluated at `context`.
+    pub fn bsdf_with_context(
+        &self,
+        context: &TextureContext,
+        wavelengths: &SampledWavelengths,
+    ) -> Bsdf {
         match self {
-            Material::Diffuse { reflectance } => {
-                DiffuseBsdf::new_unchecked(reflectance.sample(wavelengths).clamp(0.0, 1.0), true)
-                    .into()
-            }
+            Material::Diffuse {
+                reflectance,
+                two_sided,
+            } => DiffuseBsdf::new_unchecked(
+                reflectance.evaluate(context, wavelengths).clamp(0.0, 1.0),
+                *two_sided,
+            )
+            .into(),
             Material::Conductor { eta, k } => ConductorBsdf::new_unchecked(
                 eta.sample(wavelengths).clamp_zero(),
                 k.sample(wavelengths).clamp_zero(),
@@ -131,6 +160,24 @@ impl Material {
                 let dispersive = !matches!(eta, Spectrum::Constant(_));
                 DielectricBsdf::new_unchecked(hero_eta, dispersive).into()
             }
+        }
+    }
+
+    /// The BSDF at a surface hit, for world-space directions: textures are
+    /// evaluated at the hit and the shading frame built from its shading
+    /// normal and `∂p/∂u` (so anisotropic roughness follows the surface's
+    /// parameterisation). This is what integrators call; `hit` must already
+    /// be oriented (normals flipped for shapes with `flip_normals`).
+    pub fn surface_bsdf_at(
+        &self,
+        hit: &SurfaceHit,
+        wavelengths: &SampledWavelengths,
+    ) -> SurfaceBsdf {
+        let context = TextureContext::from_hit(hit);
+        SurfaceBsdf {
+            frame: ShadingFrame::from_normal_and_tangent(hit.shading_normal, hit.dpdu)
+                .unwrap_or_else(|_| ShadingFrame::from_unit_normal(hit.shading_normal)),
+            bsdf: self.bsdf_with_context(&context, wavelengths),
         }
     }
 

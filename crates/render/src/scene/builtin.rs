@@ -3,7 +3,7 @@
 
 use super::description::{
     FilterDescription, LightDescription, MaterialDescription, SceneDescription, ShapeDescription,
-    ShapeGeometry, polygon_mesh,
+    ShapeGeometry, SpectrumDescription, polygon_mesh,
 };
 use crate::camera::{FovAxis, PerspectiveSettings, look_at};
 use glam::{Affine3A, Quat, Vec3};
@@ -48,9 +48,7 @@ pub fn builtin_scene(name: &str) -> Option<SceneDescription> {
 }
 
 fn diffuse(r: f32, g: f32, b: f32) -> MaterialDescription {
-    MaterialDescription::Diffuse {
-        reflectance: [r, g, b],
-    }
+    MaterialDescription::diffuse_rgb([r, g, b])
 }
 
 fn camera(
@@ -189,6 +187,9 @@ fn cornell_box() -> SceneDescription {
         max_depth: Some(6),
         // Few enough that `lqmc render` with no arguments takes a few seconds.
         samples_per_pixel: Some(16),
+        media: Vec::new(),
+        camera_medium: None,
+        integrator: None,
     }
 }
 
@@ -253,10 +254,13 @@ fn dof_spheres() -> SceneDescription {
         },
         shapes,
         lights: vec![LightDescription::ConstantEnvironment {
-            radiance: [0.05, 0.06, 0.08],
+            radiance: SpectrumDescription::Rgb([0.05, 0.06, 0.08]),
         }],
         max_depth: Some(8),
         samples_per_pixel: Some(64),
+        media: Vec::new(),
+        camera_medium: None,
+        integrator: None,
     }
 }
 
@@ -304,7 +308,7 @@ fn glass_sphere_box() -> SceneDescription {
             center: Vec3::new(0.25, -0.6, 0.1),
             radius: 0.4,
         },
-        MaterialDescription::Dielectric { eta: 1.5 },
+        MaterialDescription::smooth_dielectric(1.5),
     ));
     shapes.push(ShapeDescription::new(
         ShapeGeometry::Cube {
@@ -330,6 +334,9 @@ fn glass_sphere_box() -> SceneDescription {
         lights: Vec::new(),
         max_depth: Some(12),
         samples_per_pixel: Some(64),
+        media: Vec::new(),
+        camera_medium: None,
+        integrator: None,
     }
 }
 
@@ -446,6 +453,9 @@ fn office() -> SceneDescription {
         lights: Vec::new(),
         max_depth: Some(8),
         samples_per_pixel: Some(64),
+        media: Vec::new(),
+        camera_medium: None,
+        integrator: None,
     }
 }
 
@@ -471,6 +481,9 @@ fn furnace() -> SceneDescription {
         // Deep enough that the truncated series 1 − 2^−D is 1 in f32.
         max_depth: Some(100),
         samples_per_pixel: Some(16),
+        media: Vec::new(),
+        camera_medium: None,
+        integrator: None,
     }
 }
 

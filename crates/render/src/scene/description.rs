@@ -4,7 +4,8 @@
 //! triples; they become spectra when the scene is built.
 
 use crate::camera::PerspectiveSettings;
-use glam::{Affine3A, Vec3};
+use glam::{Affine2, Affine3A, Vec2, Vec3};
+use std::path::PathBuf;
 
 /// A whole scene.
 #[derive(Debug, Clone)]
@@ -19,11 +20,18 @@ pub struct SceneDescription {
     pub shapes: Vec<ShapeDescription>,
     /// Lights that are not shapes.
     pub lights: Vec<LightDescription>,
+    /// Participating media, referred to by index from shapes and the camera.
+    pub media: Vec<MediumDescription>,
+    /// The medium the camera sits in (index into `media`), if any.
+    pub camera_medium: Option<usize>,
     /// The scene's suggested maximum path depth (Mitsuba's convention: the
     /// number of path segments; 1 shows emitters only), if it names one.
     pub max_depth: Option<u32>,
     /// The scene's suggested samples per pixel, if it names any.
     pub samples_per_pixel: Option<u64>,
+    /// The integrator the scene file names (e.g. `path`, `volpath`,
+    /// `direct`), as a hint; the command line decides.
+    pub integrator: Option<String>,
 }
 
 /// The pixel reconstruction filter.
@@ -44,11 +52,16 @@ pub struct ShapeDescription {
     pub geometry: ShapeGeometry,
     /// Its material.
     pub material: MaterialDescription,
-    /// Emitted radiance (linear sRGB, multiplied by the D65 spectrum) if the
-    /// surface is an area light; emission leaves the front side only.
-    pub emission: Option<[f32; 3]>,
+    /// Emitted radiance if the surface is an area light; emission leaves the
+    /// front side only (the side the normals point to, after `flip_normals`).
+    pub emission: Option<SpectrumDescription>,
     /// Flip the normals (e.g. to see the inside of a sphere as its front).
     pub flip_normals: bool,
+    /// The medium inside the shape (the side opposite its normals), as an
+    /// index into [`SceneDescription::media`]; `None` for vacuum.
+    pub interior_medium: Option<usize>,
+    /// The medium outside the shape (the side its normals point to).
+    pub exterior_medium: Option<usize>,
 }
 
 /// The geometry of a shape.
@@ -59,6 +72,9 @@ pub enum ShapeGeometry {
     Mesh {
         positions: Vec<Vec3>,
         normals: Option<Vec<Vec3>>,
+        /// Texture coordinates per vertex (pbrt's default per-triangle
+        /// parameterisation when `None`).
+        uvs: Option<Vec<Vec2>>,
         triangles: Vec<[u32; 3]>,
     },
     /// A sphere.
@@ -71,18 +87,205 @@ pub enum ShapeGeometry {
     Disk { to_world: Affine3A },
 }
 
+/// A spectral quantity as scene files give it. What an RGB triple means
+/// (a reflectance in [0, 1], an unbounded quantity such as an index of
+/// refraction, or an illuminant relative to D65) depends on where it is
+/// used; [`super::Scene::build`] decides.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SpectrumDescription {
+    /// Linear sRGB.
+    Rgb([f32; 3]),
+    /// The same value at every wavelength (Mitsuba's `<float>` where a
+    /// spectrum is expected). Illuminants given this way are still
+    /// multiplied by nothing: the value is radiance per nm as is.
+    Constant(f32),
+    /// Piecewise-linear samples: wavelengths (nm, increasing) and values.
+    Sampled {
+        wavelengths: Vec<f32>,
+        values: Vec<f32>,
+    },
+    /// A spectrum named by the file: pbrt-v4's named spectra
+    /// (`metal-Cu-eta`, `glass-BK7`, `stdillum-D65`, ...) or Mitsuba's
+    /// conductor names resolved by the loader into these.
+    Named(String),
+    /// Planck's law at `temperature` kelvin, normalised to a maximum of 1.
+    Blackbody { temperature: f32 },
+    /// Another spectrum times a factor (light `scale`s, `power` parameters).
+    Scaled {
+        scale: f32,
+        spectrum: Box<SpectrumDescription>,
+    },
+}
+
+/// How a bitmap's values are encoded.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ColourEncoding {
+    /// Values are linear already.
+    Linear,
+    /// The sRGB transfer curve (8-bit PNG/JPEG images by default).
+    Srgb,
+    /// A power law with the given exponent.
+    Gamma(f32),
+}
+
+/// How texture lookups between texels are filtered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TextureFilter {
+    /// The nearest texel.
+    Nearest,
+    /// Bilinear interpolation of the four nearest texels (the default).
+    Bilinear,
+}
+
+/// What a texture lookup outside [0, 1]² does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TextureWrap {
+    /// Tile the image (the default).
+    Repeat,
+    /// Tile with every other copy mirrored.
+    Mirror,
+    /// Clamp to the edge texels.
+    Clamp,
+}
+
+/// A value that may vary over a surface: a spectrum or a scalar (the same
+/// description serves both; scalar uses read one channel or the average).
+#[derive(Debug, Clone, PartialEq)]
+pub enum TextureDescription {
+    /// The same value everywhere.
+    Constant(SpectrumDescription),
+    /// An image file (PNG, JPEG, EXR, PFM, BMP) looked up by the surface's uv.
+    Bitmap {
+        /// The file, resolved against the scene file's search paths.
+        filename: PathBuf,
+        /// `None`: what the format implies (8-bit: sRGB; float formats: linear).
+        encoding: Option<ColourEncoding>,
+        filter: TextureFilter,
+        wrap: TextureWrap,
+        /// Maps the surface's uv to the texture's (Mitsuba's `to_uv`, pbrt's
+        /// `uscale`/`vscale`/`udelta`/`vdelta`).
+        to_uv: Affine2,
+        /// Flip the image vertically (pbrt-v4 puts v = 0 at the bottom row;
+        /// Mitsuba at the top). Loaders set what their renderer does.
+        flip_vertically: bool,
+        /// Multiply the looked-up value (pbrt's `scale`).
+        scale: f32,
+        /// Use 1 − value (pbrt's `invert`).
+        invert: bool,
+    },
+    /// Alternating squares of two textures, one square per unit of the
+    /// transformed uv (Mitsuba: 2×2 squares over [0, 1]² before `to_uv`).
+    Checkerboard {
+        even: Box<TextureDescription>,
+        odd: Box<TextureDescription>,
+        to_uv: Affine2,
+    },
+}
+
+/// The microfacet normal distribution of a rough surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MicrofacetDistribution {
+    /// Trowbridge–Reitz (GGX), the default.
+    Ggx,
+    /// Beckmann–Spizzichino.
+    Beckmann,
+}
+
+/// The roughness of a microfacet surface.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RoughnessDescription {
+    pub distribution: MicrofacetDistribution,
+    /// Roughness α along the shading frame's tangent (∂p/∂u).
+    pub alpha_u: TextureDescription,
+    /// Roughness α along the bitangent.
+    pub alpha_v: TextureDescription,
+    /// Convert the values with pbrt-v4's `RoughnessToAlpha` (α = √r) first.
+    pub remap: bool,
+}
+
 /// A surface material.
+///
+/// `two_sided`: pbrt-v4's materials scatter the same way from both sides;
+/// Mitsuba 3's diffuse, conductor and plastic BSDFs are black from behind
+/// unless wrapped in `twosided`. The built-in scenes use two-sided materials.
 #[derive(Debug, Clone, PartialEq)]
 pub enum MaterialDescription {
-    /// Lambertian reflection (two-sided).
-    Diffuse { reflectance: [f32; 3] },
-    /// A perfect mirror.
+    /// Lambertian reflection.
+    Diffuse {
+        reflectance: TextureDescription,
+        two_sided: bool,
+    },
+    /// A perfect mirror (two-sided).
     Mirror,
-    /// A smooth conductor with a complex index of refraction per RGB channel
-    /// (upsampled to spectra).
-    Conductor { eta: [f32; 3], k: [f32; 3] },
-    /// A smooth dielectric interface with interior index `eta` (outside 1).
-    Dielectric { eta: f32 },
+    /// A conductor with complex index of refraction `eta` + i`k` relative
+    /// to the outside; smooth when `roughness` is `None`.
+    Conductor {
+        eta: SpectrumDescription,
+        k: SpectrumDescription,
+        /// A factor on the Fresnel reflectance (Mitsuba's
+        /// `specular_reflectance`); `None` for 1.
+        specular_reflectance: Option<TextureDescription>,
+        roughness: Option<RoughnessDescription>,
+        two_sided: bool,
+    },
+    /// A dielectric interface with index `interior_ior` inside (opposite the
+    /// normals) and `exterior_ior` outside; smooth when `roughness` is `None`.
+    Dielectric {
+        interior_ior: SpectrumDescription,
+        exterior_ior: f32,
+        roughness: Option<RoughnessDescription>,
+    },
+    /// A thin dielectric sheet (Mitsuba `thindielectric`, pbrt
+    /// `thindielectric`): reflection and straight-through transmission with
+    /// the sheet's internal reflections summed.
+    ThinDielectric {
+        interior_ior: f32,
+        exterior_ior: f32,
+    },
+    /// A diffuse base under a dielectric coating (Mitsuba `plastic` /
+    /// `roughplastic`); smooth when `roughness` is `None`.
+    Plastic {
+        diffuse_reflectance: TextureDescription,
+        interior_ior: f32,
+        exterior_ior: f32,
+        roughness: Option<RoughnessDescription>,
+        /// Mitsuba's `nonlinear`: account for colour shifts of internal scattering.
+        nonlinear: bool,
+        two_sided: bool,
+    },
+    /// pbrt-v4's `coateddiffuse` (a stochastically evaluated layered BSDF).
+    CoatedDiffuse {
+        reflectance: TextureDescription,
+        interior_ior: f32,
+        roughness: Option<RoughnessDescription>,
+        thickness: f32,
+    },
+    /// Different materials on the front and back (Mitsuba `twosided` with two
+    /// children).
+    TwoSided {
+        front: Box<MaterialDescription>,
+        back: Box<MaterialDescription>,
+    },
+    /// Bump mapping: the shading normal follows the gradient of a height field.
+    BumpMap {
+        height: TextureDescription,
+        scale: f32,
+        nested: Box<MaterialDescription>,
+    },
+    /// Normal mapping: the shading normal read from an RGB image (tangent space).
+    NormalMap {
+        normals: TextureDescription,
+        nested: Box<MaterialDescription>,
+    },
+    /// Partly transparent: `opacity` of the time the nested material, else
+    /// pass straight through (Mitsuba `mask`).
+    Mask {
+        opacity: TextureDescription,
+        nested: Box<MaterialDescription>,
+    },
+    /// An index-matched boundary that only separates media (Mitsuba `null`,
+    /// pbrt `interface`): rays pass straight through.
+    Interface,
     /// Absorbs everything (e.g. the back of a light).
     Black,
 }
@@ -90,10 +293,87 @@ pub enum MaterialDescription {
 /// A light that is not a shape.
 #[derive(Debug, Clone, PartialEq)]
 pub enum LightDescription {
-    /// A point light with radiant intensity (linear sRGB × D65).
-    Point { position: Vec3, intensity: [f32; 3] },
+    /// A point light with radiant intensity (an RGB triple is relative to D65).
+    Point {
+        position: Vec3,
+        intensity: SpectrumDescription,
+    },
+    /// A spot light at the origin of `to_world` shining along its +z, with
+    /// full intensity inside `falloff_start_degrees` of the axis, falling
+    /// smoothly to 0 at `cutoff_degrees` (pbrt-v4's smoothstep falloff;
+    /// Mitsuba's `beam_width` is the start, `cutoff_angle` the end).
+    Spot {
+        to_world: Affine3A,
+        intensity: SpectrumDescription,
+        cutoff_degrees: f32,
+        falloff_start_degrees: f32,
+        /// Mitsuba's projected texture (uv over the cone's image), if any.
+        texture: Option<TextureDescription>,
+    },
+    /// Parallel light arriving from `direction` (the direction light
+    /// travels), with irradiance on a surface facing it.
+    Directional {
+        direction: Vec3,
+        irradiance: SpectrumDescription,
+    },
     /// Constant radiance from every direction at infinity.
-    ConstantEnvironment { radiance: [f32; 3] },
+    ConstantEnvironment { radiance: SpectrumDescription },
+    /// Radiance at infinity from an image.
+    EnvironmentMap {
+        filename: PathBuf,
+        /// How directions map to the image.
+        projection: EnvironmentProjection,
+        /// From the light's frame to world (Mitsuba: +y up in the light frame;
+        /// pbrt-v4: +z up).
+        to_world: Affine3A,
+        scale: f32,
+    },
+}
+
+/// How an environment map's image covers the sphere of directions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EnvironmentProjection {
+    /// Mitsuba 3's latitude–longitude map: u = (1 + atan2(d.x, −d.z)/π)/2,
+    /// v = acos(d.y)/π in the light frame.
+    MitsubaEquirectangular,
+    /// pbrt-v4's equal-area octahedral square map (Clarberg 2008), +z up.
+    PbrtEqualArea,
+}
+
+/// A homogeneous participating medium.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MediumDescription {
+    /// The extinction and scattering coefficients.
+    pub coefficients: MediumCoefficients,
+    /// A factor on the coefficients (units per scene length).
+    pub scale: f32,
+    /// The phase function.
+    pub phase: PhaseDescription,
+}
+
+/// How a medium's coefficients are given.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MediumCoefficients {
+    /// Mitsuba's parameters: single-scattering albedo (a reflectance) and
+    /// extinction σt (unbounded); σs = albedo·σt, σa = σt − σs.
+    AlbedoExtinction {
+        albedo: SpectrumDescription,
+        sigma_t: SpectrumDescription,
+    },
+    /// pbrt's parameters: absorption σa and scattering σs (unbounded).
+    AbsorptionScattering {
+        sigma_a: SpectrumDescription,
+        sigma_s: SpectrumDescription,
+    },
+}
+
+/// A phase function.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PhaseDescription {
+    /// Scattering in every direction alike.
+    Isotropic,
+    /// Henyey–Greenstein with asymmetry g ∈ (−1, 1).
+    HenyeyGreenstein { g: f32 },
 }
 
 impl ShapeDescription {
@@ -104,12 +384,14 @@ impl ShapeDescription {
             material,
             emission: None,
             flip_normals: false,
+            interior_medium: None,
+            exterior_medium: None,
         }
     }
 
     /// The same shape emitting `radiance`.
     pub fn emitting(mut self, radiance: [f32; 3]) -> Self {
-        self.emission = Some(radiance);
+        self.emission = Some(SpectrumDescription::Rgb(radiance));
         self
     }
 
@@ -135,6 +417,26 @@ pub fn polygon_mesh(polygons: &[&[[f32; 3]]]) -> ShapeGeometry {
     ShapeGeometry::Mesh {
         positions,
         normals: None,
+        uvs: None,
         triangles,
+    }
+}
+
+impl MaterialDescription {
+    /// A two-sided diffuse material with a constant RGB reflectance.
+    pub fn diffuse_rgb(reflectance: [f32; 3]) -> Self {
+        MaterialDescription::Diffuse {
+            reflectance: TextureDescription::Constant(SpectrumDescription::Rgb(reflectance)),
+            two_sided: true,
+        }
+    }
+
+    /// A smooth dielectric with a constant interior index and air outside.
+    pub fn smooth_dielectric(interior_ior: f32) -> Self {
+        MaterialDescription::Dielectric {
+            interior_ior: SpectrumDescription::Constant(interior_ior),
+            exterior_ior: 1.0,
+            roughness: None,
+        }
     }
 }

@@ -5,17 +5,24 @@
 
 pub mod builtin;
 pub mod description;
+pub mod loader;
+pub mod mesh_files;
+pub mod mitsuba;
+pub mod pbrt;
+pub mod spectra;
 
 use crate::camera::{CameraError, PerspectiveCamera};
 use crate::film::{BoxFilter, Filter, GaussianFilter, TriangleFilter};
 use crate::geometry::{Disk, Geometry, GeometryError, Shape, Sphere, Transform, TriangleMesh};
 use crate::light::{Light, LightSampler};
 use crate::material::Material;
-use crate::spectrum::{RgbAlbedoSpectrum, RgbIlluminantSpectrum, RgbUnboundedSpectrum, Spectrum};
+use crate::texture::SpectrumTexture;
 use description::{
     FilterDescription, LightDescription, MaterialDescription, SceneDescription, ShapeGeometry,
+    TextureDescription,
 };
 use glam::{Affine3A, Mat4};
+use spectra::{SpectrumUsage, build_spectrum};
 
 /// Why a scene cannot be built from its description.
 #[derive(Debug, thiserror::Error)]
@@ -36,6 +43,9 @@ pub enum SceneError {
     /// The camera is invalid.
     #[error(transparent)]
     Camera(#[from] CameraError),
+    /// The description uses a feature the renderer does not have (yet).
+    #[error("not supported: {what}")]
+    Unsupported { what: String },
     /// The scene emits no light.
     #[error("the scene has no light sources")]
     NoLights,
@@ -89,41 +99,65 @@ fn transform(matrix: Affine3A, index: usize) -> Result<Transform, SceneError> {
         .map_err(|source| SceneError::Geometry { index, source })
 }
 
+/// The render-time texture a spectrum-valued texture description stands for.
+fn spectrum_texture(
+    description: &TextureDescription,
+    usage: SpectrumUsage,
+    what: &str,
+) -> Result<SpectrumTexture, SceneError> {
+    match description {
+        TextureDescription::Constant(spectrum) => Ok(SpectrumTexture::Constant(build_spectrum(
+            spectrum, usage, what,
+        )?)),
+        _ => Err(SceneError::Unsupported {
+            what: format!("{what}: image and procedural textures"),
+        }),
+    }
+}
+
 fn material(description: &MaterialDescription) -> Result<Option<Material>, SceneError> {
-    let albedo = |rgb: [f32; 3], what: &str| -> Result<Spectrum, SceneError> {
-        Ok(Spectrum::RgbAlbedo(
-            RgbAlbedoSpectrum::new(rgb).map_err(|e| parameter_error(what, e))?,
-        ))
-    };
-    let unbounded = |rgb: [f32; 3], what: &str| -> Result<Spectrum, SceneError> {
-        Ok(Spectrum::RgbUnbounded(
-            RgbUnboundedSpectrum::new(rgb).map_err(|e| parameter_error(what, e))?,
-        ))
-    };
     let material = match description {
-        MaterialDescription::Diffuse { reflectance } => {
-            Material::diffuse(albedo(*reflectance, "diffuse reflectance")?)
-        }
+        MaterialDescription::Diffuse {
+            reflectance,
+            two_sided,
+        } => Ok(Material::Diffuse {
+            reflectance: spectrum_texture(
+                reflectance,
+                SpectrumUsage::Albedo,
+                "diffuse reflectance",
+            )?,
+            two_sided: *two_sided,
+        }),
         MaterialDescription::Mirror => Ok(Material::Mirror),
-        MaterialDescription::Conductor { eta, k } => Material::conductor(
-            unbounded(*eta, "conductor eta")?,
-            unbounded(*k, "conductor k")?,
+        MaterialDescription::Conductor {
+            eta,
+            k,
+            specular_reflectance: None,
+            roughness: None,
+            two_sided: _,
+        } => Material::conductor(
+            build_spectrum(eta, SpectrumUsage::Unbounded, "conductor eta")?,
+            build_spectrum(k, SpectrumUsage::Unbounded, "conductor k")?,
         ),
-        MaterialDescription::Dielectric { eta } => Material::dielectric(Spectrum::Constant(
-            crate::spectrum::ConstantSpectrum::new(*eta)
-                .map_err(|e| parameter_error("dielectric eta", e))?,
-        )),
+        MaterialDescription::Dielectric {
+            interior_ior,
+            exterior_ior,
+            roughness: None,
+        } if *exterior_ior == 1.0 => Material::dielectric(build_spectrum(
+            interior_ior,
+            SpectrumUsage::Unbounded,
+            "dielectric eta",
+        )?),
         MaterialDescription::Black => return Ok(None),
+        other => {
+            return Err(SceneError::Unsupported {
+                what: format!("material {other:?}"),
+            });
+        }
     };
     material
         .map(Some)
         .map_err(|e| parameter_error("material", e))
-}
-
-fn illuminant(rgb: [f32; 3], what: &str) -> Result<Spectrum, SceneError> {
-    Ok(Spectrum::RgbIlluminant(
-        RgbIlluminantSpectrum::new(rgb).map_err(|e| parameter_error(what, e))?,
-    ))
 }
 
 impl Scene {
@@ -138,12 +172,13 @@ impl Scene {
                 ShapeGeometry::Mesh {
                     positions,
                     normals,
+                    uvs,
                     triangles,
                 } => Shape::Mesh(
                     TriangleMesh::new(
                         positions.clone(),
                         normals.clone(),
-                        None,
+                        uvs.clone(),
                         triangles.clone(),
                         &transform(Affine3A::IDENTITY, index)?,
                     )
@@ -164,18 +199,30 @@ impl Scene {
                 }
             };
             shapes.push(built);
-            let light = match shape.emission {
-                Some(rgb) if rgb.iter().any(|&c| c > 0.0) => {
-                    lights.push(Light::Area {
-                        shape_index: index as u32,
-                        radiance: illuminant(rgb, "emitted radiance")?,
-                        flip_normals: shape.flip_normals,
-                        scale: rgb.iter().copied().fold(0.0, f32::max),
-                    });
-                    Some(lights.len() as u32 - 1)
+            let light = match &shape.emission {
+                Some(emission) => {
+                    let radiance =
+                        build_spectrum(emission, SpectrumUsage::Illuminant, "emitted radiance")?;
+                    let scale = radiance.max_value();
+                    if scale > 0.0 {
+                        lights.push(Light::Area {
+                            shape_index: index as u32,
+                            radiance,
+                            flip_normals: shape.flip_normals,
+                            scale,
+                        });
+                        Some(lights.len() as u32 - 1)
+                    } else {
+                        None
+                    }
                 }
-                _ => None,
+                None => None,
             };
+            if shape.interior_medium.is_some() || shape.exterior_medium.is_some() {
+                return Err(SceneError::Unsupported {
+                    what: format!("shape {index}: participating media"),
+                });
+            }
             infos.push(ShapeInfo {
                 material: material(&shape.material)?,
                 light,
@@ -192,16 +239,34 @@ impl Scene {
                     intensity,
                 } => Light::Point {
                     position: *position,
-                    intensity: illuminant(*intensity, "point light intensity")?,
+                    intensity: build_spectrum(
+                        intensity,
+                        SpectrumUsage::Illuminant,
+                        "point light intensity",
+                    )?,
                 },
                 LightDescription::ConstantEnvironment { radiance } => {
                     environment_lights.push(lights.len() as u32);
                     Light::ConstantEnvironment {
-                        radiance: illuminant(*radiance, "environment radiance")?,
+                        radiance: build_spectrum(
+                            radiance,
+                            SpectrumUsage::Illuminant,
+                            "environment radiance",
+                        )?,
                         scene_center,
                         scene_radius,
                     }
                 }
+                other => {
+                    return Err(SceneError::Unsupported {
+                        what: format!("light {other:?}"),
+                    });
+                }
+            });
+        }
+        if !description.media.is_empty() || description.camera_medium.is_some() {
+            return Err(SceneError::Unsupported {
+                what: "participating media".into(),
             });
         }
         if lights.is_empty() {
