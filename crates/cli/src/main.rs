@@ -4,6 +4,7 @@
 //! Exit status: 0 on success, 2 for bad input (one line on stderr), 1 when an
 //! operation fails for another reason (e.g. a file cannot be written).
 
+mod compare_command;
 mod error;
 mod json;
 mod lattice_command;
@@ -28,6 +29,10 @@ enum Command {
     Render(render_command::RenderArgs),
     /// List the built-in scenes.
     Scenes,
+    /// Compare an image with a reference: RMSE, relative MSE, mean absolute
+    /// deviation, difference of means, and a per-pixel z-test with a
+    /// variance image.
+    Compare(compare_command::CompareArgs),
     /// Print points of a sequence or point set (CSV or JSON), with
     /// discrepancies and plots.
     Points(points_command::PointsArgs),
@@ -44,6 +49,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => render_command::run(&args),
         Command::Scenes => render_command::list_scenes(),
+        Command::Compare(args) => compare_command::run(&args),
         Command::Points(args) => points_command::run(&args),
         Command::Lattice(args) => lattice_command::run(&args),
     };

@@ -70,4 +70,14 @@ pub enum ImageError {
         /// Number of pixels given.
         pixel_count: usize,
     },
+    /// Two images that must have the same size do not.
+    #[error("{what} is {}x{}, expected {}x{}", found.0, found.1, expected.0, expected.1)]
+    SizeMismatch {
+        /// Which image is off.
+        what: String,
+        /// The size of the image it is compared with.
+        expected: (usize, usize),
+        /// Its size.
+        found: (usize, usize),
+    },
 }

@@ -17,6 +17,7 @@
 //! [`write_image`] and [`read_image`] choose the format from the extension.
 //! Every error names the file and what went wrong.
 
+pub mod compare;
 mod error;
 mod exr_io;
 mod pfm;
