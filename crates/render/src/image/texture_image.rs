@@ -66,11 +66,10 @@ impl TextureImage {
         transfer: TransferCurve,
     ) -> Self {
         let channels = if stored_channels >= 3 { 3 } else { 1 };
-        let scale = 1.0 / maximum;
         let mut values = Vec::with_capacity(width * height * channels);
         for texel in samples.chunks_exact(stored_channels) {
             for &sample in &texel[..channels] {
-                values.push(sample.into() * scale);
+                values.push(sample.into() / maximum);
             }
         }
         Self {
