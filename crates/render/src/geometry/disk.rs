@@ -112,6 +112,13 @@ impl Disk {
         if dpdu.length_squared() <= 1e-12 * self.area {
             dpdu = coordinate_frame(self.normal).0;
         }
+        // ∂p/∂v for v = 1 − radius: towards the centre.
+        let dpdv = if radius > 1e-6 {
+            self.object_to_world
+                .vector(Vec3::new(-local.x / radius, -local.y / radius, 0.0))
+        } else {
+            self.normal.cross(dpdu)
+        };
         SurfaceHit {
             t,
             point,
@@ -119,6 +126,7 @@ impl Disk {
             shading_normal: self.normal,
             uv,
             dpdu,
+            dpdv,
             shape_index: 0,
             primitive_index: 0,
             time,

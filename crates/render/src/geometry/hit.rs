@@ -27,6 +27,9 @@ pub struct SurfaceHit {
     /// parameterisation is degenerate (poles, disk centre, degenerate uvs) an
     /// arbitrary tangent perpendicular to the geometric normal.
     pub dpdu: Vec3,
+    /// `∂p/∂v` (not normalised; bump mapping needs both derivatives); where
+    /// the parameterisation is degenerate, the geometric normal × `dpdu`.
+    pub dpdv: Vec3,
     /// Index of the shape in the list the [`super::Geometry`] was built from.
     pub shape_index: u32,
     /// Triangle index within a mesh; 0 for spheres and disks.

@@ -263,6 +263,14 @@ impl TriangleMesh {
         if !usable {
             dpdu = coordinate_frame(geometric_normal).0;
         }
+        let mut dpdv = if usable {
+            (duv02.x * dp12 - duv12.x * dp02) / determinant
+        } else {
+            Vec3::ZERO
+        };
+        if !(dpdv.is_finite() && dpdv.cross(geometric_normal) != Vec3::ZERO) {
+            dpdv = geometric_normal.cross(dpdu);
+        }
         let shading_normal = match &self.normals {
             Some(normals) => {
                 let [a, b, c] = self.indices[index];
@@ -287,6 +295,7 @@ impl TriangleMesh {
             shading_normal,
             uv,
             dpdu,
+            dpdv,
             shape_index: 0,
             primitive_index: index as u32,
             time,

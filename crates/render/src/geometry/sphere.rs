@@ -128,6 +128,13 @@ impl Sphere {
         if dpdu.length_squared() <= 1e-12 * self.radius * self.radius {
             dpdu = coordinate_frame(normal).0;
         }
+        // ∂p/∂v = π (−z cos φ, −z sin φ, r sin θ) for v = (π − θ)/π.
+        let rho = local.truncate().length();
+        let dpdv = if rho > 1e-6 * self.radius {
+            PI * Vec3::new(-local.z * local.x / rho, -local.z * local.y / rho, rho)
+        } else {
+            normal.cross(dpdu)
+        };
         SurfaceHit {
             t,
             point,
@@ -135,6 +142,7 @@ impl Sphere {
             shading_normal: normal,
             uv,
             dpdu,
+            dpdv,
             shape_index: 0,
             primitive_index: 0,
             time,

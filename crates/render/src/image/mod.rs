@@ -14,15 +14,22 @@
 //! - PNG ([`write_png`], [`read_png`]): 8-bit sRGB for viewing, with an
 //!   exposure in stops; read back (8 or 16 bit) into linear floats.
 //!
+//! - Textures ([`read_texture_image`]): PNG, JPEG, BMP, EXR and PFM decoded
+//!   to values as stored, with the file's transfer curve ([`TextureImage`]).
+//!
 //! [`write_image`] and [`read_image`] choose the format from the extension.
 //! Every error names the file and what went wrong.
 
+mod bmp;
 pub mod compare;
 mod error;
 mod exr_io;
+mod jpeg;
 mod pfm;
 mod png_io;
+mod png_texture;
 mod srgb;
+mod texture_image;
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -32,6 +39,7 @@ pub use exr_io::{ExrContents, VARIANCE_LAYER, read_exr, write_exr};
 pub use pfm::{read_pfm, write_pfm};
 pub use png_io::{read_png, write_png};
 pub use srgb::{linear_to_srgb, srgb_to_linear};
+pub use texture_image::{TextureImage, TransferCurve, read_texture_image};
 
 /// Free-form text describing how an image was made (integrator, sampler,
 /// samples per pixel, seed, render time, ...), keyed by name. Stored as

@@ -148,7 +148,7 @@ pub fn radiance(
         let Some(sample) = bsdf.sample(wo, u_component, u, wavelengths) else {
             break;
         };
-        let cosine = sample.wi.dot(hit.shading_normal).abs();
+        let cosine = sample.wi.dot(bsdf.frame.normal()).abs();
         if sample.pdf <= 0.0 || sample.value.is_black() {
             break;
         }
@@ -255,7 +255,8 @@ fn sample_light(
     if sample.radiance.is_black() {
         return SampledSpectrum::zero();
     }
-    let value = bsdf.evaluate(wo, sample.wi, wavelengths) * sample.wi.dot(hit.shading_normal).abs();
+    let value =
+        bsdf.evaluate(wo, sample.wi, wavelengths) * sample.wi.dot(bsdf.frame.normal()).abs();
     if value.is_black() {
         return SampledSpectrum::zero();
     }

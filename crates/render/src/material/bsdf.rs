@@ -39,6 +39,7 @@ use super::dielectric::DielectricBsdf;
 use super::diffuse::DiffuseBsdf;
 use super::flags::{BsdfFlags, TransportMode};
 use super::shading_frame::ShadingFrame;
+use super::surface_adapter::SurfaceAdapter;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 
 /// The scattering models the renderer knows.
@@ -183,13 +184,18 @@ impl From<DielectricBsdf> for Bsdf {
 }
 
 /// A [`Bsdf`] placed on a surface: the same operations on world-space
-/// directions, converted through the hit's [`ShadingFrame`].
+/// directions, converted through the hit's [`ShadingFrame`], with a mask's
+/// pass-through lobe and the side check of perturbed frames
+/// ([`SurfaceAdapter`]). Integrators take cosines with `frame.normal()`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SurfaceBsdf {
     /// The hit's shading frame.
     pub frame: ShadingFrame,
     /// The local-frame BSDF.
     pub bsdf: Bsdf,
+    /// Mask opacity and unperturbed normal ([`SurfaceAdapter::NONE`] for
+    /// plain materials).
+    pub adapter: SurfaceAdapter,
 }
 
 impl SurfaceBsdf {
@@ -200,11 +206,13 @@ impl SurfaceBsdf {
         wi_world: Vec3,
         wavelengths: &SampledWavelengths,
     ) -> SampledSpectrum {
-        self.bsdf.evaluate(
-            self.frame.to_local(wo_world),
-            self.frame.to_local(wi_world),
-            wavelengths,
-        )
+        let wi = self.frame.to_local(wi_world);
+        if self.adapter.opacity <= 0.0 || !self.adapter.sides_agree(wi_world, wi) {
+            return SampledSpectrum::zero();
+        }
+        self.bsdf
+            .evaluate(self.frame.to_local(wo_world), wi, wavelengths)
+            * self.adapter.opacity
     }
 
     /// [`Bsdf::sample`] for a world-space `wo`; the sample's `wi` is in world
@@ -216,21 +224,36 @@ impl SurfaceBsdf {
         u: [f32; 2],
         wavelengths: &mut SampledWavelengths,
     ) -> Option<BsdfSample> {
-        let mut sample =
-            self.bsdf
-                .sample(self.frame.to_local(wo_world), u_component, u, wavelengths)?;
-        sample.wi = self.frame.to_world(sample.wi);
+        let wo = self.frame.to_local(wo_world);
+        let Some(u_component) = self.adapter.nested_component_sample(u_component) else {
+            let mut sample = self.adapter.pass_through_sample(wo)?;
+            sample.wi = -wo_world;
+            return Some(sample);
+        };
+        let mut sample = self.bsdf.sample(wo, u_component, u, wavelengths)?;
+        let wi_world = self.frame.to_world(sample.wi);
+        if !self.adapter.sides_agree(wi_world, sample.wi) {
+            return None;
+        }
+        sample.wi = wi_world;
+        if self.adapter.passes_through() {
+            sample.value *= self.adapter.opacity;
+            sample.pdf *= self.adapter.opacity;
+        }
         Some(sample)
     }
 
     /// [`Bsdf::pdf`] for world-space directions.
     pub fn pdf(&self, wo_world: Vec3, wi_world: Vec3) -> f32 {
-        self.bsdf
-            .pdf(self.frame.to_local(wo_world), self.frame.to_local(wi_world))
+        let wi = self.frame.to_local(wi_world);
+        if self.adapter.opacity <= 0.0 || !self.adapter.sides_agree(wi_world, wi) {
+            return 0.0;
+        }
+        self.bsdf.pdf(self.frame.to_local(wo_world), wi) * self.adapter.opacity
     }
 
-    /// [`Bsdf::flags`].
+    /// [`Bsdf::flags`], with the pass-through lobe of a mask.
     pub fn flags(&self) -> BsdfFlags {
-        self.bsdf.flags()
+        self.adapter.flags(self.bsdf.flags())
     }
 }

@@ -27,6 +27,7 @@ mod flags;
 mod fresnel;
 mod sampling;
 mod shading_frame;
+mod surface_adapter;
 mod surface_material;
 
 pub use bsdf::{Bsdf, BsdfModel, SurfaceBsdf};
@@ -45,4 +46,5 @@ pub use sampling::{
     sample_uniform_disk_concentric, sample_uniform_sphere,
 };
 pub use shading_frame::{ShadingFrame, abs_cos_theta, cos_theta, same_hemisphere};
+pub use surface_adapter::{SurfaceAdapter, bump_mapped_frame, normal_mapped_frame};
 pub use surface_material::Material;

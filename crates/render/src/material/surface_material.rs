@@ -7,9 +7,10 @@ use super::dielectric::DielectricBsdf;
 use super::diffuse::DiffuseBsdf;
 use super::error::MaterialError;
 use super::shading_frame::ShadingFrame;
+use super::surface_adapter::{SurfaceAdapter, bump_mapped_frame, normal_mapped_frame};
 use crate::geometry::SurfaceHit;
 use crate::spectrum::{SampledWavelengths, Spectrum, VISIBLE_LAMBDA_MAX, VISIBLE_LAMBDA_MIN};
-use crate::texture::{SpectrumTexture, TextureContext};
+use crate::texture::{FloatTexture, RgbTexture, SpectrumTexture, TextureContext};
 
 /// The surface description of a shape.
 ///
@@ -51,6 +52,26 @@ pub enum Material {
     Dielectric {
         /// Relative index of refraction.
         eta: Spectrum,
+    },
+    /// `nested` with the shading normal tilted by the height field `height`
+    /// times `scale` (Mitsuba `bumpmap`; see [`bump_mapped_frame`]).
+    BumpMap {
+        height: FloatTexture,
+        scale: f32,
+        nested: Box<Material>,
+    },
+    /// `nested` with the shading normal read from `normals`, a tangent-space
+    /// normal encoded as RGB in [0, 1] (Mitsuba `normalmap`; see
+    /// [`normal_mapped_frame`]).
+    NormalMap {
+        normals: RgbTexture,
+        nested: Box<Material>,
+    },
+    /// `nested` with probability `opacity` (clamped to [0, 1]), otherwise
+    /// light passes straight through (Mitsuba `mask`; see [`SurfaceAdapter`]).
+    Mask {
+        opacity: FloatTexture,
+        nested: Box<Material>,
     },
 }
 
@@ -96,6 +117,9 @@ impl Material {
                 check_finite_non_negative("conductor k", k)
             }
             Material::Mirror => Ok(()),
+            Material::BumpMap { nested, .. }
+            | Material::NormalMap { nested, .. }
+            | Material::Mask { nested, .. } => nested.validate(),
             Material::Dielectric { eta } => {
                 check_finite_non_negative("dielectric eta", eta)?;
                 let zeros = visible_wavelengths()
@@ -160,6 +184,9 @@ impl Material {
                 let dispersive = !matches!(eta, Spectrum::Constant(_));
                 DielectricBsdf::new_unchecked(hero_eta, dispersive).into()
             }
+            Material::BumpMap { nested, .. }
+            | Material::NormalMap { nested, .. }
+            | Material::Mask { nested, .. } => nested.bsdf_with_context(context, wavelengths),
         }
     }
 
@@ -174,10 +201,53 @@ impl Material {
         wavelengths: &SampledWavelengths,
     ) -> SurfaceBsdf {
         let context = TextureContext::from_hit(hit);
-        SurfaceBsdf {
-            frame: ShadingFrame::from_normal_and_tangent(hit.shading_normal, hit.dpdu)
-                .unwrap_or_else(|_| ShadingFrame::from_unit_normal(hit.shading_normal)),
-            bsdf: self.bsdf_with_context(&context, wavelengths),
+        let frame = ShadingFrame::from_normal_and_tangent(hit.shading_normal, hit.dpdu)
+            .unwrap_or_else(|_| ShadingFrame::from_unit_normal(hit.shading_normal));
+        self.surface_bsdf_in_frame(hit, &context, frame, SurfaceAdapter::NONE, wavelengths)
+    }
+
+    /// [`Self::surface_bsdf_at`] in `frame` (perturbed by enclosing bump or
+    /// normal maps) with the `adapter` of enclosing masks.
+    fn surface_bsdf_in_frame(
+        &self,
+        hit: &SurfaceHit,
+        context: &TextureContext,
+        frame: ShadingFrame,
+        mut adapter: SurfaceAdapter,
+        wavelengths: &SampledWavelengths,
+    ) -> SurfaceBsdf {
+        let unperturbed = adapter.unperturbed_normal.or(Some(frame.normal()));
+        match self {
+            Material::BumpMap {
+                height,
+                scale,
+                nested,
+            } => {
+                let gradient = height.gradient(context) * *scale;
+                let frame =
+                    bump_mapped_frame(&frame, hit.geometric_normal, hit.dpdu, hit.dpdv, gradient);
+                adapter.unperturbed_normal = unperturbed;
+                nested.surface_bsdf_in_frame(hit, context, frame, adapter, wavelengths)
+            }
+            Material::NormalMap { normals, nested } => {
+                let frame = normal_mapped_frame(&frame, normals.evaluate(context));
+                adapter.unperturbed_normal = unperturbed;
+                nested.surface_bsdf_in_frame(hit, context, frame, adapter, wavelengths)
+            }
+            Material::Mask { opacity, nested } => {
+                let opacity = opacity.evaluate(context);
+                adapter.opacity *= if opacity.is_nan() {
+                    1.0
+                } else {
+                    opacity.clamp(0.0, 1.0)
+                };
+                nested.surface_bsdf_in_frame(hit, context, frame, adapter, wavelengths)
+            }
+            _ => SurfaceBsdf {
+                frame,
+                bsdf: self.bsdf_with_context(context, wavelengths),
+                adapter,
+            },
         }
     }
 
@@ -191,6 +261,7 @@ impl Material {
         SurfaceBsdf {
             frame,
             bsdf: self.bsdf(wavelengths),
+            adapter: SurfaceAdapter::NONE,
         }
     }
 }

@@ -105,14 +105,7 @@ fn spectrum_texture(
     usage: SpectrumUsage,
     what: &str,
 ) -> Result<SpectrumTexture, SceneError> {
-    match description {
-        TextureDescription::Constant(spectrum) => Ok(SpectrumTexture::Constant(build_spectrum(
-            spectrum, usage, what,
-        )?)),
-        _ => Err(SceneError::Unsupported {
-            what: format!("{what}: image and procedural textures"),
-        }),
-    }
+    crate::texture::build_spectrum_texture(description, usage, what)
 }
 
 fn material(description: &MaterialDescription) -> Result<Option<Material>, SceneError> {
@@ -148,6 +141,23 @@ fn material(description: &MaterialDescription) -> Result<Option<Material>, Scene
             SpectrumUsage::Unbounded,
             "dielectric eta",
         )?),
+        MaterialDescription::BumpMap {
+            height,
+            scale,
+            nested,
+        } => Ok(Material::BumpMap {
+            height: crate::texture::build_float_texture(height, "bump map height")?,
+            scale: *scale,
+            nested: Box::new(nested_material(nested)?),
+        }),
+        MaterialDescription::NormalMap { normals, nested } => Ok(Material::NormalMap {
+            normals: crate::texture::build_rgb_texture(normals, "normal map")?,
+            nested: Box::new(nested_material(nested)?),
+        }),
+        MaterialDescription::Mask { opacity, nested } => Ok(Material::Mask {
+            opacity: crate::texture::build_float_texture(opacity, "mask opacity")?,
+            nested: Box::new(nested_material(nested)?),
+        }),
         MaterialDescription::Black => return Ok(None),
         other => {
             return Err(SceneError::Unsupported {
@@ -158,6 +168,17 @@ fn material(description: &MaterialDescription) -> Result<Option<Material>, Scene
     material
         .map(Some)
         .map_err(|e| parameter_error("material", e))
+}
+
+/// The material inside a bump map, normal map or mask; black (`None`)
+/// becomes a black diffuse surface so that the adapter still applies.
+fn nested_material(description: &MaterialDescription) -> Result<Material, SceneError> {
+    Ok(material(description)?.unwrap_or(Material::Diffuse {
+        reflectance: SpectrumTexture::Constant(crate::spectrum::Spectrum::Constant(
+            crate::spectrum::ConstantSpectrum::new(0.0).map_err(|e| parameter_error("black", e))?,
+        )),
+        two_sided: true,
+    }))
 }
 
 impl Scene {

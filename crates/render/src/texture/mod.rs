@@ -1,9 +1,27 @@
 //! Textures: values that vary over a surface, looked up by the hit's
 //! parameterisation. [`SpectrumTexture`] gives spectra (reflectances,
-//! illuminants), [`FloatTexture`] scalars (roughness, heights, opacity).
+//! illuminants), [`FloatTexture`] scalars (roughness, heights, opacity) and
+//! [`RgbTexture`] raw RGB triples that are not colours (normal maps).
+//!
+//! Each kind is a constant, an image ([`bitmap`]: nearest or bilinear
+//! filtering, repeat/mirror/clamp wrapping, a `to_uv` affine map — see
+//! [`TexelLookup`] for the exact conventions, those of Mitsuba 3) or a
+//! [`Checkerboard`] of two textures of the kind. [`build_spectrum_texture`],
+//! [`build_float_texture`] and [`build_rgb_texture`] make them from the scene
+//! description.
 //!
 //! Textures never draw random numbers; they are evaluated at a
 //! [`TextureContext`] made from a [`SurfaceHit`].
+
+pub mod bitmap;
+mod build;
+mod checkerboard;
+mod texel_lookup;
+
+pub use bitmap::{BitmapSource, FloatBitmap, RgbBitmap, SigmoidTexel, SpectrumBitmap, TexelData};
+pub use build::{build_float_texture, build_rgb_texture, build_spectrum_texture};
+pub use checkerboard::Checkerboard;
+pub use texel_lookup::{TexelFootprint, TexelLookup};
 
 use crate::geometry::SurfaceHit;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
@@ -33,17 +51,25 @@ impl TextureContext {
 pub enum SpectrumTexture {
     /// The same spectrum everywhere.
     Constant(Spectrum),
+    /// An image, upsampled per texel.
+    Bitmap(SpectrumBitmap),
+    /// Two textures in alternating squares.
+    Checkerboard(Box<Checkerboard<SpectrumTexture>>),
 }
 
 impl SpectrumTexture {
     /// The texture's spectrum at `context` for the path's `wavelengths`.
     pub fn evaluate(
         &self,
-        _context: &TextureContext,
+        context: &TextureContext,
         wavelengths: &SampledWavelengths,
     ) -> SampledSpectrum {
         match self {
             SpectrumTexture::Constant(spectrum) => spectrum.sample(wavelengths),
+            SpectrumTexture::Bitmap(bitmap) => bitmap.evaluate(context.uv, wavelengths),
+            SpectrumTexture::Checkerboard(checkerboard) => checkerboard
+                .select(context.uv)
+                .evaluate(context, wavelengths),
         }
     }
 
@@ -51,6 +77,7 @@ impl SpectrumTexture {
     pub fn as_constant(&self) -> Option<&Spectrum> {
         match self {
             SpectrumTexture::Constant(spectrum) => Some(spectrum),
+            _ => None,
         }
     }
 }
@@ -66,13 +93,35 @@ impl From<Spectrum> for SpectrumTexture {
 pub enum FloatTexture {
     /// The same value everywhere.
     Constant(f32),
+    /// An image (grey values, or the luminance of RGB texels).
+    Bitmap(FloatBitmap),
+    /// Two textures in alternating squares.
+    Checkerboard(Box<Checkerboard<FloatTexture>>),
 }
 
 impl FloatTexture {
     /// The texture's value at `context`.
-    pub fn evaluate(&self, _context: &TextureContext) -> f32 {
+    pub fn evaluate(&self, context: &TextureContext) -> f32 {
         match self {
             FloatTexture::Constant(value) => *value,
+            FloatTexture::Bitmap(bitmap) => bitmap.evaluate(context.uv),
+            FloatTexture::Checkerboard(checkerboard) => {
+                checkerboard.select(context.uv).evaluate(context)
+            }
+        }
+    }
+
+    /// The derivatives of the value with respect to u and v at `context`
+    /// (what bump mapping needs): zero for constants and checkerboards
+    /// (piecewise constant), the exact derivative of the bilinear
+    /// interpolant for images (zero with nearest filtering), as Mitsuba 3.
+    pub fn gradient(&self, context: &TextureContext) -> Vec2 {
+        match self {
+            FloatTexture::Constant(_) => Vec2::ZERO,
+            FloatTexture::Bitmap(bitmap) => bitmap.gradient(context.uv),
+            FloatTexture::Checkerboard(checkerboard) => {
+                checkerboard.select(context.uv).gradient(context)
+            }
         }
     }
 }
@@ -80,5 +129,30 @@ impl FloatTexture {
 impl From<f32> for FloatTexture {
     fn from(value: f32) -> Self {
         FloatTexture::Constant(value)
+    }
+}
+
+/// A texture of raw RGB triples (no spectral upsampling), for data such as
+/// normal maps.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RgbTexture {
+    /// The same triple everywhere.
+    Constant(Vec3),
+    /// An image, linear values.
+    Bitmap(RgbBitmap),
+    /// Two textures in alternating squares.
+    Checkerboard(Box<Checkerboard<RgbTexture>>),
+}
+
+impl RgbTexture {
+    /// The triple at `context`.
+    pub fn evaluate(&self, context: &TextureContext) -> Vec3 {
+        match self {
+            RgbTexture::Constant(value) => *value,
+            RgbTexture::Bitmap(bitmap) => bitmap.evaluate(context.uv),
+            RgbTexture::Checkerboard(checkerboard) => {
+                checkerboard.select(context.uv).evaluate(context)
+            }
+        }
     }
 }
