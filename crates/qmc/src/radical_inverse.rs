@@ -83,6 +83,12 @@ impl DigitBase {
         }
     }
 
+    /// The largest power `c = b^k ≤ 2^32` and `1 / c`: splitting a 64-bit
+    /// index by `c` leaves a low part below 2^32.
+    pub(crate) fn chunk(&self) -> (u64, f64) {
+        (self.chunk, self.inverse_chunk)
+    }
+
     /// `(n / b, n % b)`.
     #[inline(always)]
     pub fn divide(&self, n: u64) -> (u64, u32) {
@@ -225,6 +231,11 @@ impl DigitPermutations {
             permutations,
             zero_tail,
         }
+    }
+
+    /// The base.
+    pub fn base(&self) -> &DigitBase {
+        &self.base
     }
 
     /// The permutation of digit position `position`.
