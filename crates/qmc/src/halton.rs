@@ -16,6 +16,7 @@
 //! sequences in elementary intervals").
 
 use crate::digit_groups::DigitGroups;
+use crate::digital_scramble::reversed_bits_to_unit;
 use crate::faure::faure_permutation;
 use crate::hash::hash2;
 use crate::point_set::{PointSet, PointSetError};
@@ -164,39 +165,43 @@ impl PointSet for Halton {
     #[inline]
     fn sample(&self, index: u64, dimension: usize) -> f64 {
         match &self.coordinates[dimension] {
-            Coordinate::BitReversal => bit_reversal_radical_inverse(index),
             Coordinate::Grouped(groups) => groups.radical_inverse(index),
-            Coordinate::PerPosition(permutations) => {
-                per_position_radical_inverse(permutations, index)
-            }
-            Coordinate::Owen(base, seed) => owen_radical_inverse(base, *seed, index),
+            Coordinate::BitReversal => bit_reversal_radical_inverse(index),
+            scrambled => scrambled_radical_inverse(scrambled, index),
         }
     }
 }
 
-/// The slower scrambles are called, not inlined, so that the fast paths of
-/// [`Halton::sample`] need no saved registers.
+/// The randomly permuted and Owen-scrambled coordinates, called rather than
+/// inlined so that the fast paths of [`Halton::sample`] need no saved
+/// registers.
 #[inline(never)]
-fn per_position_radical_inverse(permutations: &DigitPermutations, index: u64) -> f64 {
-    permutations.radical_inverse(index)
-}
-
-/// See [`per_position_radical_inverse`].
-#[inline(never)]
-fn owen_radical_inverse(base: &DigitBase, seed: u64, index: u64) -> f64 {
-    owen_scrambled_radical_inverse(base, seed, index)
+fn scrambled_radical_inverse(coordinate: &Coordinate, index: u64) -> f64 {
+    match coordinate {
+        Coordinate::PerPosition(permutations) => permutations.radical_inverse(index),
+        Coordinate::Owen(base, seed) => owen_scrambled_radical_inverse(base, *seed, index),
+        Coordinate::Grouped(groups) => groups.radical_inverse(index),
+        Coordinate::BitReversal => bit_reversal_radical_inverse(index),
+    }
 }
 
 /// The base-2 radical inverse: the index's bits mirrored about the radix
-/// point. Below 2^32 a 32-bit reversal gives the exact value; above, the
-/// same value as [`radical_inverse_in`].
+/// point. Below 2^32 the exact value is the index's bits read as digits
+/// least significant first (byte tables, no bit reversal); above, the same
+/// value as [`radical_inverse_in`].
 #[inline(always)]
 fn bit_reversal_radical_inverse(index: u64) -> f64 {
     if index <= u32::MAX as u64 {
-        f64::from((index as u32).reverse_bits()) * (1.0 / 4_294_967_296.0)
+        reversed_bits_to_unit(index as u32)
     } else {
-        radical_inverse_in(&prime_digit_bases()[0], index)
+        large_index_bit_reversal(index)
     }
+}
+
+/// [`bit_reversal_radical_inverse`] of indices from 2^32 on, out of line.
+#[inline(never)]
+fn large_index_bit_reversal(index: u64) -> f64 {
+    radical_inverse_in(&prime_digit_bases()[0], index)
 }
 
 /// Enumerates the Halton samples that fall in each pixel of an image.
