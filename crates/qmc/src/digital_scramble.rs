@@ -134,11 +134,17 @@ pub trait DigitalSequence: Send + Sync {
         self.sample_bits(index, dimension).reverse_bits()
     }
 
-    /// `Some(sample_bits_reversed(index, dimension))` when the sequence has
-    /// the reversed digits at hand in a few instructions (Sobol's tabled
-    /// dimensions), `None` otherwise (the default). [`Scrambled`] takes its
-    /// fast hash-based Owen path only on `Some`, so that the slow case is one
-    /// call that the fast case does not pay for.
+    /// `Some(sample_bits(index, dimension))` when the sequence has the digits
+    /// at hand in a few instructions (Sobol's tabled dimensions), `None`
+    /// otherwise (the default). [`Scrambled`] takes its inlined fast paths
+    /// only on `Some`; the slow case is one call that the fast case does not
+    /// pay for (no registers saved around it).
+    #[inline]
+    fn cheap_bits(&self, _index: u64, _dimension: usize) -> Option<u32> {
+        None
+    }
+
+    /// The same for `sample_bits_reversed(index, dimension)`.
     #[inline]
     fn cheap_bits_reversed(&self, _index: u64, _dimension: usize) -> Option<u32> {
         None
@@ -157,6 +163,9 @@ impl<T: DigitalSequence + ?Sized> DigitalSequence for Box<T> {
     }
     fn sample_bits_reversed(&self, index: u64, dimension: usize) -> u32 {
         (**self).sample_bits_reversed(index, dimension)
+    }
+    fn cheap_bits(&self, index: u64, dimension: usize) -> Option<u32> {
+        (**self).cheap_bits(index, dimension)
     }
     fn cheap_bits_reversed(&self, index: u64, dimension: usize) -> Option<u32> {
         (**self).cheap_bits_reversed(index, dimension)
@@ -434,17 +443,44 @@ impl<S: DigitalSequence> PointSet for Scrambled<S> {
 
     #[inline]
     fn sample(&self, index: u64, dimension: usize) -> f64 {
+        // The hash-based Owen scramble first: a compare, not a jump table,
+        // and no registers saved.
         if let PreparedScramble::HashOwen(seeds) = &self.prepared
             && let Some(reversed_bits) = self.sequence.cheap_bits_reversed(index, dimension)
         {
-            // The fast path: no bit reversal on either side of the hash.
+            // No bit reversal on either side of the hash.
             return reversed_bits_to_unit(hash_owen_permutation(reversed_bits, seeds[dimension]));
         }
-        self.sample_by_digits(index, dimension)
+        self.sample_other_scrambles(index, dimension)
     }
 }
 
 impl<S: DigitalSequence> Scrambled<S> {
+    /// [`PointSet::sample`] for the scrambles but the hash-based Owen one
+    /// (and for it where the sequence has no cheap reversed digits).
+    #[inline(never)]
+    fn sample_other_scrambles(&self, index: u64, dimension: usize) -> f64 {
+        match &self.prepared {
+            PreparedScramble::None => {
+                if let Some(bits) = self.sequence.cheap_bits(index, dimension) {
+                    return bits_to_unit(bits);
+                }
+            }
+            PreparedScramble::XorShift(shifts) => {
+                if let Some(bits) = self.sequence.cheap_bits(index, dimension) {
+                    return bits_to_unit(bits ^ shifts[dimension]);
+                }
+            }
+            PreparedScramble::LinearMatrix(matrices) => {
+                if let Some(bits) = self.sequence.cheap_bits(index, dimension) {
+                    return bits_to_unit(matrices[dimension].apply(bits));
+                }
+            }
+            PreparedScramble::HashOwen(_) | PreparedScramble::NestedUniform(_) => {}
+        }
+        self.sample_by_digits(index, dimension)
+    }
+
     /// [`PointSet::sample`] through [`DigitalSequence::sample_bits`]: every
     /// case but the fast one. Called rather than inlined, so that the fast
     /// path saves no registers.

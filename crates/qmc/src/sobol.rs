@@ -264,16 +264,15 @@ impl DigitalSequence for Sobol {
     }
 
     #[inline]
-    fn cheap_bits_reversed(&self, index: u64, dimension: usize) -> Option<u32> {
-        self.tabled_bits_reversed(index, dimension)
+    fn cheap_bits(&self, index: u64, dimension: usize) -> Option<u32> {
+        debug_assert!(index < MAX_POINTS, "Sobol index {index} ≥ 2^32");
+        self.byte_tables
+            .get(dimension)
+            .map(|tables| look_up_bytes(tables, index as u32))
     }
-}
 
-impl Sobol {
-    /// [`DigitalSequence::cheap_bits_reversed`]: the reversed digits of the
-    /// tabled dimensions.
-    #[inline(always)]
-    fn tabled_bits_reversed(&self, index: u64, dimension: usize) -> Option<u32> {
+    #[inline]
+    fn cheap_bits_reversed(&self, index: u64, dimension: usize) -> Option<u32> {
         debug_assert!(index < MAX_POINTS, "Sobol index {index} ≥ 2^32");
         self.reversed_byte_tables
             .get(dimension)
