@@ -3,7 +3,7 @@
 //! The radical inverse `Φ_b(i) = Σ_j σ(d_j) b^{-(j+1)}` of an index below 2^32
 //! is evaluated `k` digits at a time: dividing by the group `g = b^k` (one
 //! multiplication by a precomputed reciprocal, see
-//! [`DigitBase`](crate::radical_inverse::DigitBase)) splits off the remainder
+//! [`DigitBase`]) splits off the remainder
 //! `r < g`, whose `k` digits, mirrored and permuted, are one table entry
 //! `T[r] = Σ_{j<k} σ(d_j(r)) b^{k−1−j}`. Accumulating
 //! `R ← R·g + T[r]` gives the integer of all mirrored digits, and

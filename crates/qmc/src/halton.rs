@@ -10,6 +10,12 @@
 //!   digit position (drawn from the seed);
 //! - `Owen`: nested uniform (Owen) scrambling in each base, from the seed.
 //!
+//! Plain and Faure coordinates, the renderer's, are the fast ones: base 2 is a
+//! bit reversal read through byte tables, and bases from 3 on take several
+//! digits per step from a table with the permutation folded in
+//! ([`crate::digit_groups`]); both give bit for bit the values of the
+//! digit-by-digit functions of [`crate::radical_inverse`].
+//!
 //! [`PixelEnumeration`] finds the global indices of the samples whose first
 //! two coordinates, scaled to raster units, fall in a given pixel
 //! (Grünschloß, Raab & Keller 2012, "Enumerating quasi-Monte Carlo point

@@ -5,6 +5,10 @@
 //! sequence uses one prime base per dimension; the scrambled variants replace
 //! each digit `d_k` by `σ_k(d_k)` for digit permutations `σ_k`.
 //!
+//! These functions are the straightforward evaluations; [`crate::halton`]
+//! evaluates plain and Faure-permuted coordinates faster, with the same
+//! values, through [`crate::digit_groups`].
+//!
 //! All functions take the full 64-bit index range: digits are extracted in
 //! integers (no overflow, no loss), and the results are strictly below 1 in
 //! both `f64` and `f32`.
