@@ -10,19 +10,26 @@
 //!   digit position (drawn from the seed);
 //! - `Owen`: nested uniform (Owen) scrambling in each base, from the seed.
 //!
+//! Plain and Faure coordinates, the renderer's, are the fast ones: base 2 is a
+//! bit reversal read through byte tables, and bases from 3 on take several
+//! digits per step from a table with the permutation folded in
+//! ([`crate::digit_groups`]); both give bit for bit the values of the
+//! digit-by-digit functions of [`crate::radical_inverse`].
+//!
 //! [`PixelEnumeration`] finds the global indices of the samples whose first
 //! two coordinates, scaled to raster units, fall in a given pixel
 //! (Grünschloß, Raab & Keller 2012, "Enumerating quasi-Monte Carlo point
 //! sequences in elementary intervals").
 
+use crate::digit_groups::DigitGroups;
+use crate::digital_scramble::reversed_bits_to_unit;
 use crate::faure::faure_permutation;
 use crate::hash::hash2;
 use crate::point_set::{PointSet, PointSetError};
 use crate::primes::PRIME_COUNT;
 use crate::radical_inverse::{
     DigitBase, DigitPermutations, owen_scrambled_leading_digits_preimage,
-    owen_scrambled_radical_inverse, permuted_radical_inverse_fixing_zero, prime_digit_bases,
-    radical_inverse_in,
+    owen_scrambled_radical_inverse, prime_digit_bases, radical_inverse_in,
 };
 
 /// How the digits of each Halton dimension are scrambled.
@@ -38,24 +45,25 @@ pub enum HaltonScramble {
     Owen,
 }
 
-/// The digit permutation tables of one dimension.
+/// How one dimension's coordinates are computed.
 #[derive(Debug, Clone)]
-enum DigitTables {
-    Plain,
-    /// One permutation fixing zero, for every digit.
-    FixingZero(Vec<u16>),
+enum Coordinate {
+    /// Base 2, plain or Faure (σ₂ is the identity): a bit reversal.
+    BitReversal,
+    /// Plain or Faure-permuted (a permutation fixing 0) in a base of at
+    /// least 3, several digits per step from a table.
+    Grouped(DigitGroups),
     /// One permutation per digit position.
     PerPosition(DigitPermutations),
     /// Owen scrambling with this dimension's seed.
-    Owen(u64),
+    Owen(DigitBase, u64),
 }
 
 /// The Halton sequence in `dimensions` dimensions with a scramble.
 #[derive(Debug, Clone)]
 pub struct Halton {
     scramble: HaltonScramble,
-    bases: Vec<DigitBase>,
-    tables: Vec<DigitTables>,
+    coordinates: Vec<Coordinate>,
 }
 
 impl Halton {
@@ -73,27 +81,33 @@ impl Halton {
                 supported: PRIME_COUNT,
             });
         }
-        let bases: Vec<DigitBase> = prime_digit_bases()[..dimensions].to_vec();
-        let tables = bases
+        let coordinates = prime_digit_bases()[..dimensions]
             .iter()
             .enumerate()
-            .map(|(dimension, base)| {
+            .map(|(dimension, &base)| {
                 let dimension_seed = hash2(seed, dimension as u64);
                 match scramble {
-                    HaltonScramble::None => DigitTables::Plain,
-                    HaltonScramble::Faure if base.base <= 3 => DigitTables::Plain,
-                    HaltonScramble::Faure => DigitTables::FixingZero(faure_permutation(base.base)),
-                    HaltonScramble::RandomPermutation => {
-                        DigitTables::PerPosition(DigitPermutations::random(*base, dimension_seed))
+                    HaltonScramble::None | HaltonScramble::Faure if base.base == 2 => {
+                        Coordinate::BitReversal
                     }
-                    HaltonScramble::Owen => DigitTables::Owen(dimension_seed),
+                    HaltonScramble::None => Coordinate::Grouped(DigitGroups::plain(base)),
+                    HaltonScramble::Faure if base.base == 3 => {
+                        Coordinate::Grouped(DigitGroups::plain(base))
+                    }
+                    HaltonScramble::Faure => Coordinate::Grouped(DigitGroups::permuted(
+                        base,
+                        &faure_permutation(base.base),
+                    )),
+                    HaltonScramble::RandomPermutation => {
+                        Coordinate::PerPosition(DigitPermutations::random(base, dimension_seed))
+                    }
+                    HaltonScramble::Owen => Coordinate::Owen(base, dimension_seed),
                 }
             })
             .collect();
         Ok(Self {
             scramble,
-            bases,
-            tables,
+            coordinates,
         })
     }
 
@@ -104,7 +118,12 @@ impl Halton {
 
     /// The base of `dimension`.
     pub fn base(&self, dimension: usize) -> u32 {
-        self.bases[dimension].base
+        match &self.coordinates[dimension] {
+            Coordinate::BitReversal => 2,
+            Coordinate::Grouped(groups) => groups.base().base,
+            Coordinate::PerPosition(permutations) => permutations.base().base,
+            Coordinate::Owen(base, _) => base.base,
+        }
     }
 
     /// The residue modulo `base^digits.len()` of the indices whose coordinate
@@ -112,41 +131,37 @@ impl Halton {
     /// (most significant first): the inverse of the scramble on the
     /// index's lowest digits.
     fn leading_digits_preimage(&self, dimension: usize, digits: &[u32]) -> u64 {
-        let base = &self.bases[dimension];
-        let b = base.base as u64;
-        match &self.tables[dimension] {
-            DigitTables::Owen(seed) => owen_scrambled_leading_digits_preimage(base, *seed, digits),
-            tables => {
-                let mut residue = 0;
-                let mut power = 1;
-                for (position, &wanted) in digits.iter().enumerate() {
-                    let digit = match tables {
-                        DigitTables::Plain => wanted as u64,
-                        DigitTables::FixingZero(permutation) => permutation
-                            .iter()
-                            .position(|&v| v as u32 == wanted)
-                            .unwrap()
-                            as u64,
-                        DigitTables::PerPosition(permutations) => permutations
-                            .permutation(position)
-                            .iter()
-                            .position(|&v| v as u32 == wanted)
-                            .unwrap()
-                            as u64,
-                        DigitTables::Owen(_) => unreachable!(),
-                    };
-                    residue += digit * power;
-                    power *= b;
+        let b = self.base(dimension) as u64;
+        let inverse = |wanted: u32, permuted: &dyn Fn(u32) -> u32| -> u64 {
+            (0..b as u32)
+                .position(|digit| permuted(digit) == wanted)
+                .expect("digit permutations are bijections") as u64
+        };
+        let mut residue = 0;
+        let mut power = 1;
+        for (position, &wanted) in digits.iter().enumerate() {
+            let digit = match &self.coordinates[dimension] {
+                Coordinate::Owen(base, seed) => {
+                    return owen_scrambled_leading_digits_preimage(base, *seed, digits);
                 }
-                residue
-            }
+                Coordinate::BitReversal => wanted as u64,
+                Coordinate::Grouped(groups) => {
+                    inverse(wanted, &|digit| groups.permuted_digit(digit))
+                }
+                Coordinate::PerPosition(permutations) => inverse(wanted, &|digit| {
+                    permutations.permutation(position)[digit as usize] as u32
+                }),
+            };
+            residue += digit * power;
+            power *= b;
         }
+        residue
     }
 }
 
 impl PointSet for Halton {
     fn dimensions(&self) -> usize {
-        self.bases.len()
+        self.coordinates.len()
     }
 
     fn len(&self) -> Option<u64> {
@@ -155,16 +170,44 @@ impl PointSet for Halton {
 
     #[inline]
     fn sample(&self, index: u64, dimension: usize) -> f64 {
-        let base = &self.bases[dimension];
-        match &self.tables[dimension] {
-            DigitTables::Plain => radical_inverse_in(base, index),
-            DigitTables::FixingZero(permutation) => {
-                permuted_radical_inverse_fixing_zero(base, permutation, index)
-            }
-            DigitTables::PerPosition(permutations) => permutations.radical_inverse(index),
-            DigitTables::Owen(seed) => owen_scrambled_radical_inverse(base, *seed, index),
+        match &self.coordinates[dimension] {
+            Coordinate::Grouped(groups) => groups.radical_inverse(index),
+            Coordinate::BitReversal => bit_reversal_radical_inverse(index),
+            scrambled => scrambled_radical_inverse(scrambled, index),
         }
     }
+}
+
+/// The randomly permuted and Owen-scrambled coordinates, called rather than
+/// inlined so that the fast paths of [`Halton::sample`] need no saved
+/// registers.
+#[inline(never)]
+fn scrambled_radical_inverse(coordinate: &Coordinate, index: u64) -> f64 {
+    match coordinate {
+        Coordinate::PerPosition(permutations) => permutations.radical_inverse(index),
+        Coordinate::Owen(base, seed) => owen_scrambled_radical_inverse(base, *seed, index),
+        Coordinate::Grouped(groups) => groups.radical_inverse(index),
+        Coordinate::BitReversal => bit_reversal_radical_inverse(index),
+    }
+}
+
+/// The base-2 radical inverse: the index's bits mirrored about the radix
+/// point. Below 2^32 the exact value is the index's bits read as digits
+/// least significant first (byte tables, no bit reversal); above, the same
+/// value as [`radical_inverse_in`].
+#[inline(always)]
+fn bit_reversal_radical_inverse(index: u64) -> f64 {
+    if index <= u32::MAX as u64 {
+        reversed_bits_to_unit(index as u32)
+    } else {
+        large_index_bit_reversal(index)
+    }
+}
+
+/// [`bit_reversal_radical_inverse`] of indices from 2^32 on, out of line.
+#[inline(never)]
+fn large_index_bit_reversal(index: u64) -> f64 {
+    radical_inverse_in(&prime_digit_bases()[0], index)
 }
 
 /// Enumerates the Halton samples that fall in each pixel of an image.
@@ -316,6 +359,43 @@ mod tests {
         for (index, point) in expected.iter().enumerate() {
             for (dimension, &value) in point.iter().enumerate() {
                 assert!((halton.sample(index as u64, dimension) - value).abs() < 1e-15);
+            }
+        }
+    }
+
+    /// The table-driven evaluation against the simple digit-by-digit
+    /// references of `radical_inverse`, bit for bit, in every dimension.
+    #[test]
+    fn plain_and_faure_match_the_reference_radical_inverses() {
+        use crate::radical_inverse::permuted_radical_inverse_fixing_zero;
+        let plain = Halton::new(PRIME_COUNT, HaltonScramble::None, 0).unwrap();
+        let faure = Halton::new(PRIME_COUNT, HaltonScramble::Faure, 0).unwrap();
+        let mut indices: Vec<u64> = (0..64).collect();
+        let mut state = 11u64;
+        for shift in [0, 8, 20, 32, 40] {
+            for _ in 0..8 {
+                state = crate::hash::mix64(state);
+                indices.push(state >> shift);
+            }
+        }
+        indices.extend([u32::MAX as u64, u32::MAX as u64 + 1, u64::MAX]);
+        for (dimension, base) in prime_digit_bases().iter().enumerate() {
+            let permutation = if base.base <= 3 {
+                (0..base.base as u16).collect()
+            } else {
+                faure_permutation(base.base)
+            };
+            for &index in &indices {
+                assert_eq!(
+                    plain.sample(index, dimension).to_bits(),
+                    radical_inverse_in(base, index).to_bits(),
+                    "plain, dimension {dimension}, index {index}"
+                );
+                assert_eq!(
+                    faure.sample(index, dimension).to_bits(),
+                    permuted_radical_inverse_fixing_zero(base, &permutation, index).to_bits(),
+                    "Faure, dimension {dimension}, index {index}"
+                );
             }
         }
     }

@@ -19,6 +19,7 @@ pub mod catalog;
 pub mod cbc;
 pub mod closest_point;
 pub mod cranley_patterson;
+pub mod digit_groups;
 pub mod digital_scramble;
 pub mod discrepancy;
 pub mod faure;

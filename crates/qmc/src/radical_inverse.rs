@@ -5,6 +5,10 @@
 //! sequence uses one prime base per dimension; the scrambled variants replace
 //! each digit `d_k` by `σ_k(d_k)` for digit permutations `σ_k`.
 //!
+//! These functions are the straightforward evaluations; [`crate::halton`]
+//! evaluates plain and Faure-permuted coordinates faster, with the same
+//! values, through [`crate::digit_groups`].
+//!
 //! All functions take the full 64-bit index range: digits are extracted in
 //! integers (no overflow, no loss), and the results are strictly below 1 in
 //! both `f64` and `f32`.
@@ -81,6 +85,12 @@ impl DigitBase {
             inverse: 1.0 / base as f64,
             digit_count,
         }
+    }
+
+    /// The largest power `c = b^k ≤ 2^32` and `1 / c`: splitting a 64-bit
+    /// index by `c` leaves a low part below 2^32.
+    pub(crate) fn chunk(&self) -> (u64, f64) {
+        (self.chunk, self.inverse_chunk)
     }
 
     /// `(n / b, n % b)`.
@@ -225,6 +235,11 @@ impl DigitPermutations {
             permutations,
             zero_tail,
         }
+    }
+
+    /// The base.
+    pub fn base(&self) -> &DigitBase {
+        &self.base
     }
 
     /// The permutation of digit position `position`.

@@ -132,3 +132,34 @@ fn owen_scrambles_keep_halves_apart_and_pick_them_at_random() {
         assert!(deviation < 5.0 * 500f64.sqrt(), "{scramble:?}: {lower}");
     }
 }
+
+/// `PointSet::sample` takes inlined table paths for Sobol's first
+/// `TABLED_DIMENSIONS` dimensions (hash-based Owen without bit reversals);
+/// they must give exactly the coordinates of the digits, in every scramble,
+/// order and dimension, tabled or not.
+#[test]
+fn fast_sample_paths_equal_the_scrambled_digits() {
+    use qmc::digital_scramble::bits_to_unit;
+    use qmc::sobol::TABLED_DIMENSIONS;
+    let dimensions = TABLED_DIMENSIONS + 2;
+    for order in [DigitalOrder::Natural, DigitalOrder::GrayCode] {
+        for scramble in DigitalScramble::ALL {
+            let scrambled = Scrambled::new(Sobol::new(dimensions, order).unwrap(), scramble, 77);
+            let mut state = 0x9E37_79B9_7F4A_7C15u64;
+            for step in 0..300u64 {
+                state = state
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1);
+                for index in [step, state >> 32] {
+                    for dimension in (0..dimensions).step_by(7).chain([dimensions - 1]) {
+                        assert_eq!(
+                            scrambled.sample(index, dimension).to_bits(),
+                            bits_to_unit(scrambled.sample_bits(index, dimension)).to_bits(),
+                            "{order:?} {scramble:?} index {index} dimension {dimension}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
