@@ -1,17 +1,29 @@
-//! Lights: diffuse area lights on shapes, point lights and a constant
-//! environment, with the sampling that next-event estimation needs and the
-//! densities that multiple importance sampling needs.
+//! Lights: diffuse area lights on shapes, point and spot lights, directional
+//! lights, a constant environment and image environment maps, with the
+//! sampling that next-event estimation needs and the densities that multiple
+//! importance sampling needs.
 //!
 //! All densities returned here are per unit solid angle at the reference
 //! point, and do not include the probability of choosing the light (see
 //! [`LightSampler`]).
 
+mod environment_map;
+mod equal_area;
 mod light_sampler;
+mod piecewise_constant;
+mod spot;
 
+pub use environment_map::{EnvironmentMap, EnvironmentSample};
+pub use equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere};
 pub use light_sampler::LightSampler;
+pub use piecewise_constant::{PiecewiseConstant1D, PiecewiseConstant2D, Sample1D, Sample2D};
+pub use spot::{SpotLight, smoothstep};
+
+use std::f32::consts::PI;
+use std::sync::Arc;
 
 use crate::geometry::{Geometry, Shape};
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum, d65_illuminant};
 use glam::{Vec2, Vec3};
 
 /// A light source.
@@ -36,6 +48,24 @@ pub enum Light {
         scene_center: Vec3,
         scene_radius: f32,
     },
+    /// A point emitting into a cone (see [`SpotLight`]).
+    Spot(Box<SpotLight>),
+    /// Parallel light: irradiance `irradiance` on a surface facing it,
+    /// travelling along the unit vector `direction` (a delta in direction).
+    Directional {
+        direction: Vec3,
+        irradiance: Spectrum,
+        /// The scene's bounding sphere: power is irradiance × its disk.
+        scene_center: Vec3,
+        scene_radius: f32,
+    },
+    /// Radiance at infinity from an image (see [`EnvironmentMap`]).
+    EnvironmentMap {
+        map: Arc<EnvironmentMap>,
+        /// The scene's bounding sphere, to place sampled points and weigh power.
+        scene_center: Vec3,
+        scene_radius: f32,
+    },
 }
 
 /// A light sample for next-event estimation.
@@ -52,7 +82,8 @@ pub struct LightSample {
     pub normal: Vec3,
     /// Density per unit solid angle (1 for a delta light).
     pub pdf: f32,
-    /// True for lights that cannot be hit by rays (point lights).
+    /// True for lights that cannot be hit by rays (point, spot and
+    /// directional lights).
     pub is_delta: bool,
     /// True for lights at infinity: the shadow ray is unbounded.
     pub is_infinite: bool,
@@ -61,12 +92,29 @@ pub struct LightSample {
 impl Light {
     /// True for lights with a delta distribution (never hit by rays, no MIS).
     pub fn is_delta(&self) -> bool {
-        matches!(self, Light::Point { .. })
+        matches!(
+            self,
+            Light::Point { .. } | Light::Spot(_) | Light::Directional { .. }
+        )
     }
 
     /// True for lights at infinity.
     pub fn is_infinite(&self) -> bool {
-        matches!(self, Light::ConstantEnvironment { .. })
+        matches!(
+            self,
+            Light::ConstantEnvironment { .. }
+                | Light::Directional { .. }
+                | Light::EnvironmentMap { .. }
+        )
+    }
+
+    /// True for lights that rays escaping the scene see
+    /// ([`Light::environment_radiance`] is not always zero).
+    pub fn is_environment(&self) -> bool {
+        matches!(
+            self,
+            Light::ConstantEnvironment { .. } | Light::EnvironmentMap { .. }
+        )
     }
 
     /// A scalar proportional to the emitted power, for choosing lights in
@@ -90,6 +138,25 @@ impl Light {
                     * scene_radius
                     * std::f32::consts::PI
                     * radiance.max_value()
+            }
+            Light::Spot(spot) => spot.power(),
+            // Everything crossing the scene's bounding disk.
+            Light::Directional {
+                irradiance,
+                scene_radius,
+                ..
+            } => PI * scene_radius * scene_radius * irradiance.max_value(),
+            // As the constant environment, with the mean radiance: luminance
+            // relative to D65 times D65's maximum (RGB white gives the
+            // constant environment's figure).
+            Light::EnvironmentMap {
+                map, scene_radius, ..
+            } => {
+                PI * scene_radius
+                    * scene_radius
+                    * PI
+                    * map.mean_luminance()
+                    * d65_illuminant().max_value()
             }
         }
     }
@@ -177,6 +244,63 @@ impl Light {
                     is_infinite: true,
                 })
             }
+            Light::Spot(spot) => {
+                let to_light = spot.position - reference;
+                let distance_squared = to_light.length_squared();
+                if distance_squared == 0.0 {
+                    return None;
+                }
+                let wi = to_light / distance_squared.sqrt();
+                let intensity = spot.intensity_towards(-wi, wavelengths);
+                if intensity.is_black() {
+                    return None;
+                }
+                Some(LightSample {
+                    radiance: intensity / distance_squared,
+                    wi,
+                    point: spot.position,
+                    normal: Vec3::ZERO,
+                    pdf: 1.0,
+                    is_delta: true,
+                    is_infinite: false,
+                })
+            }
+            Light::Directional {
+                direction,
+                irradiance,
+                scene_center,
+                scene_radius,
+            } => {
+                let wi = -*direction;
+                Some(LightSample {
+                    radiance: irradiance.sample(wavelengths),
+                    wi,
+                    point: reference
+                        + wi * far_distance(reference, *scene_center, *scene_radius),
+                    normal: Vec3::ZERO,
+                    pdf: 1.0,
+                    is_delta: true,
+                    is_infinite: true,
+                })
+            }
+            Light::EnvironmentMap {
+                map,
+                scene_center,
+                scene_radius,
+            } => {
+                let sample = map.sample(u)?;
+                let wi = sample.direction;
+                Some(LightSample {
+                    radiance: map.radiance(wi, wavelengths),
+                    wi,
+                    point: reference
+                        + wi * far_distance(reference, *scene_center, *scene_radius),
+                    normal: Vec3::ZERO,
+                    pdf: sample.pdf,
+                    is_delta: false,
+                    is_infinite: true,
+                })
+            }
         }
     }
 
@@ -194,8 +318,9 @@ impl Light {
         match self {
             Light::Area { shape_index, .. } => geometry.shapes()[*shape_index as usize]
                 .pdf_solid_angle_from(reference, point, normal),
-            Light::Point { .. } => 0.0,
+            Light::Point { .. } | Light::Spot(_) | Light::Directional { .. } => 0.0,
             Light::ConstantEnvironment { .. } => 1.0 / (4.0 * std::f32::consts::PI),
+            Light::EnvironmentMap { map, .. } => map.pdf(point - reference),
         }
     }
 
@@ -224,15 +349,23 @@ impl Light {
         }
     }
 
-    /// Radiance arriving from infinity along `direction` (environment lights).
+    /// Radiance arriving from infinity along `direction` (environment
+    /// lights; `direction` points from the scene towards the environment).
     pub fn environment_radiance(
         &self,
-        _direction: Vec3,
+        direction: Vec3,
         wavelengths: &SampledWavelengths,
     ) -> SampledSpectrum {
         match self {
             Light::ConstantEnvironment { radiance, .. } => radiance.sample(wavelengths),
+            Light::EnvironmentMap { map, .. } => map.radiance(direction, wavelengths),
             _ => SampledSpectrum::zero(),
         }
     }
+}
+
+/// A distance from `reference` that is outside the scene's bounding sphere
+/// (the end of a sampled point at infinity).
+fn far_distance(reference: Vec3, scene_center: Vec3, scene_radius: f32) -> f32 {
+    2.0 * (scene_radius.max(1.0) + reference.distance(scene_center))
 }

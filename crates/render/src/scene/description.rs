@@ -299,14 +299,17 @@ pub enum LightDescription {
         intensity: SpectrumDescription,
     },
     /// A spot light at the origin of `to_world` shining along its +z, with
-    /// full intensity inside `falloff_start_degrees` of the axis, falling
-    /// smoothly to 0 at `cutoff_degrees` (pbrt-v4's smoothstep falloff;
-    /// Mitsuba's `beam_width` is the start, `cutoff_angle` the end).
+    /// full intensity `intensity` inside `falloff_start_degrees` of the axis,
+    /// falling to 0 at `cutoff_degrees` with the profile `falloff` (Mitsuba:
+    /// `beam_width` is the start, `cutoff_angle` the end, linear in the
+    /// angle; pbrt-v4: `coneangle − conedeltaangle` and `coneangle`,
+    /// smoothstep in the cosine).
     Spot {
         to_world: Affine3A,
         intensity: SpectrumDescription,
         cutoff_degrees: f32,
         falloff_start_degrees: f32,
+        falloff: SpotFalloff,
         /// Mitsuba's projected texture (uv over the cone's image), if any.
         texture: Option<TextureDescription>,
     },
@@ -330,13 +333,26 @@ pub enum LightDescription {
     },
 }
 
+/// How a spot light's intensity falls off between the start of the falloff
+/// (angle β from the axis) and the cutoff (angle c).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpotFalloff {
+    /// Mitsuba 3's `spot`: `(c − θ) / (c − β)`, linear in the angle θ.
+    MitsubaLinearAngle,
+    /// pbrt-v4's `spot`: `smoothstep(cos c, cos β, cos θ)`, in the cosine.
+    PbrtSmoothstep,
+}
+
 /// How an environment map's image covers the sphere of directions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum EnvironmentProjection {
-    /// Mitsuba 3's latitude–longitude map: u = (1 + atan2(d.x, −d.z)/π)/2,
-    /// v = acos(d.y)/π in the light frame.
+    /// Mitsuba 3's latitude–longitude map: u = atan2(d.x, −d.z)/(2π) (mod 1),
+    /// v = acos(d.y)/π in the light frame (+y up); pixel columns are centred
+    /// at u = (i + ½)/W, rows at v = j/(H − 1) (the first and last rows sit on
+    /// the poles); bilinear interpolation, as Mitsuba 3's `envmap`.
     MitsubaEquirectangular,
-    /// pbrt-v4's equal-area octahedral square map (Clarberg 2008), +z up.
+    /// pbrt-v4's equal-area octahedral square map (Clarberg 2008), +z up,
+    /// nearest-pixel lookup, as pbrt-v4's `imagemap` infinite light.
     PbrtEqualArea,
 }
 

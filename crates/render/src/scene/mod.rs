@@ -14,12 +14,12 @@ pub mod spectra;
 use crate::camera::{CameraError, PerspectiveCamera};
 use crate::film::{BoxFilter, Filter, GaussianFilter, TriangleFilter};
 use crate::geometry::{Disk, Geometry, GeometryError, Shape, Sphere, Transform, TriangleMesh};
-use crate::light::{Light, LightSampler};
+use crate::light::{EnvironmentMap, Light, LightSampler, SpotLight};
 use crate::material::Material;
 use crate::texture::SpectrumTexture;
 use description::{
     FilterDescription, LightDescription, MaterialDescription, SceneDescription, ShapeGeometry,
-    TextureDescription,
+    SpectrumDescription, SpotFalloff, TextureDescription,
 };
 use glam::{Affine3A, Mat4};
 use spectra::{SpectrumUsage, build_spectrum};
@@ -181,6 +181,46 @@ fn nested_material(description: &MaterialDescription) -> Result<Material, SceneE
     }))
 }
 
+/// A spot light from its description; angles must satisfy
+/// 0 ≤ start ≤ cutoff < 90° (the texture's projection needs tan cutoff).
+fn spot_light(
+    to_world: Affine3A,
+    intensity: &SpectrumDescription,
+    cutoff_degrees: f32,
+    falloff_start_degrees: f32,
+    falloff: SpotFalloff,
+    texture: Option<&TextureDescription>,
+) -> Result<Light, SceneError> {
+    if !(cutoff_degrees > 0.0 && cutoff_degrees < 90.0)
+        || !(0.0..=cutoff_degrees).contains(&falloff_start_degrees)
+    {
+        return Err(parameter_error(
+            "spot light",
+            format!(
+                "need 0 ≤ falloff start ({falloff_start_degrees}°) ≤ cutoff \
+                 ({cutoff_degrees}°) < 90°"
+            ),
+        ));
+    }
+    if to_world.matrix3.determinant().abs() <= f32::MIN_POSITIVE || !to_world.is_finite() {
+        return Err(parameter_error(
+            "spot light",
+            "to_world must be an invertible transform",
+        ));
+    }
+    let texture = texture
+        .map(|texture| spectrum_texture(texture, SpectrumUsage::Albedo, "spot light texture"))
+        .transpose()?;
+    Ok(Light::Spot(Box::new(SpotLight::new(
+        to_world,
+        build_spectrum(intensity, SpectrumUsage::Illuminant, "spot light intensity")?,
+        texture,
+        falloff,
+        cutoff_degrees,
+        falloff_start_degrees,
+    ))))
+}
+
 impl Scene {
     /// Builds the scene: geometry and BVH, spectra from colours, lights.
     pub fn build(description: &SceneDescription) -> Result<Self, SceneError> {
@@ -278,10 +318,61 @@ impl Scene {
                         scene_radius,
                     }
                 }
-                other => {
-                    return Err(SceneError::Unsupported {
-                        what: format!("light {other:?}"),
-                    });
+                LightDescription::Spot {
+                    to_world,
+                    intensity,
+                    cutoff_degrees,
+                    falloff_start_degrees,
+                    falloff,
+                    texture,
+                } => spot_light(
+                    *to_world,
+                    intensity,
+                    *cutoff_degrees,
+                    *falloff_start_degrees,
+                    *falloff,
+                    texture.as_ref(),
+                )?,
+                LightDescription::Directional {
+                    direction,
+                    irradiance,
+                } => {
+                    let direction = direction.normalize_or_zero();
+                    if !direction.is_finite() || direction == glam::Vec3::ZERO {
+                        return Err(parameter_error(
+                            "directional light",
+                            "the direction must be a non-zero vector",
+                        ));
+                    }
+                    Light::Directional {
+                        direction,
+                        irradiance: build_spectrum(
+                            irradiance,
+                            SpectrumUsage::Illuminant,
+                            "directional light irradiance",
+                        )?,
+                        scene_center,
+                        scene_radius,
+                    }
+                }
+                LightDescription::EnvironmentMap {
+                    filename,
+                    projection,
+                    to_world,
+                    scale,
+                } => {
+                    environment_lights.push(lights.len() as u32);
+                    Light::EnvironmentMap {
+                        map: std::sync::Arc::new(EnvironmentMap::load(
+                            filename,
+                            *projection,
+                            *to_world,
+                            *scale,
+                            "environment map",
+                        )?),
+                        scene_center,
+                        scene_radius,
+                    }
                 }
             });
         }
