@@ -38,8 +38,14 @@ use super::conductor::ConductorBsdf;
 use super::dielectric::DielectricBsdf;
 use super::diffuse::DiffuseBsdf;
 use super::flags::{BsdfFlags, TransportMode};
+use super::plastic::PlasticBsdf;
+use super::rough_conductor::RoughConductorBsdf;
+use super::rough_dielectric::RoughDielectricBsdf;
+use super::rough_plastic::RoughPlasticBsdf;
 use super::shading_frame::ShadingFrame;
+use super::sides::flip_z;
 use super::surface_adapter::SurfaceAdapter;
+use super::thin_dielectric::ThinDielectricBsdf;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 
 /// The scattering models the renderer knows.
@@ -51,14 +57,113 @@ pub enum BsdfModel {
     Conductor(ConductorBsdf),
     /// A smooth glass-like interface.
     Dielectric(DielectricBsdf),
+    /// A rough metal (microfacets).
+    RoughConductor(RoughConductorBsdf),
+    /// A rough glass-like interface (microfacets).
+    RoughDielectric(RoughDielectricBsdf),
+    /// A thin dielectric sheet.
+    ThinDielectric(ThinDielectricBsdf),
+    /// A diffuse base under a smooth coating.
+    Plastic(PlasticBsdf),
+    /// A diffuse base under a rough coating.
+    RoughPlastic(RoughPlasticBsdf),
+}
+
+impl BsdfModel {
+    #[inline]
+    fn evaluate(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
+        match self {
+            BsdfModel::Diffuse(diffuse) => diffuse.evaluate(wo, wi),
+            BsdfModel::Conductor(conductor) => conductor.evaluate(wo, wi),
+            BsdfModel::Dielectric(dielectric) => dielectric.evaluate(wo, wi),
+            BsdfModel::RoughConductor(conductor) => conductor.evaluate(wo, wi),
+            BsdfModel::RoughDielectric(dielectric) => dielectric.evaluate(wo, wi, mode),
+            BsdfModel::ThinDielectric(thin) => thin.evaluate(wo, wi),
+            BsdfModel::Plastic(plastic) => plastic.evaluate(wo, wi),
+            BsdfModel::RoughPlastic(plastic) => plastic.evaluate(wo, wi),
+        }
+    }
+
+    #[inline]
+    fn sample(
+        &self,
+        wo: Vec3,
+        u_component: f32,
+        u: [f32; 2],
+        wavelengths: &mut SampledWavelengths,
+        mode: TransportMode,
+    ) -> Option<BsdfSample> {
+        match self {
+            BsdfModel::Diffuse(diffuse) => diffuse.sample(wo, u),
+            BsdfModel::Conductor(conductor) => conductor.sample(wo),
+            BsdfModel::Dielectric(dielectric) => {
+                dielectric.sample(wo, u_component, wavelengths, mode)
+            }
+            BsdfModel::RoughConductor(conductor) => conductor.sample(wo, u),
+            BsdfModel::RoughDielectric(dielectric) => {
+                dielectric.sample(wo, u_component, u, wavelengths, mode)
+            }
+            BsdfModel::ThinDielectric(thin) => thin.sample(wo, u_component),
+            BsdfModel::Plastic(plastic) => plastic.sample(wo, u_component, u),
+            BsdfModel::RoughPlastic(plastic) => plastic.sample(wo, u_component, u),
+        }
+    }
+
+    #[inline]
+    fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match self {
+            BsdfModel::Diffuse(diffuse) => diffuse.pdf(wo, wi),
+            BsdfModel::Conductor(conductor) => conductor.pdf(wo, wi),
+            BsdfModel::Dielectric(dielectric) => dielectric.pdf(wo, wi),
+            BsdfModel::RoughConductor(conductor) => conductor.pdf(wo, wi),
+            BsdfModel::RoughDielectric(dielectric) => dielectric.pdf(wo, wi),
+            BsdfModel::ThinDielectric(thin) => thin.pdf(wo, wi),
+            BsdfModel::Plastic(plastic) => plastic.pdf(wo, wi),
+            BsdfModel::RoughPlastic(plastic) => plastic.pdf(wo, wi),
+        }
+    }
+
+    #[inline]
+    fn flags(&self) -> BsdfFlags {
+        match self {
+            BsdfModel::Diffuse(diffuse) => diffuse.flags(),
+            BsdfModel::Conductor(conductor) => conductor.flags(),
+            BsdfModel::Dielectric(dielectric) => dielectric.flags(),
+            BsdfModel::RoughConductor(conductor) => conductor.flags(),
+            BsdfModel::RoughDielectric(dielectric) => dielectric.flags(),
+            BsdfModel::ThinDielectric(thin) => thin.flags(),
+            BsdfModel::Plastic(plastic) => plastic.flags(),
+            BsdfModel::RoughPlastic(plastic) => plastic.flags(),
+        }
+    }
+
+    /// The effective roughness in [0, 1] (see [`Bsdf::roughness`]).
+    pub fn roughness(&self) -> f32 {
+        match self {
+            BsdfModel::Diffuse(_) => 1.0,
+            BsdfModel::Conductor(_)
+            | BsdfModel::Dielectric(_)
+            | BsdfModel::ThinDielectric(_)
+            | BsdfModel::Plastic(_) => 0.0,
+            BsdfModel::RoughConductor(conductor) => conductor.distribution().roughness(),
+            BsdfModel::RoughDielectric(dielectric) => dielectric.distribution().roughness(),
+            BsdfModel::RoughPlastic(plastic) => plastic.distribution().roughness(),
+        }
+    }
 }
 
 /// A scattering model together with the quantity the path carries, in the
 /// local shading frame. Built per hit (cheaply: a few spectra) for the path's
 /// wavelengths.
+///
+/// A two-sided BSDF with different sides (Mitsuba's `twosided` with two
+/// children) holds a `back` model: where `wo` is below the surface, the back
+/// model scatters with both directions mirrored to its front (z negated), as
+/// Mitsuba does; the side is decided by `wo` alone.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Bsdf {
     model: BsdfModel,
+    back: Option<BsdfModel>,
     transport_mode: TransportMode,
 }
 
@@ -67,6 +172,18 @@ impl Bsdf {
     pub fn new(model: BsdfModel) -> Self {
         Self {
             model,
+            back: None,
+            transport_mode: TransportMode::Radiance,
+        }
+    }
+
+    /// A BSDF scattering with `front` where `wo` is above the surface and
+    /// with `back` (seen from its own front, directions mirrored) where it is
+    /// below.
+    pub fn two_sided(front: BsdfModel, back: BsdfModel) -> Self {
+        Self {
+            model: front,
+            back: Some(back),
             transport_mode: TransportMode::Radiance,
         }
     }
@@ -79,14 +196,29 @@ impl Bsdf {
         }
     }
 
-    /// The scattering model.
+    /// The scattering model (of the front, for two different sides).
     pub fn model(&self) -> &BsdfModel {
         &self.model
+    }
+
+    /// The back's model, if the sides differ.
+    pub fn back_model(&self) -> Option<&BsdfModel> {
+        self.back.as_ref()
     }
 
     /// Radiance (camera paths) or importance (light paths).
     pub fn transport_mode(&self) -> TransportMode {
         self.transport_mode
+    }
+
+    /// The model that scatters light leaving towards `wo`, and whether the
+    /// directions must be mirrored for it.
+    #[inline]
+    fn side(&self, wo: Vec3) -> (&BsdfModel, bool) {
+        match &self.back {
+            Some(back) if wo.z < 0.0 => (back, true),
+            _ => (&self.model, false),
+        }
     }
 
     /// f(wo, wi), without the cosine factor; 0 for delta lobes.
@@ -102,10 +234,9 @@ impl Bsdf {
         wi: Vec3,
         _wavelengths: &SampledWavelengths,
     ) -> SampledSpectrum {
-        match &self.model {
-            BsdfModel::Diffuse(diffuse) => diffuse.evaluate(wo, wi),
-            BsdfModel::Conductor(conductor) => conductor.evaluate(wo, wi),
-            BsdfModel::Dielectric(dielectric) => dielectric.evaluate(wo, wi),
+        match self.side(wo) {
+            (model, false) => model.evaluate(wo, wi, self.transport_mode),
+            (model, true) => model.evaluate(flip_z(wo), flip_z(wi), self.transport_mode),
         }
     }
 
@@ -129,12 +260,14 @@ impl Bsdf {
         u: [f32; 2],
         wavelengths: &mut SampledWavelengths,
     ) -> Option<BsdfSample> {
-        let sample = match &self.model {
-            BsdfModel::Diffuse(diffuse) => diffuse.sample(wo, u),
-            BsdfModel::Conductor(conductor) => conductor.sample(wo),
-            BsdfModel::Dielectric(dielectric) => {
-                dielectric.sample(wo, u_component, wavelengths, self.transport_mode)
-            }
+        let sample = match self.side(wo) {
+            (model, false) => model.sample(wo, u_component, u, wavelengths, self.transport_mode),
+            (model, true) => model
+                .sample(flip_z(wo), u_component, u, wavelengths, self.transport_mode)
+                .map(|sample| BsdfSample {
+                    wi: flip_z(sample.wi),
+                    ..sample
+                }),
         }?;
         if sample.pdf == 0.0 || sample.value.is_black() || sample.wi.z == 0.0 {
             return None;
@@ -147,20 +280,32 @@ impl Bsdf {
     /// density (see the module docs).
     #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        match &self.model {
-            BsdfModel::Diffuse(diffuse) => diffuse.pdf(wo, wi),
-            BsdfModel::Conductor(conductor) => conductor.pdf(wo, wi),
-            BsdfModel::Dielectric(dielectric) => dielectric.pdf(wo, wi),
+        match self.side(wo) {
+            (model, false) => model.pdf(wo, wi),
+            (model, true) => model.pdf(flip_z(wo), flip_z(wi)),
         }
     }
 
-    /// The kinds of scattering this BSDF can do.
+    /// The kinds of scattering this BSDF can do (on either side).
     #[inline]
     pub fn flags(&self) -> BsdfFlags {
-        match &self.model {
-            BsdfModel::Diffuse(diffuse) => diffuse.flags(),
-            BsdfModel::Conductor(conductor) => conductor.flags(),
-            BsdfModel::Dielectric(dielectric) => dielectric.flags(),
+        match &self.back {
+            Some(back) => self.model.flags() | back.flags(),
+            None => self.model.flags(),
+        }
+    }
+
+    /// The effective roughness in [0, 1] that LQMC's exploration uses to
+    /// decide how far a path may be perturbed at this vertex: 0 for
+    /// specular (delta) lobes (smooth conductors, dielectrics, thin
+    /// dielectrics, smooth plastic's coating), the microfacet α (the larger
+    /// of α_u and α_v, clamped to 1) for rough lobes (rough conductors,
+    /// dielectrics and plastics), and 1 for diffuse reflection. A two-sided
+    /// BSDF with different sides reports the smoother one.
+    pub fn roughness(&self) -> f32 {
+        match &self.back {
+            Some(back) => self.model.roughness().min(back.roughness()),
+            None => self.model.roughness(),
         }
     }
 }
@@ -180,6 +325,36 @@ impl From<ConductorBsdf> for Bsdf {
 impl From<DielectricBsdf> for Bsdf {
     fn from(dielectric: DielectricBsdf) -> Self {
         Bsdf::new(BsdfModel::Dielectric(dielectric))
+    }
+}
+
+impl From<RoughConductorBsdf> for Bsdf {
+    fn from(model: RoughConductorBsdf) -> Self {
+        Bsdf::new(BsdfModel::RoughConductor(model))
+    }
+}
+
+impl From<RoughDielectricBsdf> for Bsdf {
+    fn from(model: RoughDielectricBsdf) -> Self {
+        Bsdf::new(BsdfModel::RoughDielectric(model))
+    }
+}
+
+impl From<ThinDielectricBsdf> for Bsdf {
+    fn from(model: ThinDielectricBsdf) -> Self {
+        Bsdf::new(BsdfModel::ThinDielectric(model))
+    }
+}
+
+impl From<PlasticBsdf> for Bsdf {
+    fn from(model: PlasticBsdf) -> Self {
+        Bsdf::new(BsdfModel::Plastic(model))
+    }
+}
+
+impl From<RoughPlasticBsdf> for Bsdf {
+    fn from(model: RoughPlasticBsdf) -> Self {
+        Bsdf::new(BsdfModel::RoughPlastic(model))
     }
 }
 
@@ -255,5 +430,12 @@ impl SurfaceBsdf {
     /// [`Bsdf::flags`], with the pass-through lobe of a mask.
     pub fn flags(&self) -> BsdfFlags {
         self.adapter.flags(self.bsdf.flags())
+    }
+
+    /// [`Bsdf::roughness`]: the effective roughness in [0, 1] for LQMC (0 for
+    /// specular lobes, the microfacet α for rough ones, 1 for diffuse). A
+    /// mask's pass-through does not change it.
+    pub fn roughness(&self) -> f32 {
+        self.bsdf.roughness()
     }
 }

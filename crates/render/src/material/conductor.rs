@@ -25,11 +25,16 @@ pub enum ConductorReflectance {
     },
 }
 
-/// A smooth conductor: specular reflection only, from either side (the
-/// Fresnel term uses |cos θ|, as pbrt-v4 does).
+/// A smooth conductor: specular reflection only, from either side by default
+/// (the Fresnel term uses |cos θ|, as pbrt-v4 does), or only from the front
+/// ([`Self::with_two_sided`]`(false)`, Mitsuba's `conductor` outside a
+/// `twosided`). The reflectance may be scaled by a factor (Mitsuba's
+/// `specular_reflectance`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ConductorBsdf {
     reflectance: ConductorReflectance,
+    specular_factor: SampledSpectrum,
+    two_sided: bool,
 }
 
 impl ConductorBsdf {
@@ -46,13 +51,36 @@ impl ConductorBsdf {
     pub(crate) fn new_unchecked(eta: SampledSpectrum, k: SampledSpectrum) -> Self {
         Self {
             reflectance: ConductorReflectance::Fresnel { eta, k },
+            specular_factor: SampledSpectrum::splat(1.0),
+            two_sided: true,
         }
+    }
+
+    /// The same conductor reflecting from both sides (`true`) or only where
+    /// `wo` is above the surface (`false`: black from behind).
+    pub fn with_two_sided(self, two_sided: bool) -> Self {
+        Self { two_sided, ..self }
+    }
+
+    /// The same conductor with its reflectance multiplied by `factor`.
+    pub fn with_specular_factor(self, factor: SampledSpectrum) -> Self {
+        Self {
+            specular_factor: factor,
+            ..self
+        }
+    }
+
+    /// Whether both faces reflect.
+    pub fn is_two_sided(&self) -> bool {
+        self.two_sided
     }
 
     /// An ideal mirror (reflectance 1).
     pub fn perfect_mirror() -> Self {
         Self {
             reflectance: ConductorReflectance::Perfect,
+            specular_factor: SampledSpectrum::splat(1.0),
+            two_sided: true,
         }
     }
 
@@ -61,14 +89,16 @@ impl ConductorBsdf {
         self.reflectance
     }
 
-    /// The fraction of light reflected at incidence cosine |`cos_theta`|.
+    /// The fraction of light reflected at incidence cosine |`cos_theta`|
+    /// (times the specular factor).
     pub fn reflectance(&self, cos_theta: f32) -> SampledSpectrum {
-        match &self.reflectance {
+        let fresnel = match &self.reflectance {
             ConductorReflectance::Perfect => SampledSpectrum::splat(1.0),
             ConductorReflectance::Fresnel { eta, k } => {
                 fresnel_complex_spectrum(cos_theta.abs(), eta, k)
             }
-        }
+        };
+        fresnel * self.specular_factor
     }
 
     /// Always 0: a delta lobe has no finite value.
@@ -79,7 +109,7 @@ impl ConductorBsdf {
     /// The mirror direction, with value F/|cos θ| and pdf 1, so that the
     /// sample's weight is the Fresnel reflectance F.
     pub fn sample(&self, wo: Vec3) -> Option<BsdfSample> {
-        if wo.z == 0.0 {
+        if wo.z == 0.0 || (!self.two_sided && wo.z < 0.0) {
             return None;
         }
         let wi = reflect_about_normal(wo);

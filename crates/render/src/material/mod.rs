@@ -8,8 +8,14 @@
 //!   [`DiffuseBsdf`], smooth [`ConductorBsdf`] (complex Fresnel or ideal
 //!   mirror) and smooth [`DielectricBsdf`] (Fresnel reflection and Snell
 //!   refraction, with dispersion) — for radiance or importance transport
-//!   ([`TransportMode`]). [`SurfaceBsdf`] wraps one with its frame for
-//!   world-space directions.
+//!   ([`TransportMode`]); rough conductors and dielectrics on a
+//!   [`MicrofacetDistribution`] (GGX or Beckmann, anisotropic, visible-normal
+//!   sampling), thin dielectrics, and Mitsuba 3's plastic and rough plastic
+//!   (a diffuse base under a dielectric coating). [`SurfaceBsdf`] wraps one
+//!   with its frame for world-space directions; [`Bsdf::roughness`] gives
+//!   LQMC each vertex's effective roughness.
+//! - Measured metals: [`measured_conductor`] gives η and κ spectra of the
+//!   metals Mitsuba 3 and pbrt-v4 know by name.
 //! - [`Material`]: what a scene stores per shape; [`Material::bsdf`] turns it
 //!   into a BSDF for a path's wavelengths.
 //!
@@ -25,10 +31,18 @@ mod diffuse;
 mod error;
 mod flags;
 mod fresnel;
+mod measured_conductors;
+mod microfacet;
+mod plastic;
+mod rough_conductor;
+mod rough_dielectric;
+mod rough_plastic;
 mod sampling;
 mod shading_frame;
+mod sides;
 mod surface_adapter;
 mod surface_material;
+mod thin_dielectric;
 
 pub use bsdf::{Bsdf, BsdfModel, SurfaceBsdf};
 pub use bsdf_sample::BsdfSample;
@@ -39,12 +53,19 @@ pub use error::MaterialError;
 pub use flags::{BsdfFlags, TransportMode};
 pub use fresnel::{
     Refraction, fresnel_complex, fresnel_complex_spectrum, fresnel_dielectric,
-    reflect_about_normal, refract,
+    fresnel_diffuse_reflectance, reflect_about_normal, refract,
 };
+pub use measured_conductors::{MeasuredConductor, measured_conductor, measured_conductor_names};
+pub use microfacet::{MicrofacetDistribution, MicrofacetKind, SMOOTH_ALPHA_THRESHOLD};
+pub use plastic::PlasticBsdf;
+pub use rough_conductor::RoughConductorBsdf;
+pub use rough_dielectric::RoughDielectricBsdf;
+pub use rough_plastic::{RoughPlasticBsdf, RoughPlasticTables, TRANSMITTANCE_TABLE_SIZE};
 pub use sampling::{
     UNIFORM_SPHERE_PDF, cosine_hemisphere_pdf, sample_cosine_hemisphere,
     sample_uniform_disk_concentric, sample_uniform_sphere,
 };
 pub use shading_frame::{ShadingFrame, abs_cos_theta, cos_theta, same_hemisphere};
 pub use surface_adapter::{SurfaceAdapter, bump_mapped_frame, normal_mapped_frame};
-pub use surface_material::Material;
+pub use surface_material::{Material, Roughness};
+pub use thin_dielectric::ThinDielectricBsdf;

@@ -2,15 +2,77 @@
 //! hit for the path's wavelengths.
 
 use super::bsdf::{Bsdf, SurfaceBsdf};
-use super::conductor::ConductorBsdf;
+use super::conductor::{ConductorBsdf, ConductorReflectance};
 use super::dielectric::DielectricBsdf;
 use super::diffuse::DiffuseBsdf;
 use super::error::MaterialError;
+use super::microfacet::{MicrofacetDistribution, MicrofacetKind};
+use super::plastic::PlasticBsdf;
+use super::rough_conductor::RoughConductorBsdf;
+use super::rough_dielectric::RoughDielectricBsdf;
+use super::rough_plastic::{RoughPlasticBsdf, RoughPlasticTables};
 use super::shading_frame::ShadingFrame;
 use super::surface_adapter::{SurfaceAdapter, bump_mapped_frame, normal_mapped_frame};
+use super::thin_dielectric::ThinDielectricBsdf;
 use crate::geometry::SurfaceHit;
-use crate::spectrum::{SampledWavelengths, Spectrum, VISIBLE_LAMBDA_MAX, VISIBLE_LAMBDA_MIN};
+use crate::spectrum::{
+    SampledSpectrum, SampledWavelengths, Spectrum, VISIBLE_LAMBDA_MAX, VISIBLE_LAMBDA_MIN,
+};
 use crate::texture::{FloatTexture, RgbTexture, SpectrumTexture, TextureContext};
+
+/// The roughness of a microfacet surface: the distribution and its α along
+/// the shading frame's tangent (∂p/∂u) and bitangent, possibly textured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Roughness {
+    /// GGX or Beckmann.
+    pub kind: MicrofacetKind,
+    /// α along the tangent.
+    pub alpha_u: FloatTexture,
+    /// α along the bitangent.
+    pub alpha_v: FloatTexture,
+    /// The textures hold pbrt-v4's perceptual roughness r; α = √r
+    /// ([`MicrofacetDistribution::roughness_to_alpha`]).
+    pub remap: bool,
+}
+
+impl Roughness {
+    /// Isotropic roughness α, not remapped.
+    pub fn isotropic(kind: MicrofacetKind, alpha: f32) -> Self {
+        Self {
+            kind,
+            alpha_u: FloatTexture::Constant(alpha),
+            alpha_v: FloatTexture::Constant(alpha),
+            remap: false,
+        }
+    }
+
+    /// The distribution at a hit.
+    pub fn distribution(&self, context: &TextureContext) -> MicrofacetDistribution {
+        let alpha = |texture: &FloatTexture| {
+            let value = texture.evaluate(context);
+            if self.remap {
+                MicrofacetDistribution::roughness_to_alpha(value)
+            } else {
+                value
+            }
+        };
+        MicrofacetDistribution::new(self.kind, alpha(&self.alpha_u), alpha(&self.alpha_v))
+    }
+
+    /// The distribution if α does not vary over the surface.
+    pub fn constant_distribution(&self) -> Option<MicrofacetDistribution> {
+        match (&self.alpha_u, &self.alpha_v) {
+            (FloatTexture::Constant(_), FloatTexture::Constant(_)) => {
+                let context = TextureContext {
+                    uv: glam::Vec2::ZERO,
+                    point: glam::Vec3::ZERO,
+                };
+                Some(self.distribution(&context))
+            }
+            _ => None,
+        }
+    }
+}
 
 /// The surface description of a shape.
 ///
@@ -52,6 +114,43 @@ pub enum Material {
     Dielectric {
         /// Relative index of refraction.
         eta: Spectrum,
+    },
+    /// A conductor in Mitsuba 3's general form (`conductor` /
+    /// `roughconductor`): Fresnel reflectance of `eta` + i`k` (η = κ = 0: a
+    /// perfect mirror) times `specular_reflectance` (clamped to [0, 1]),
+    /// smooth when `roughness` is `None`, black from behind unless
+    /// `two_sided`. A rough surface whose α is below
+    /// [`super::SMOOTH_ALPHA_THRESHOLD`] is rendered smooth.
+    RoughConductor {
+        eta: Spectrum,
+        k: Spectrum,
+        specular_reflectance: Option<SpectrumTexture>,
+        roughness: Option<Roughness>,
+        two_sided: bool,
+    },
+    /// A rough dielectric interface (Walter et al. 2007) with relative index
+    /// `eta` inside over outside (treated as [`Material::Dielectric`] where α
+    /// is below [`super::SMOOTH_ALPHA_THRESHOLD`]).
+    RoughDielectric { eta: Spectrum, roughness: Roughness },
+    /// A thin dielectric sheet of relative index `eta`.
+    ThinDielectric { eta: f32 },
+    /// A diffuse base under a dielectric coating of relative index `eta`
+    /// (Mitsuba 3's `plastic`, or `roughplastic` with a `coating`
+    /// distribution, whose α must be constant).
+    Plastic {
+        diffuse_reflectance: SpectrumTexture,
+        eta: f32,
+        coating: Option<MicrofacetDistribution>,
+        nonlinear: bool,
+        two_sided: bool,
+    },
+    /// `front` where light arrives from the side the normal points to,
+    /// `back` (seen as its own front) where it arrives from behind
+    /// (Mitsuba's `twosided` with two children). Bump maps and masks inside
+    /// `back` are ignored; those of `front` apply to both sides.
+    TwoSided {
+        front: Box<Material>,
+        back: Box<Material>,
     },
     /// `nested` with the shading normal tilted by the height field `height`
     /// times `scale` (Mitsuba `bumpmap`; see [`bump_mapped_frame`]).
@@ -117,6 +216,24 @@ impl Material {
                 check_finite_non_negative("conductor k", k)
             }
             Material::Mirror => Ok(()),
+            Material::RoughConductor { eta, k, .. } => {
+                check_finite_non_negative("conductor eta", eta)?;
+                check_finite_non_negative("conductor k", k)
+            }
+            Material::RoughDielectric { eta, .. } => {
+                Material::Dielectric { eta: eta.clone() }.validate()
+            }
+            Material::ThinDielectric { eta } | Material::Plastic { eta, .. } => {
+                if eta.is_finite() && *eta > 0.0 {
+                    Ok(())
+                } else {
+                    Err(MaterialError::NonPositiveIndexOfRefraction { value: *eta })
+                }
+            }
+            Material::TwoSided { front, back } => {
+                front.validate()?;
+                back.validate()
+            }
             Material::BumpMap { nested, .. }
             | Material::NormalMap { nested, .. }
             | Material::Mask { nested, .. } => nested.validate(),
@@ -175,15 +292,87 @@ impl Material {
             .into(),
             Material::Mirror => ConductorBsdf::perfect_mirror().into(),
             Material::Dielectric { eta } => {
-                let hero_eta = eta.evaluate(wavelengths.hero());
-                let hero_eta = if hero_eta.is_finite() && hero_eta > 0.0 {
-                    hero_eta
-                } else {
-                    1.0
-                };
-                let dispersive = !matches!(eta, Spectrum::Constant(_));
+                let (hero_eta, dispersive) = hero_index(eta, wavelengths);
                 DielectricBsdf::new_unchecked(hero_eta, dispersive).into()
             }
+            Material::RoughConductor {
+                eta,
+                k,
+                specular_reflectance,
+                roughness,
+                two_sided,
+            } => {
+                let eta = eta.sample(wavelengths).clamp_zero();
+                let k = k.sample(wavelengths).clamp_zero();
+                let reflectance = if eta.is_black() && k.is_black() {
+                    ConductorReflectance::Perfect
+                } else {
+                    ConductorReflectance::Fresnel { eta, k }
+                };
+                let factor = specular_reflectance
+                    .as_ref()
+                    .map(|texture| texture.evaluate(context, wavelengths).clamp(0.0, 1.0))
+                    .unwrap_or(SampledSpectrum::splat(1.0));
+                let distribution = roughness
+                    .as_ref()
+                    .map(|roughness| roughness.distribution(context))
+                    .filter(|distribution| !distribution.is_effectively_smooth());
+                match distribution {
+                    Some(distribution) => {
+                        RoughConductorBsdf::new(distribution, reflectance, factor, *two_sided)
+                            .into()
+                    }
+                    None => {
+                        let smooth = match reflectance {
+                            ConductorReflectance::Perfect => ConductorBsdf::perfect_mirror(),
+                            ConductorReflectance::Fresnel { eta, k } => {
+                                ConductorBsdf::new_unchecked(eta, k)
+                            }
+                        };
+                        smooth
+                            .with_specular_factor(factor)
+                            .with_two_sided(*two_sided)
+                            .into()
+                    }
+                }
+            }
+            Material::RoughDielectric { eta, roughness } => {
+                let (hero_eta, dispersive) = hero_index(eta, wavelengths);
+                let distribution = roughness.distribution(context);
+                if distribution.is_effectively_smooth() || hero_eta == 1.0 {
+                    DielectricBsdf::new_unchecked(hero_eta, dispersive).into()
+                } else {
+                    RoughDielectricBsdf::new(distribution, hero_eta, dispersive).into()
+                }
+            }
+            Material::ThinDielectric { eta } => ThinDielectricBsdf::new(*eta).into(),
+            Material::Plastic {
+                diffuse_reflectance,
+                eta,
+                coating,
+                nonlinear,
+                two_sided,
+            } => {
+                let diffuse = diffuse_reflectance
+                    .evaluate(context, wavelengths)
+                    .clamp(0.0, 1.0);
+                match coating.filter(|coating| !coating.is_effectively_smooth()) {
+                    Some(coating) => RoughPlasticBsdf::new(
+                        coating,
+                        RoughPlasticTables::shared(&coating, *eta),
+                        diffuse,
+                        *eta,
+                        *nonlinear,
+                        *two_sided,
+                    )
+                    .into(),
+                    None => PlasticBsdf::new(diffuse, *eta, *nonlinear, *two_sided).into(),
+                }
+            }
+            Material::TwoSided { front, back } => Bsdf::two_sided(
+                *front.bsdf_with_context(context, wavelengths).model(),
+                *back.bsdf_with_context(context, wavelengths).model(),
+            ),
             Material::BumpMap { nested, .. }
             | Material::NormalMap { nested, .. }
             | Material::Mask { nested, .. } => nested.bsdf_with_context(context, wavelengths),
@@ -234,6 +423,13 @@ impl Material {
                 adapter.unperturbed_normal = unperturbed;
                 nested.surface_bsdf_in_frame(hit, context, frame, adapter, wavelengths)
             }
+            Material::TwoSided { front, back } => {
+                let mut surface =
+                    front.surface_bsdf_in_frame(hit, context, frame, adapter, wavelengths);
+                let back = back.bsdf_with_context(context, wavelengths);
+                surface.bsdf = Bsdf::two_sided(*surface.bsdf.model(), *back.model());
+                surface
+            }
             Material::Mask { opacity, nested } => {
                 let opacity = opacity.evaluate(context);
                 adapter.opacity *= if opacity.is_nan() {
@@ -264,6 +460,19 @@ impl Material {
             adapter: SurfaceAdapter::NONE,
         }
     }
+}
+
+/// A dielectric's index at the hero wavelength (1, index-matched, where it
+/// is 0, NaN or negative, as pbrt-v4 does) and whether it is dispersive
+/// (any spectrum but a constant).
+fn hero_index(eta: &Spectrum, wavelengths: &SampledWavelengths) -> (f32, bool) {
+    let hero_eta = eta.evaluate(wavelengths.hero());
+    let hero_eta = if hero_eta.is_finite() && hero_eta > 0.0 {
+        hero_eta
+    } else {
+        1.0
+    };
+    (hero_eta, !matches!(eta, Spectrum::Constant(_)))
 }
 
 /// Every integer wavelength (nm) of the visible range.

@@ -15,11 +15,12 @@ use crate::camera::{CameraError, PerspectiveCamera};
 use crate::film::{BoxFilter, Filter, GaussianFilter, TriangleFilter};
 use crate::geometry::{Disk, Geometry, GeometryError, Shape, Sphere, Transform, TriangleMesh};
 use crate::light::{EnvironmentMap, Light, LightSampler, SpotLight};
-use crate::material::Material;
+use crate::material::{Material, MicrofacetKind, Roughness};
 use crate::texture::SpectrumTexture;
 use description::{
-    FilterDescription, LightDescription, MaterialDescription, SceneDescription, ShapeGeometry,
-    SpectrumDescription, SpotFalloff, TextureDescription,
+    FilterDescription, LightDescription, MaterialDescription, MicrofacetDistribution,
+    RoughnessDescription, SceneDescription, ShapeGeometry, SpectrumDescription, SpotFalloff,
+    TextureDescription,
 };
 use glam::{Affine3A, Mat4};
 use spectra::{SpectrumUsage, build_spectrum};
@@ -108,6 +109,34 @@ fn spectrum_texture(
     crate::texture::build_spectrum_texture(description, usage, what)
 }
 
+/// The render-time roughness of a roughness description.
+fn roughness(description: &RoughnessDescription) -> Result<Roughness, SceneError> {
+    Ok(Roughness {
+        kind: match description.distribution {
+            MicrofacetDistribution::Ggx => MicrofacetKind::Ggx,
+            MicrofacetDistribution::Beckmann => MicrofacetKind::Beckmann,
+        },
+        alpha_u: crate::texture::build_float_texture(&description.alpha_u, "roughness alpha_u")?,
+        alpha_v: crate::texture::build_float_texture(&description.alpha_v, "roughness alpha_v")?,
+        remap: description.remap,
+    })
+}
+
+/// `interior / exterior`, the relative index of an interface, or a parameter
+/// error naming `what` if either index is not a positive finite number.
+fn relative_index(interior: f32, exterior: f32, what: &str) -> Result<f32, SceneError> {
+    if !(interior.is_finite() && interior > 0.0 && exterior.is_finite() && exterior > 0.0) {
+        return Err(parameter_error(
+            what,
+            format!(
+                "indices of refraction must be positive and finite, got interior {interior}, \
+                 exterior {exterior}"
+            ),
+        ));
+    }
+    Ok(interior / exterior)
+}
+
 fn material(description: &MaterialDescription) -> Result<Option<Material>, SceneError> {
     let material = match description {
         MaterialDescription::Diffuse {
@@ -127,20 +156,109 @@ fn material(description: &MaterialDescription) -> Result<Option<Material>, Scene
             k,
             specular_reflectance: None,
             roughness: None,
-            two_sided: _,
+            two_sided: true,
         } => Material::conductor(
             build_spectrum(eta, SpectrumUsage::Unbounded, "conductor eta")?,
             build_spectrum(k, SpectrumUsage::Unbounded, "conductor k")?,
         ),
+        MaterialDescription::Conductor {
+            eta,
+            k,
+            specular_reflectance,
+            roughness: conductor_roughness,
+            two_sided,
+        } => {
+            let material = Material::RoughConductor {
+                eta: build_spectrum(eta, SpectrumUsage::Unbounded, "conductor eta")?,
+                k: build_spectrum(k, SpectrumUsage::Unbounded, "conductor k")?,
+                specular_reflectance: specular_reflectance
+                    .as_ref()
+                    .map(|texture| {
+                        spectrum_texture(
+                            texture,
+                            SpectrumUsage::Albedo,
+                            "conductor specular_reflectance",
+                        )
+                    })
+                    .transpose()?,
+                roughness: conductor_roughness.as_ref().map(roughness).transpose()?,
+                two_sided: *two_sided,
+            };
+            material.validate().map(|()| material)
+        }
         MaterialDescription::Dielectric {
             interior_ior,
             exterior_ior,
-            roughness: None,
-        } if *exterior_ior == 1.0 => Material::dielectric(build_spectrum(
+            roughness: dielectric_roughness,
+        } => {
+            if !(exterior_ior.is_finite() && *exterior_ior > 0.0) {
+                return Err(parameter_error(
+                    "dielectric exterior_ior",
+                    format!("must be positive and finite, got {exterior_ior}"),
+                ));
+            }
+            let interior = if *exterior_ior == 1.0 {
+                interior_ior.clone()
+            } else {
+                SpectrumDescription::Scaled {
+                    scale: 1.0 / exterior_ior,
+                    spectrum: Box::new(interior_ior.clone()),
+                }
+            };
+            let eta = build_spectrum(&interior, SpectrumUsage::Unbounded, "dielectric eta")?;
+            match dielectric_roughness {
+                None => Material::dielectric(eta),
+                Some(description) => {
+                    let material = Material::RoughDielectric {
+                        eta,
+                        roughness: roughness(description)?,
+                    };
+                    material.validate().map(|()| material)
+                }
+            }
+        }
+        MaterialDescription::ThinDielectric {
             interior_ior,
-            SpectrumUsage::Unbounded,
-            "dielectric eta",
-        )?),
+            exterior_ior,
+        } => Ok(Material::ThinDielectric {
+            eta: relative_index(*interior_ior, *exterior_ior, "thin dielectric")?,
+        }),
+        MaterialDescription::Plastic {
+            diffuse_reflectance,
+            interior_ior,
+            exterior_ior,
+            roughness: plastic_roughness,
+            nonlinear,
+            two_sided,
+        } => {
+            let coating = match plastic_roughness {
+                None => None,
+                Some(description) => Some(
+                    roughness(description)?
+                        .constant_distribution()
+                        .ok_or_else(|| SceneError::Unsupported {
+                            what: "rough plastic with a textured roughness (Mitsuba's \
+                               roughplastic takes a constant alpha)"
+                                .into(),
+                        })?,
+                ),
+            };
+            Ok(Material::Plastic {
+                diffuse_reflectance: spectrum_texture(
+                    diffuse_reflectance,
+                    SpectrumUsage::Albedo,
+                    "plastic diffuse_reflectance",
+                )?,
+                eta: relative_index(*interior_ior, *exterior_ior, "plastic")?,
+                coating,
+                nonlinear: *nonlinear,
+                two_sided: *two_sided,
+            })
+        }
+        MaterialDescription::TwoSided { front, back } => Ok(Material::TwoSided {
+            front: Box::new(nested_material(front)?),
+            back: Box::new(nested_material(back)?),
+        }),
         MaterialDescription::BumpMap {
             height,
             scale,

@@ -101,11 +101,70 @@ pub fn build_spectrum(
     })
 }
 
-/// Spectra known by name (pbrt-v4's named spectra). Loaders map their own
-/// names (e.g. Mitsuba's conductor `material` strings) onto these.
+/// Spectra known by name.
+///
+/// - `stdillum-D65`: the CIE D65 illuminant.
+/// - `metal-NAME-eta`, `metal-NAME-k`: η and κ of a measured conductor, for
+///   pbrt-v4's `metal-Ag`, `-Al`, `-Au`, `-Cu`, `-MgO`, `-TiO2` and every
+///   other name of Mitsuba 3's conductor list (`metal-Cu_palik-eta`, …), so
+///   that a Mitsuba loader maps `<string name="material" value="Au"/>` to
+///   `metal-Au-eta` / `metal-Au-k` (and `none` to `metal-none-eta` /
+///   `metal-none-k`, zero, a perfect mirror). The data are Mitsuba 3.9.1's
+///   tables (luxpop.com, Palik 1985; see [`crate::material::measured_conductor`]),
+///   also for the pbrt-v4 names, whose own tables (from refractiveindex.info)
+///   differ slightly. pbrt-v4's `metal-CuZn` (brass) is not available.
+///
+/// Loaders map their own names onto these.
 pub fn named_spectrum(name: &str) -> Option<Spectrum> {
-    match name {
-        "stdillum-D65" => Some(Spectrum::DenselySampled(d65_illuminant().clone())),
-        _ => None,
+    if name == "stdillum-D65" {
+        return Some(Spectrum::DenselySampled(d65_illuminant().clone()));
     }
+    let metal = name.strip_prefix("metal-")?;
+    if let Some(conductor) = metal.strip_suffix("-eta") {
+        return crate::material::measured_conductor(conductor).map(|measured| measured.eta);
+    }
+    if let Some(conductor) = metal.strip_suffix("-k") {
+        return crate::material::measured_conductor(conductor).map(|measured| measured.k);
+    }
+    None
 }
+
+/// The indices of refraction Mitsuba 3 knows by name for its dielectrics'
+/// `int_ior` / `ext_ior` (the table in Mitsuba 3's `dielectric` plugin
+/// documentation, values at 589 nm, after Pedrotti's *Introduction to
+/// Optics* and refractiveindex.info). Names are matched exactly, as Mitsuba
+/// does.
+pub fn named_ior(name: &str) -> Option<f32> {
+    MITSUBA_NAMED_IORS
+        .iter()
+        .find(|(known, _)| *known == name)
+        .map(|&(_, ior)| ior)
+}
+
+/// Mitsuba 3's named indices of refraction (checked against Mitsuba 3.9.1 by
+/// `scripts/golden/mitsuba_bsdf_golden.py`).
+pub const MITSUBA_NAMED_IORS: &[(&str, f32)] = &[
+    ("vacuum", 1.0),
+    ("helium", 1.000036),
+    ("hydrogen", 1.000132),
+    ("air", 1.000277),
+    ("carbon dioxide", 1.00045),
+    ("water", 1.3330),
+    ("acetone", 1.36),
+    ("ethanol", 1.361),
+    ("carbon tetrachloride", 1.461),
+    ("glycerol", 1.4729),
+    ("benzene", 1.501),
+    ("silicone oil", 1.52045),
+    ("bromine", 1.661),
+    ("water ice", 1.31),
+    ("fused quartz", 1.458),
+    ("pyrex", 1.470),
+    ("acrylic glass", 1.49),
+    ("polypropylene", 1.49),
+    ("bk7", 1.5046),
+    ("sodium chloride", 1.544),
+    ("amber", 1.55),
+    ("pet", 1.5750),
+    ("diamond", 2.419),
+];
