@@ -29,6 +29,8 @@ use std::time::Duration;
 pub enum IntegratorName {
     /// Path tracing with next-event estimation and MIS.
     Path,
+    /// Volumetric path tracing (participating media).
+    Volpath,
 }
 
 /// The samplers, as command-line values.
@@ -57,9 +59,10 @@ pub struct RenderArgs {
     /// The scene: a Mitsuba 3 XML (`.xml`) or pbrt-v4 (`.pbrt`) file, or
     /// `builtin:NAME` (see `lqmc scenes`); default builtin:cornell-box.
     pub scene: Option<String>,
-    /// The integrator.
-    #[arg(long, value_enum, default_value_t = IntegratorName::Path)]
-    pub integrator: IntegratorName,
+    /// The integrator (default: volpath for scenes with participating
+    /// media, else path).
+    #[arg(long, value_enum)]
+    pub integrator: Option<IntegratorName>,
     /// The sampler.
     #[arg(long, value_enum, default_value_t = SamplerName::Halton)]
     pub sampler: SamplerName,
@@ -187,7 +190,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     };
     let settings = RenderSettings {
         integrator: match args.integrator {
-            IntegratorName::Path => IntegratorKind::Path,
+            Some(IntegratorName::Path) => IntegratorKind::Path,
+            Some(IntegratorName::Volpath) => IntegratorKind::VolPath,
+            None if scene.has_media() => IntegratorKind::VolPath,
+            None => IntegratorKind::Path,
         },
         sampler: match args.sampler {
             SamplerName::Halton => SamplerKind::Halton,

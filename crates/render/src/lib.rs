@@ -9,6 +9,7 @@ pub mod image;
 pub mod integrators;
 pub mod light;
 pub mod material;
+pub mod medium;
 pub mod renderer;
 pub mod sampler;
 pub mod scene;

@@ -6,6 +6,7 @@
 use crate::film::{Film, FilmError, PixelBounds};
 use crate::geometry::Ray;
 use crate::integrators::path::{self, PathSettings};
+use crate::integrators::volpath;
 use crate::integrators::{IntegratorKind, MisHeuristic, TraceCounters};
 use crate::sampler::{PixelSampler, SamplerKind, layout};
 use crate::scene::Scene;
@@ -128,6 +129,9 @@ fn render_in_pool(
         heuristic: settings.heuristic,
         ..PathSettings::default()
     };
+    if settings.integrator == IntegratorKind::Path && scene.has_media() {
+        log::warn!("the path integrator ignores participating media; use --integrator volpath");
+    }
     let pixel_count = width as u64 * height as u64;
     let total = pixel_count * settings.samples_per_pixel;
     // Progressive passes keep a time budget or an interruption from leaving
@@ -157,6 +161,7 @@ fn render_in_pool(
                 Some(render_tile(
                     scene,
                     &film,
+                    settings.integrator,
                     &path_settings,
                     *bounds,
                     first_sample..end_sample,
@@ -191,6 +196,7 @@ fn render_in_pool(
 fn render_tile(
     scene: &Scene,
     film: &Film,
+    integrator: IntegratorKind,
     settings: &PathSettings,
     bounds: PixelBounds,
     samples: std::ops::Range<u64>,
@@ -214,15 +220,25 @@ fn render_tile(
                 let mut wavelengths =
                     SampledWavelengths::sample_visible(sampler.get(layout::WAVELENGTH));
                 let ray = Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time);
-                let radiance = path::radiance(
-                    scene,
-                    settings,
-                    ray,
-                    &mut wavelengths,
-                    &mut *sampler,
-                    &mut counters,
-                    None,
-                );
+                let radiance = match integrator {
+                    IntegratorKind::Path => path::radiance(
+                        scene,
+                        settings,
+                        ray,
+                        &mut wavelengths,
+                        &mut *sampler,
+                        &mut counters,
+                        None,
+                    ),
+                    IntegratorKind::VolPath => volpath::radiance(
+                        scene,
+                        settings,
+                        ray,
+                        &mut wavelengths,
+                        &mut *sampler,
+                        &mut counters,
+                    ),
+                };
                 let rgb = to_linear_srgb(&radiance, &wavelengths);
                 // Non-finite values are counted and dropped by the tile.
                 let _ = tile.add_sample([x, y], rgb, position.weight);

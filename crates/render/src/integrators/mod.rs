@@ -4,17 +4,26 @@
 
 pub mod path;
 pub mod path_vertex;
+pub mod volpath;
 
 /// The integrators a user can choose.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum IntegratorKind {
-    /// Unidirectional path tracing with next-event estimation and MIS.
+    /// Unidirectional path tracing with next-event estimation and MIS
+    /// (surfaces only: participating media are ignored).
     Path,
+    /// Volumetric path tracing: [`Path`](Self::Path) with homogeneous
+    /// participating media, index-matched boundaries and spectral MIS
+    /// (pbrt-v4's `VolPathIntegrator`; see [`volpath`]).
+    VolPath,
 }
 
 impl IntegratorKind {
     /// Every integrator with its command-line name.
-    pub const ALL: [(IntegratorKind, &'static str); 1] = [(IntegratorKind::Path, "path")];
+    pub const ALL: [(IntegratorKind, &'static str); 2] = [
+        (IntegratorKind::Path, "path"),
+        (IntegratorKind::VolPath, "volpath"),
+    ];
 
     /// The integrator called `name`.
     pub fn from_name(name: &str) -> Option<Self> {

@@ -39,7 +39,7 @@ impl Default for PathSettings {
 }
 
 /// The shading frame and the orientation-corrected hit of a surface.
-fn oriented_hit(scene: &Scene, hit: &SurfaceHit) -> SurfaceHit {
+pub(crate) fn oriented_hit(scene: &Scene, hit: &SurfaceHit) -> SurfaceHit {
     let mut hit = *hit;
     if scene.shapes[hit.shape_index as usize].flip_normals {
         hit.geometric_normal = -hit.geometric_normal;
@@ -110,6 +110,12 @@ pub fn radiance(
             }
         }
 
+        // Index-matched boundaries (media are ignored here) are passed
+        // straight through, as pbrt-v4's PathIntegrator does.
+        if info.is_interface {
+            ray = spawn_ray(&raw_hit, ray.direction);
+            continue;
+        }
         // A path of depth + 2 segments is the longest a scattering here can make.
         if depth + 2 > settings.max_depth {
             break;

@@ -27,7 +27,15 @@
 //! | 6 + 8k + 7 | vertex k: free-flight distance in a medium |
 //!
 //! Vertex 0 is the first surface (or medium) interaction seen from the
-//! camera. The QMC samplers put the most important decisions into the lowest
+//! camera. Medium interactions are vertices like surface ones: the phase
+//! function is sampled with the scattering-direction pair, next-event
+//! estimation and Russian roulette use their usual offsets. The free-flight
+//! dimension of block k samples the segment that *ends* at vertex k: one
+//! optical depth τ = −ln(1 − u) at the hero wavelength for the whole
+//! segment, used up piece by piece across index-matched (`null`)
+//! boundaries, which are therefore no vertices and use no dimension (see
+//! [`crate::integrators::volpath`]). It is only asked for when the segment
+//! enters a medium. The QMC samplers put the most important decisions into the lowest
 //! dimensions of their sequences, where they are best distributed.
 
 mod halton;

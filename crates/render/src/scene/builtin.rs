@@ -2,14 +2,15 @@
 //! need no files, for tests, benchmarks and the default render.
 
 use super::description::{
-    FilterDescription, LightDescription, MaterialDescription, SceneDescription, ShapeDescription,
-    ShapeGeometry, SpectrumDescription, polygon_mesh,
+    FilterDescription, LightDescription, MaterialDescription, MediumCoefficients,
+    MediumDescription, PhaseDescription, SceneDescription, ShapeDescription, ShapeGeometry,
+    SpectrumDescription, polygon_mesh,
 };
 use crate::camera::{FovAxis, PerspectiveSettings, look_at};
 use glam::{Affine3A, Quat, Vec3};
 
 /// The built-in scenes: name and a one-line description.
-pub const BUILTIN_SCENES: [(&str, &str); 5] = [
+pub const BUILTIN_SCENES: [(&str, &str); 7] = [
     (
         "cornell-box",
         "Mitsuba 3's RGB Cornell box (cbox-rgb.xml): diffuse walls and boxes, one area light",
@@ -30,6 +31,14 @@ pub const BUILTIN_SCENES: [(&str, &str); 5] = [
         "furnace",
         "inside a closed sphere with diffuse albedo 0.5 emitting 0.5: every pixel is exactly 1",
     ),
+    (
+        "translucent-spheres",
+        "dielectric spheres filled with scattering media on a plane, shallow depth of field (LQMC teapot kind; volpath)",
+    ),
+    (
+        "volumetric-caustic",
+        "a coloured beam refracted by a glass sphere in a foggy room: a volumetric caustic (LQMC Fig. 12 kind; volpath)",
+    ),
 ];
 
 /// The scene used when none is named.
@@ -43,6 +52,8 @@ pub fn builtin_scene(name: &str) -> Option<SceneDescription> {
         "glass-sphere-box" => Some(glass_sphere_box()),
         "office" => Some(office()),
         "furnace" => Some(furnace()),
+        "translucent-spheres" => Some(translucent_spheres()),
+        "volumetric-caustic" => Some(volumetric_caustic()),
         _ => None,
     }
 }
@@ -484,6 +495,181 @@ fn furnace() -> SceneDescription {
         media: Vec::new(),
         camera_medium: None,
         integrator: None,
+    }
+}
+
+/// A medium given by Mitsuba's parameters (RGB albedo, scalar extinction).
+fn albedo_medium(albedo: [f32; 3], sigma_t: f32, phase: PhaseDescription) -> MediumDescription {
+    MediumDescription {
+        coefficients: MediumCoefficients::AlbedoExtinction {
+            albedo: SpectrumDescription::Rgb(albedo),
+            sigma_t: SpectrumDescription::Constant(sigma_t),
+        },
+        scale: 1.0,
+        phase,
+    }
+}
+
+/// Three glass spheres filled with scattering media (a milky white, a jade
+/// green, a wax red) at different depths on a diffuse plane, lit by a large
+/// area light and a dim sky, seen through a thin lens focused on the middle
+/// one: subsurface-like transport under a shallow depth of field, the kind
+/// of the LQMC paper's translucent teapot. Needs `--integrator volpath`
+/// (the default for scenes with media).
+fn translucent_spheres() -> SceneDescription {
+    let media = vec![
+        albedo_medium(
+            [0.99, 0.98, 0.96],
+            12.0,
+            PhaseDescription::HenyeyGreenstein { g: 0.3 },
+        ),
+        albedo_medium(
+            [0.45, 0.95, 0.65],
+            8.0,
+            PhaseDescription::HenyeyGreenstein { g: 0.5 },
+        ),
+        albedo_medium([0.97, 0.55, 0.35], 10.0, PhaseDescription::Isotropic),
+    ];
+    let mut shapes = vec![
+        ground(20.0, diffuse(0.5, 0.5, 0.5)),
+        ceiling_light([-1.0, 4.0, 1.5], [1.2, 1.2], [10.0, 10.0, 10.0]),
+    ];
+    for (index, (x, z)) in [(-0.9f32, 0.6f32), (0.1, 2.0), (1.1, 3.6)]
+        .into_iter()
+        .enumerate()
+    {
+        let mut sphere = ShapeDescription::new(
+            ShapeGeometry::Sphere {
+                center: Vec3::new(x, 0.5, z),
+                radius: 0.5,
+            },
+            // Smooth for now; when rough dielectrics are merged this becomes
+            // `roughness: Some(..)` with α = 0.1 (GGX), the translucent look.
+            MaterialDescription::Dielectric {
+                interior_ior: SpectrumDescription::Constant(1.5),
+                exterior_ior: 1.0,
+                roughness: None,
+            },
+        );
+        sphere.interior_medium = Some(index);
+        shapes.push(sphere);
+    }
+    let eye = Vec3::new(0.0, 1.2, -2.6);
+    let focus = Vec3::new(0.1, 0.5, 2.0);
+    let mut camera = camera(eye.into(), focus.into(), 40.0, FovAxis::X, [160, 120]);
+    camera.lens_radius = 0.1;
+    camera.focus_distance = (focus - eye).length();
+    SceneDescription {
+        name: "translucent-spheres".into(),
+        camera,
+        filter: FilterDescription::Gaussian {
+            radius: 1.5,
+            sigma: 0.5,
+        },
+        shapes,
+        lights: vec![LightDescription::ConstantEnvironment {
+            radiance: SpectrumDescription::Rgb([0.08, 0.09, 0.12]),
+        }],
+        media,
+        camera_medium: None,
+        max_depth: Some(64),
+        samples_per_pixel: Some(16),
+        integrator: Some("volpath".into()),
+    }
+}
+
+/// A closed grey room filled with thin fog (the camera inside it). A warm
+/// coloured beam leaves a black collimator tube on the left wall and passes
+/// through a smooth glass sphere, which focuses it into a bright cone in the
+/// fog behind the sphere: a volumetric caustic, reachable only by paths that
+/// scatter in the fog and then refract twice on the way to the light (the
+/// kind of the LQMC paper's Fig. 12). Needs `--integrator volpath`.
+fn volumetric_caustic() -> SceneDescription {
+    let fog = MediumDescription {
+        coefficients: MediumCoefficients::AbsorptionScattering {
+            sigma_a: SpectrumDescription::Constant(0.01),
+            sigma_s: SpectrumDescription::Constant(0.12),
+        },
+        scale: 1.0,
+        phase: PhaseDescription::HenyeyGreenstein { g: 0.4 },
+    };
+    // The room [−3, 3] × [0, 3] × [−3, 3] (diffuse is two-sided, so the
+    // cube's outward normals do not matter).
+    let room = ShapeDescription::new(
+        ShapeGeometry::Cube {
+            to_world: Affine3A::from_scale_rotation_translation(
+                Vec3::new(3.0, 1.5, 3.0),
+                Quat::IDENTITY,
+                Vec3::new(0.0, 1.5, 0.0),
+            ),
+        },
+        diffuse(0.4, 0.4, 0.4),
+    );
+    // A square tube along +x from x = −3 to −1.8 at height 1.5, open at the
+    // end facing the sphere, with the emitter at its closed end.
+    let (x0, x1, y, h) = (-3.0f32, -1.8f32, 1.5f32, 0.12f32);
+    let tube = polygon_mesh(&[
+        &[
+            [x0, y - h, -h],
+            [x1, y - h, -h],
+            [x1, y - h, h],
+            [x0, y - h, h],
+        ],
+        &[
+            [x0, y + h, -h],
+            [x0, y + h, h],
+            [x1, y + h, h],
+            [x1, y + h, -h],
+        ],
+        &[
+            [x0, y - h, -h],
+            [x0, y + h, -h],
+            [x1, y + h, -h],
+            [x1, y - h, -h],
+        ],
+        &[
+            [x0, y - h, h],
+            [x1, y - h, h],
+            [x1, y + h, h],
+            [x0, y + h, h],
+        ],
+    ]);
+    let emitter = ShapeDescription::new(
+        ShapeGeometry::Rectangle {
+            to_world: Affine3A::from_translation(Vec3::new(x0 + 0.01, y, 0.0))
+                * Affine3A::from_rotation_y(std::f32::consts::FRAC_PI_2)
+                * Affine3A::from_scale(Vec3::new(h, h, 1.0)),
+        },
+        MaterialDescription::Black,
+    )
+    .emitting([400.0, 160.0, 40.0]);
+    let mut sphere = ShapeDescription::new(
+        ShapeGeometry::Sphere {
+            center: Vec3::new(-0.6, y, 0.0),
+            radius: 0.6,
+        },
+        MaterialDescription::smooth_dielectric(1.5),
+    );
+    // Clear glass inside, fog outside.
+    sphere.exterior_medium = Some(0);
+    let eye = Vec3::new(0.5, 1.9, -2.8);
+    let target = Vec3::new(0.3, 1.4, 0.0);
+    SceneDescription {
+        name: "volumetric-caustic".into(),
+        camera: camera(eye.into(), target.into(), 70.0, FovAxis::X, [128, 96]),
+        filter: FilterDescription::Box { radius: 0.5 },
+        shapes: vec![
+            room,
+            ShapeDescription::new(tube, MaterialDescription::Black),
+            emitter,
+            sphere,
+        ],
+        lights: Vec::new(),
+        media: vec![fog],
+        camera_medium: Some(0),
+        max_depth: Some(12),
+        samples_per_pixel: Some(16),
+        integrator: Some("volpath".into()),
     }
 }
 

@@ -16,11 +16,12 @@ use crate::film::{BoxFilter, Filter, GaussianFilter, TriangleFilter};
 use crate::geometry::{Disk, Geometry, GeometryError, Shape, Sphere, Transform, TriangleMesh};
 use crate::light::{EnvironmentMap, Light, LightSampler, SpotLight};
 use crate::material::{Material, MicrofacetKind, Roughness};
+use crate::medium::{HomogeneousMedium, MediumInterface, MediumSpectra, PhaseFunction};
 use crate::texture::SpectrumTexture;
 use description::{
-    FilterDescription, LightDescription, MaterialDescription, MicrofacetDistribution,
-    RoughnessDescription, SceneDescription, ShapeGeometry, SpectrumDescription, SpotFalloff,
-    TextureDescription,
+    FilterDescription, LightDescription, MaterialDescription, MediumCoefficients,
+    MediumDescription, MicrofacetDistribution, PhaseDescription, RoughnessDescription,
+    SceneDescription, ShapeGeometry, SpectrumDescription, SpotFalloff, TextureDescription,
 };
 use glam::{Affine3A, Mat4};
 use spectra::{SpectrumUsage, build_spectrum};
@@ -61,6 +62,12 @@ pub struct ShapeInfo {
     pub light: Option<u32>,
     /// The shape's front is the side opposite its stored normals.
     pub flip_normals: bool,
+    /// The media on its two sides if the shape is a medium transition (see
+    /// [`crate::medium`]); `None` keeps the ray's medium when crossing it.
+    pub medium_interface: Option<MediumInterface>,
+    /// An index-matched boundary (`MaterialDescription::Interface`): rays
+    /// pass straight through; it only changes the medium.
+    pub is_interface: bool,
 }
 
 /// A scene ready for rendering.
@@ -78,6 +85,11 @@ pub struct Scene {
     pub light_sampler: LightSampler,
     /// Indices of the lights at infinity (seen by rays that escape).
     pub environment_lights: Vec<u32>,
+    /// Participating media, referred to by [`ShapeInfo::medium_interface`]
+    /// and [`Scene::camera_medium`].
+    pub media: Vec<HomogeneousMedium>,
+    /// The medium the camera sits in (`None`: vacuum).
+    pub camera_medium: Option<u32>,
     /// The camera.
     pub camera: PerspectiveCamera,
     /// The pixel reconstruction filter.
@@ -339,7 +351,74 @@ fn spot_light(
     ))))
 }
 
+/// A shape's medium reference checked against the scene's media.
+fn medium_index(
+    medium: Option<usize>,
+    description: &SceneDescription,
+    shape: usize,
+) -> Result<Option<u32>, SceneError> {
+    match medium {
+        Some(index) if index >= description.media.len() => Err(SceneError::Parameter {
+            what: format!("shape {shape}"),
+            message: format!(
+                "medium {index} does not exist (the scene has {})",
+                description.media.len()
+            ),
+        }),
+        other => Ok(other.map(|index| index as u32)),
+    }
+}
+
+/// The render-time medium of a description: spectra from colours (albedos
+/// as reflectances, coefficients as unbounded quantities), checked scale
+/// and phase parameter.
+fn build_medium(
+    description: &MediumDescription,
+    index: usize,
+) -> Result<HomogeneousMedium, SceneError> {
+    let what = |name: &str| format!("medium {index} {name}");
+    if !(description.scale.is_finite() && description.scale >= 0.0) {
+        return Err(SceneError::Parameter {
+            what: what("scale"),
+            message: format!("must be finite and non-negative, not {}", description.scale),
+        });
+    }
+    let spectra = match &description.coefficients {
+        MediumCoefficients::AlbedoExtinction { albedo, sigma_t } => {
+            MediumSpectra::AlbedoExtinction {
+                albedo: build_spectrum(albedo, SpectrumUsage::Albedo, &what("albedo"))?,
+                sigma_t: build_spectrum(sigma_t, SpectrumUsage::Unbounded, &what("sigma_t"))?,
+            }
+        }
+        MediumCoefficients::AbsorptionScattering { sigma_a, sigma_s } => {
+            MediumSpectra::AbsorptionScattering {
+                sigma_a: build_spectrum(sigma_a, SpectrumUsage::Unbounded, &what("sigma_a"))?,
+                sigma_s: build_spectrum(sigma_s, SpectrumUsage::Unbounded, &what("sigma_s"))?,
+            }
+        }
+    };
+    let phase = match description.phase {
+        PhaseDescription::Isotropic => PhaseFunction::Isotropic,
+        PhaseDescription::HenyeyGreenstein { g } => {
+            if !(g.is_finite() && g > -1.0 && g < 1.0) {
+                return Err(SceneError::Parameter {
+                    what: what("phase function"),
+                    message: format!("Henyey-Greenstein g must lie in (-1, 1), not {g}"),
+                });
+            }
+            PhaseFunction::henyey_greenstein(g)
+        }
+    };
+    Ok(HomogeneousMedium::new(spectra, description.scale, phase))
+}
+
 impl Scene {
+    /// Whether the scene has participating media (the `path` integrator
+    /// ignores them; `volpath` renders them).
+    pub fn has_media(&self) -> bool {
+        !self.media.is_empty()
+    }
+
     /// Builds the scene: geometry and BVH, spectra from colours, lights.
     pub fn build(description: &SceneDescription) -> Result<Self, SceneError> {
         let mut shapes = Vec::with_capacity(description.shapes.len());
@@ -397,15 +476,26 @@ impl Scene {
                 }
                 None => None,
             };
-            if shape.interior_medium.is_some() || shape.exterior_medium.is_some() {
-                return Err(SceneError::Unsupported {
-                    what: format!("shape {index}: participating media"),
-                });
-            }
+            let medium_interface =
+                if shape.interior_medium.is_some() || shape.exterior_medium.is_some() {
+                    Some(MediumInterface {
+                        interior: medium_index(shape.interior_medium, description, index)?,
+                        exterior: medium_index(shape.exterior_medium, description, index)?,
+                    })
+                } else {
+                    None
+                };
+            let is_interface = matches!(shape.material, MaterialDescription::Interface);
             infos.push(ShapeInfo {
-                material: material(&shape.material)?,
+                material: if is_interface {
+                    None
+                } else {
+                    material(&shape.material)?
+                },
                 light,
                 flip_normals: shape.flip_normals,
+                medium_interface,
+                is_interface,
             });
         }
         let geometry = Geometry::new(shapes).map_err(SceneError::Accelerator)?;
@@ -494,11 +584,24 @@ impl Scene {
                 }
             });
         }
-        if !description.media.is_empty() || description.camera_medium.is_some() {
-            return Err(SceneError::Unsupported {
-                what: "participating media".into(),
-            });
-        }
+        let media = description
+            .media
+            .iter()
+            .enumerate()
+            .map(|(index, medium)| build_medium(medium, index))
+            .collect::<Result<Vec<_>, _>>()?;
+        let camera_medium = match description.camera_medium {
+            Some(index) if index >= media.len() => {
+                return Err(SceneError::Parameter {
+                    what: "camera medium".into(),
+                    message: format!(
+                        "medium {index} does not exist (the scene has {})",
+                        media.len()
+                    ),
+                });
+            }
+            other => other.map(|index| index as u32),
+        };
         if lights.is_empty() {
             return Err(SceneError::NoLights);
         }
@@ -520,6 +623,8 @@ impl Scene {
             light_sampler: LightSampler::new(&powers),
             lights,
             environment_lights,
+            media,
+            camera_medium,
             camera: PerspectiveCamera::new(&description.camera)?,
             filter,
             max_depth: description.max_depth,
