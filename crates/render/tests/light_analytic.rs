@@ -301,20 +301,24 @@ fn constant_environment_map_equals_the_constant_environment() {
     }
 }
 
-/// The profile of [`half_sky_image`]: 1 down to the horizon, falling
-/// linearly in θ to 0 at one row below it (θ = 5π/8), 0 below.
+/// The profile of [`half_sky_image`]: 1 down to the horizon, falling to 0
+/// at one row below it (θ = 5π/8) as (1 − t)² with t linear in θ, 0 below.
+/// The square is Mitsuba 3's spectral lookup: it interpolates the sigmoid
+/// spectra and the scales 2 max(rgb) separately and multiplies them, and a
+/// black texel has both zero (Mitsuba 3.9.1 `scalar_spectral` gives 0.25 of
+/// white halfway between a white and a black row; `scalar_rgb` gives 0.5).
 fn half_sky_profile(theta: f64) -> f64 {
     let horizon = std::f64::consts::FRAC_PI_2;
     let step = std::f64::consts::PI / 8.0;
     if theta <= horizon {
         1.0
     } else {
-        (1.0 - (theta - horizon) / step).max(0.0)
+        (1.0 - (theta - horizon) / step).max(0.0).powi(2)
     }
 }
 
 /// 16 × 9 lat-long rows at θ = jπ/8: rows 0..=4 (down to the horizon) 1,
-/// the rest 0, so the bilinear lookup gives [`half_sky_profile`].
+/// the rest 0, so the lookup gives [`half_sky_profile`].
 fn half_sky_image() -> Image {
     let mut pixels = Vec::new();
     for row in 0..9 {

@@ -74,6 +74,11 @@ impl SpotLight {
         }
     }
 
+    /// The unit axis of the cone in world space.
+    pub fn axis(&self) -> Vec3 {
+        self.to_world.transform_vector3(Vec3::Z).normalize()
+    }
+
     /// The factor in [0, 1] of the profile at angle θ from the axis, given
     /// cos θ.
     pub fn falloff_factor(&self, cos_theta: f32) -> f32 {
