@@ -106,7 +106,12 @@ fn render_mean(
     let mut mean = [0.0; 3];
     let mut error = [0.0; 3];
     for channel in 0..3 {
-        mean[channel] = image.pixels().iter().map(|p| p[channel] as f64).sum::<f64>() / count;
+        mean[channel] = image
+            .pixels()
+            .iter()
+            .map(|p| p[channel] as f64)
+            .sum::<f64>()
+            / count;
         error[channel] = (variance
             .pixels()
             .iter()
@@ -144,7 +149,13 @@ fn directional_light_on_a_diffuse_plane() {
         );
         let (mean, error) = render_mean(&description, SamplerKind::Sobol, 4);
         let expected = (ALBEDO / std::f32::consts::PI * 2.0 * theta.cos()) as f64;
-        assert_close(mean, error, expected, 5e-4, &format!("directional {degrees}°"));
+        assert_close(
+            mean,
+            error,
+            expected,
+            5e-4,
+            &format!("directional {degrees}°"),
+        );
     }
     // Light arriving from behind a one-sided-lit point: nothing (the plane
     // is two-sided, so look at it from below while the light is above).
@@ -228,10 +239,8 @@ struct TemporaryImage(PathBuf);
 
 impl TemporaryImage {
     fn new(name: &str, image: &Image) -> Self {
-        let path = std::env::temp_dir().join(format!(
-            "lqmc-light-test-{}-{name}.pfm",
-            std::process::id()
-        ));
+        let path =
+            std::env::temp_dir().join(format!("lqmc-light-test-{}-{name}.pfm", std::process::id()));
         write_pfm(&path, image).unwrap();
         Self(path)
     }
@@ -349,8 +358,9 @@ fn tilted_plane_under_a_half_sky_matches_quadrature() {
                     theta.cos(),
                     -theta.sin() * phi.cos(),
                 ];
-                let cosine =
-                    normal.x as f64 * omega[0] + normal.y as f64 * omega[1] + normal.z as f64 * omega[2];
+                let cosine = normal.x as f64 * omega[0]
+                    + normal.y as f64 * omega[1]
+                    + normal.z as f64 * omega[2];
                 integral += radiance * cosine.max(0.0) * theta.sin();
             }
         }
@@ -405,7 +415,11 @@ fn sampled_density_equals_the_reported_density() {
             continue;
         };
         let pdf = light.pdf_incident(&scene.geometry, reference, sample.point, Vec3::ZERO);
-        assert!((pdf - sample.pdf).abs() <= 2e-3 * sample.pdf, "{pdf} vs {}", sample.pdf);
+        assert!(
+            (pdf - sample.pdf).abs() <= 2e-3 * sample.pdf,
+            "{pdf} vs {}",
+            sample.pdf
+        );
         let radiance = light.environment_radiance(sample.wi, &wavelengths);
         assert_eq!(radiance, sample.radiance);
         // Directions below the ramp are never sampled.

@@ -297,7 +297,8 @@ mod tests {
 
     /// A tilted rectangle (the only shape) and every kind of light.
     fn setup() -> (Geometry, Vec<Light>) {
-        let to_world = Affine3A::from_rotation_x(0.5) * Affine3A::from_scale(Vec3::new(2.0, 1.0, 1.0));
+        let to_world =
+            Affine3A::from_rotation_x(0.5) * Affine3A::from_scale(Vec3::new(2.0, 1.0, 1.0));
         let mesh = TriangleMesh::rectangle(&Transform::from_matrix(Mat4::from(to_world)).unwrap())
             .unwrap();
         let geometry = Geometry::new(vec![Shape::Mesh(mesh)]).unwrap();
@@ -484,7 +485,10 @@ mod tests {
             let d = sample.direction;
             let a = ((d.dot(axis) - cos_cutoff) / (1.0 - cos_cutoff)).clamp(0.0, 0.999_999);
             let phi = d.dot(t).atan2(d.dot(s)).rem_euclid(2.0 * PI) / (2.0 * PI);
-            let (i, j) = ((a * bins as f32) as usize, ((phi * bins as f32) as usize).min(bins - 1));
+            let (i, j) = (
+                (a * bins as f32) as usize,
+                ((phi * bins as f32) as usize).min(bins - 1),
+            );
             observed[i * bins + j] += 1;
             // Inside the cone the reported intensity is the profile's.
             let falloff = spot.falloff_factor(d.dot(axis));

@@ -277,8 +277,7 @@ impl Light {
                 Some(LightSample {
                     radiance: irradiance.sample(wavelengths),
                     wi,
-                    point: reference
-                        + wi * far_distance(reference, *scene_center, *scene_radius),
+                    point: reference + wi * far_distance(reference, *scene_center, *scene_radius),
                     normal: Vec3::ZERO,
                     pdf: 1.0,
                     is_delta: true,
@@ -295,8 +294,7 @@ impl Light {
                 Some(LightSample {
                     radiance: map.radiance(wi, wavelengths),
                     wi,
-                    point: reference
-                        + wi * far_distance(reference, *scene_center, *scene_radius),
+                    point: reference + wi * far_distance(reference, *scene_center, *scene_radius),
                     normal: Vec3::ZERO,
                     pdf: sample.pdf,
                     is_delta: false,
