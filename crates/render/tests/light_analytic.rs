@@ -106,7 +106,12 @@ fn render_mean(
     let mut mean = [0.0; 3];
     let mut error = [0.0; 3];
     for channel in 0..3 {
-        mean[channel] = image.pixels().iter().map(|p| p[channel] as f64).sum::<f64>() / count;
+        mean[channel] = image
+            .pixels()
+            .iter()
+            .map(|p| p[channel] as f64)
+            .sum::<f64>()
+            / count;
         error[channel] = (variance
             .pixels()
             .iter()
@@ -144,7 +149,13 @@ fn directional_light_on_a_diffuse_plane() {
         );
         let (mean, error) = render_mean(&description, SamplerKind::Sobol, 4);
         let expected = (ALBEDO / std::f32::consts::PI * 2.0 * theta.cos()) as f64;
-        assert_close(mean, error, expected, 5e-4, &format!("directional {degrees}°"));
+        assert_close(
+            mean,
+            error,
+            expected,
+            5e-4,
+            &format!("directional {degrees}°"),
+        );
     }
     // Light arriving from behind a one-sided-lit point: nothing (the plane
     // is two-sided, so look at it from below while the light is above).
@@ -228,10 +239,8 @@ struct TemporaryImage(PathBuf);
 
 impl TemporaryImage {
     fn new(name: &str, image: &Image) -> Self {
-        let path = std::env::temp_dir().join(format!(
-            "lqmc-light-test-{}-{name}.pfm",
-            std::process::id()
-        ));
+        let path =
+            std::env::temp_dir().join(format!("lqmc-light-test-{}-{name}.pfm", std::process::id()));
         write_pfm(&path, image).unwrap();
         Self(path)
     }
@@ -301,20 +310,24 @@ fn constant_environment_map_equals_the_constant_environment() {
     }
 }
 
-/// The profile of [`half_sky_image`]: 1 down to the horizon, falling
-/// linearly in θ to 0 at one row below it (θ = 5π/8), 0 below.
+/// The profile of [`half_sky_image`]: 1 down to the horizon, falling to 0
+/// at one row below it (θ = 5π/8) as (1 − t)² with t linear in θ, 0 below.
+/// The square is Mitsuba 3's spectral lookup: it interpolates the sigmoid
+/// spectra and the scales 2 max(rgb) separately and multiplies them, and a
+/// black texel has both zero (Mitsuba 3.9.1 `scalar_spectral` gives 0.25 of
+/// white halfway between a white and a black row; `scalar_rgb` gives 0.5).
 fn half_sky_profile(theta: f64) -> f64 {
     let horizon = std::f64::consts::FRAC_PI_2;
     let step = std::f64::consts::PI / 8.0;
     if theta <= horizon {
         1.0
     } else {
-        (1.0 - (theta - horizon) / step).max(0.0)
+        (1.0 - (theta - horizon) / step).max(0.0).powi(2)
     }
 }
 
 /// 16 × 9 lat-long rows at θ = jπ/8: rows 0..=4 (down to the horizon) 1,
-/// the rest 0, so the bilinear lookup gives [`half_sky_profile`].
+/// the rest 0, so the lookup gives [`half_sky_profile`].
 fn half_sky_image() -> Image {
     let mut pixels = Vec::new();
     for row in 0..9 {
@@ -345,8 +358,9 @@ fn tilted_plane_under_a_half_sky_matches_quadrature() {
                     theta.cos(),
                     -theta.sin() * phi.cos(),
                 ];
-                let cosine =
-                    normal.x as f64 * omega[0] + normal.y as f64 * omega[1] + normal.z as f64 * omega[2];
+                let cosine = normal.x as f64 * omega[0]
+                    + normal.y as f64 * omega[1]
+                    + normal.z as f64 * omega[2];
                 integral += radiance * cosine.max(0.0) * theta.sin();
             }
         }
@@ -401,7 +415,11 @@ fn sampled_density_equals_the_reported_density() {
             continue;
         };
         let pdf = light.pdf_incident(&scene.geometry, reference, sample.point, Vec3::ZERO);
-        assert!((pdf - sample.pdf).abs() <= 2e-3 * sample.pdf, "{pdf} vs {}", sample.pdf);
+        assert!(
+            (pdf - sample.pdf).abs() <= 2e-3 * sample.pdf,
+            "{pdf} vs {}",
+            sample.pdf
+        );
         let radiance = light.environment_radiance(sample.wi, &wavelengths);
         assert_eq!(radiance, sample.radiance);
         // Directions below the ramp are never sampled.

@@ -112,7 +112,9 @@ impl EnvironmentMap {
             _ => {}
         }
         if !(scale.is_finite() && scale >= 0.0) {
-            return Err(format!("scale must be finite and non-negative, got {scale}"));
+            return Err(format!(
+                "scale must be finite and non-negative, got {scale}"
+            ));
         }
         if image
             .pixels()
@@ -188,7 +190,10 @@ impl EnvironmentMap {
     /// Radiance arriving from world direction `direction` (towards the
     /// environment; need not be normalised).
     pub fn radiance(&self, direction: Vec3, wavelengths: &SampledWavelengths) -> SampledSpectrum {
-        let local = self.to_light.transform_vector3(direction).normalize_or_zero();
+        let local = self
+            .to_light
+            .transform_vector3(direction)
+            .normalize_or_zero();
         if local == Vec3::ZERO {
             return SampledSpectrum::zero();
         }
@@ -268,7 +273,10 @@ impl EnvironmentMap {
     /// The solid-angle density with which [`Self::sample`] picks world
     /// direction `direction`.
     pub fn pdf(&self, direction: Vec3) -> f32 {
-        let local = self.to_light.transform_vector3(direction).normalize_or_zero();
+        let local = self
+            .to_light
+            .transform_vector3(direction)
+            .normalize_or_zero();
         if local == Vec3::ZERO {
             return 0.0;
         }

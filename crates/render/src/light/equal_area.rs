@@ -21,11 +21,7 @@ pub fn equal_area_square_to_sphere(p: Vec2) -> Vec3 {
     let distance = signed_distance.abs();
     let r = 1.0 - distance;
     // The azimuth within the quadrant goes linearly along the diamond's edge.
-    let phi = if r == 0.0 {
-        1.0
-    } else {
-        (vp - up) / r + 1.0
-    } * FRAC_PI_4;
+    let phi = if r == 0.0 { 1.0 } else { (vp - up) / r + 1.0 } * FRAC_PI_4;
     let z = (1.0 - r * r).copysign(signed_distance);
     let cos_phi = phi.cos().copysign(u);
     let sin_phi = phi.sin().copysign(v);
@@ -94,7 +90,8 @@ mod tests {
             let d = equal_area_square_to_sphere(Vec2::new(random.next_f32(), random.next_f32()));
             let z_bin = (((d.z + 1.0) / 2.0 * bins_z as f32) as usize).min(bins_z - 1);
             let phi = d.y.atan2(d.x).rem_euclid(std::f32::consts::TAU);
-            let phi_bin = ((phi / std::f32::consts::TAU * bins_phi as f32) as usize).min(bins_phi - 1);
+            let phi_bin =
+                ((phi / std::f32::consts::TAU * bins_phi as f32) as usize).min(bins_phi - 1);
             observed[z_bin * bins_phi + phi_bin] += 1;
         }
         let expected = vec![samples as f64 / (bins_z * bins_phi) as f64; bins_z * bins_phi];

@@ -7,12 +7,14 @@
 //! point, and do not include the probability of choosing the light (see
 //! [`LightSampler`]).
 
+mod emission;
 mod environment_map;
 mod equal_area;
 mod light_sampler;
 mod piecewise_constant;
 mod spot;
 
+pub use emission::{EmissionPdf, EmissionSample};
 pub use environment_map::{EnvironmentMap, EnvironmentSample};
 pub use equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere};
 pub use light_sampler::LightSampler;
@@ -275,8 +277,7 @@ impl Light {
                 Some(LightSample {
                     radiance: irradiance.sample(wavelengths),
                     wi,
-                    point: reference
-                        + wi * far_distance(reference, *scene_center, *scene_radius),
+                    point: reference + wi * far_distance(reference, *scene_center, *scene_radius),
                     normal: Vec3::ZERO,
                     pdf: 1.0,
                     is_delta: true,
@@ -293,8 +294,7 @@ impl Light {
                 Some(LightSample {
                     radiance: map.radiance(wi, wavelengths),
                     wi,
-                    point: reference
-                        + wi * far_distance(reference, *scene_center, *scene_radius),
+                    point: reference + wi * far_distance(reference, *scene_center, *scene_radius),
                     normal: Vec3::ZERO,
                     pdf: sample.pdf,
                     is_delta: false,

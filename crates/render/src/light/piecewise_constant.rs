@@ -314,9 +314,7 @@ mod tests {
             observed[((sample.value * bins as f32) as usize).min(bins - 1)] += 1;
         }
         let expected: Vec<f64> = (0..bins)
-            .map(|bin| {
-                distribution.cell_probability(bin / 2) as f64 / 2.0 * samples as f64
-            })
+            .map(|bin| distribution.cell_probability(bin / 2) as f64 / 2.0 * samples as f64)
             .collect();
         let result = chi_square_test(&observed, &expected);
         assert!(result.p_value > 1e-3, "{result:?}");
@@ -328,7 +326,11 @@ mod tests {
         let values: Vec<f32> = (0..width * height)
             .map(|i| {
                 let (x, y) = ((i % width) as f32, (i / width) as f32);
-                if x == 4.0 { 0.0 } else { 1.0 + x * y + (x - y).abs() }
+                if x == 4.0 {
+                    0.0
+                } else {
+                    1.0 + x * y + (x - y).abs()
+                }
             })
             .collect();
         let distribution = PiecewiseConstant2D::new(&values, width, height);

@@ -74,6 +74,11 @@ impl SpotLight {
         }
     }
 
+    /// The unit axis of the cone in world space.
+    pub fn axis(&self) -> Vec3 {
+        self.to_world.transform_vector3(Vec3::Z).normalize()
+    }
+
     /// The factor in [0, 1] of the profile at angle θ from the axis, given
     /// cos θ.
     pub fn falloff_factor(&self, cos_theta: f32) -> f32 {
@@ -188,7 +193,10 @@ mod tests {
         for degrees in [21.0f32, 25.0, 29.0] {
             let expected = (30.0 - degrees) / 10.0;
             let got = light.falloff_factor(degrees.to_radians().cos());
-            assert!((got - expected).abs() < 1e-4, "{degrees}: {got} vs {expected}");
+            assert!(
+                (got - expected).abs() < 1e-4,
+                "{degrees}: {got} vs {expected}"
+            );
         }
         assert_eq!(light.falloff_factor(30.1f32.to_radians().cos()), 0.0);
         assert_eq!(light.falloff_factor(-1.0), 0.0);
@@ -243,8 +251,7 @@ mod tests {
     #[test]
     fn intensity_follows_the_frame() {
         // Pointing along +x.
-        let to_world = Affine3A::from_rotation_y(std::f32::consts::FRAC_PI_2)
-            * Affine3A::IDENTITY;
+        let to_world = Affine3A::from_rotation_y(std::f32::consts::FRAC_PI_2) * Affine3A::IDENTITY;
         let light = SpotLight::new(
             Affine3A::from_translation(Vec3::new(1.0, 2.0, 3.0)) * to_world,
             Spectrum::Constant(ConstantSpectrum::new(2.0).unwrap()),
