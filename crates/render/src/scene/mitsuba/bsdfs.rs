@@ -1,0 +1,457 @@
+//! Mitsuba's BSDFs: `diffuse`, `conductor`/`roughconductor`,
+//! `dielectric`/`roughdielectric`, `thindielectric`,
+//! `plastic`/`roughplastic`, `twosided`, `bumpmap`, `normalmap`, `mask`,
+//! `null`; `principled` is not supported and becomes a diffuse BSDF of its
+//! base colour (with a warning).
+//!
+//! Conventions carried over: Mitsuba's diffuse, conductor and plastic are
+//! one-sided (black from behind) unless wrapped in `twosided`; dielectrics
+//! scatter from both sides. Only the ratio of interior to exterior index
+//! matters to Mitsuba, so indices are stored as that ratio with an exterior
+//! of 1. Rough materials default to Beckmann with α = 0.1.
+
+use super::super::description::{
+    MaterialDescription, MicrofacetDistribution, RoughnessDescription, SpectrumDescription,
+    TextureDescription,
+};
+use super::super::loader::SceneFileError;
+use super::named_values::{conductor_spectra, named_ior};
+use super::values::Properties;
+use super::xml::Element;
+use super::{Loader, NamedObject};
+
+/// `material` wrapped so that both sides scatter (Mitsuba `twosided` with
+/// one child).
+fn two_sided(material: MaterialDescription) -> MaterialDescription {
+    use MaterialDescription as M;
+    match material {
+        M::Diffuse { reflectance, .. } => M::Diffuse {
+            reflectance,
+            two_sided: true,
+        },
+        M::Conductor {
+            eta,
+            k,
+            specular_reflectance,
+            roughness,
+            ..
+        } => M::Conductor {
+            eta,
+            k,
+            specular_reflectance,
+            roughness,
+            two_sided: true,
+        },
+        M::Plastic {
+            diffuse_reflectance,
+            interior_ior,
+            exterior_ior,
+            roughness,
+            nonlinear,
+            ..
+        } => M::Plastic {
+            diffuse_reflectance,
+            interior_ior,
+            exterior_ior,
+            roughness,
+            nonlinear,
+            two_sided: true,
+        },
+        M::BumpMap {
+            height,
+            scale,
+            nested,
+        } => M::BumpMap {
+            height,
+            scale,
+            nested: Box::new(two_sided(*nested)),
+        },
+        M::NormalMap { normals, nested } => M::NormalMap {
+            normals,
+            nested: Box::new(two_sided(*nested)),
+        },
+        M::Mask { opacity, nested } => M::Mask {
+            opacity,
+            nested: Box::new(two_sided(*nested)),
+        },
+        // Mirror, dielectrics, null and black look the same from both sides.
+        other => other,
+    }
+}
+
+impl Loader {
+    /// An index of refraction: a number or one of Mitsuba's names.
+    fn ior(
+        &self,
+        properties: &Properties,
+        name: &str,
+        default: &str,
+    ) -> Result<f32, SceneFileError> {
+        let Some(element) = properties.get(name) else {
+            return Ok(named_ior(default).expect("the default IOR name is in the table"));
+        };
+        let text = element.required("value")?;
+        match element.tag.as_str() {
+            "string" => named_ior(text).ok_or_else(|| {
+                element.location.error(format!(
+                    "unknown index of refraction '{text}' for '{name}' (expected a number or a name such as bk7, water, air, diamond)"
+                ))
+            }),
+            "float" | "integer" => super::values::parse_number(text)
+                .map_err(|message| element.location.error(format!("'{name}': {message}"))),
+            other => Err(element.location.error(format!(
+                "'{name}' must be <float> or <string>, got <{other}>"
+            ))),
+        }
+    }
+
+    /// The roughness parameters of a rough BSDF (`distribution`, `alpha` or
+    /// `alpha_u`/`alpha_v`); `anisotropic` says whether `alpha_u`/`alpha_v`
+    /// are accepted.
+    fn roughness(
+        &mut self,
+        properties: &Properties,
+        anisotropic: bool,
+    ) -> Result<RoughnessDescription, SceneFileError> {
+        let distribution = match properties.optional_string("distribution")? {
+            None | Some("beckmann") => MicrofacetDistribution::Beckmann,
+            Some("ggx") => MicrofacetDistribution::Ggx,
+            Some(other) => {
+                return Err(properties.element.location.error(format!(
+                    "distribution '{other}': expected beckmann or ggx"
+                )));
+            }
+        };
+        properties.ignore(&["sample_visible"]);
+        let (alpha_u, alpha_v) = if anisotropic && properties.has("alpha_u") {
+            let u = self.texture_or(properties, "alpha_u", 0.1)?;
+            let v = match self.texture_parameter(properties, "alpha_v")? {
+                Some(v) => v,
+                None => u.clone(),
+            };
+            (u, v)
+        } else {
+            let alpha = self.texture_or(properties, "alpha", 0.1)?;
+            (alpha.clone(), alpha)
+        };
+        Ok(RoughnessDescription {
+            distribution,
+            alpha_u,
+            alpha_v,
+            remap: false,
+        })
+    }
+
+    /// The one nested BSDF of an adapter (`twosided`, `bumpmap`, ...).
+    fn nested_bsdfs(&mut self, properties: &Properties) -> Result<Vec<MaterialDescription>, SceneFileError> {
+        let mut nested = Vec::new();
+        for object in &properties.objects {
+            match object.tag.as_str() {
+                "bsdf" => nested.push(self.bsdf(object)?),
+                "ref" => match self.referenced(object)? {
+                    NamedObject::Bsdf(material) => nested.push(material.clone()),
+                    other => {
+                        return Err(object.location.error(format!(
+                            "a {} '{}' can only refer to BSDFs here, not to a {}",
+                            properties.element.tag,
+                            properties.plugin_type(),
+                            other.kind()
+                        )));
+                    }
+                },
+                other => self.warn(
+                    object,
+                    format!(
+                        "<{other}> inside bsdf '{}' is ignored",
+                        properties.plugin_type()
+                    ),
+                ),
+            }
+        }
+        Ok(nested)
+    }
+
+    fn one_nested(&mut self, properties: &Properties) -> Result<MaterialDescription, SceneFileError> {
+        let mut nested = self.nested_bsdfs(properties)?;
+        match nested.len() {
+            1 => Ok(nested.remove(0)),
+            count => Err(properties.element.location.error(format!(
+                "bsdf '{}' needs exactly one nested bsdf, has {count}",
+                properties.plugin_type()
+            ))),
+        }
+    }
+
+    /// Reads a `<bsdf>` plugin (or the `<ref>` of one) and registers its id.
+    pub(super) fn bsdf(&mut self, element: &Element) -> Result<MaterialDescription, SceneFileError> {
+        if element.tag == "ref" {
+            return match self.referenced(element)? {
+                NamedObject::Bsdf(material) => Ok(material.clone()),
+                other => Err(element.location.error(format!(
+                    "expected a reference to a bsdf, '{}' is a {}",
+                    element.attribute("id").unwrap_or(""),
+                    other.kind()
+                ))),
+            };
+        }
+        let properties = Properties::new(element);
+        let kind = properties.plugin_type();
+        let material = match kind {
+            "diffuse" => MaterialDescription::Diffuse {
+                reflectance: self.texture_or(&properties, "reflectance", 0.5)?,
+                two_sided: false,
+            },
+            "conductor" | "roughconductor" => {
+                let roughness = if kind == "roughconductor" {
+                    Some(self.roughness(&properties, true)?)
+                } else {
+                    None
+                };
+                let specular_reflectance =
+                    self.texture_parameter(&properties, "specular_reflectance")?;
+                let eta = self.spectrum_parameter(&properties, "eta")?;
+                let k = self.spectrum_parameter(&properties, "k")?;
+                let material_name = properties.optional_string("material")?;
+                let (eta, k) = match (eta, k, material_name) {
+                    (Some(eta), Some(k), _) => (eta, k),
+                    (None, None, None | Some("none")) => {
+                        if roughness.is_none() && specular_reflectance.is_none() {
+                            return self.finish_bsdf(element, &properties, MaterialDescription::Mirror);
+                        }
+                        // η = 0, k = 1 reflects everything (Mitsuba's "none").
+                        (SpectrumDescription::Constant(0.0), SpectrumDescription::Constant(1.0))
+                    }
+                    (None, None, Some(name)) => conductor_spectra(name).ok_or_else(|| {
+                        element.location.error(format!(
+                            "unknown conductor material '{name}' (expected one of Mitsuba's names, e.g. Au, Ag, Al, Cu, Cr, a-C, or none)"
+                        ))
+                    })?,
+                    _ => {
+                        return Err(element.location.error(
+                            "a conductor needs both 'eta' and 'k', or a 'material' name",
+                        ));
+                    }
+                };
+                MaterialDescription::Conductor {
+                    eta,
+                    k,
+                    specular_reflectance,
+                    roughness,
+                    two_sided: false,
+                }
+            }
+            "dielectric" | "roughdielectric" => {
+                let interior = self.ior(&properties, "int_ior", "bk7")?;
+                let exterior = self.ior(&properties, "ext_ior", "air")?;
+                let roughness = if kind == "roughdielectric" {
+                    Some(self.roughness(&properties, true)?)
+                } else {
+                    None
+                };
+                self.unsupported_factor(&properties, "specular_reflectance");
+                self.unsupported_factor(&properties, "specular_transmittance");
+                MaterialDescription::Dielectric {
+                    interior_ior: SpectrumDescription::Constant(interior / exterior),
+                    exterior_ior: 1.0,
+                    roughness,
+                }
+            }
+            "thindielectric" => {
+                let interior = self.ior(&properties, "int_ior", "bk7")?;
+                let exterior = self.ior(&properties, "ext_ior", "air")?;
+                self.unsupported_factor(&properties, "specular_reflectance");
+                self.unsupported_factor(&properties, "specular_transmittance");
+                MaterialDescription::ThinDielectric {
+                    interior_ior: interior / exterior,
+                    exterior_ior: 1.0,
+                }
+            }
+            "plastic" | "roughplastic" => {
+                let interior = self.ior(&properties, "int_ior", "polypropylene")?;
+                let exterior = self.ior(&properties, "ext_ior", "air")?;
+                let roughness = if kind == "roughplastic" {
+                    Some(self.roughness(&properties, false)?)
+                } else {
+                    None
+                };
+                self.unsupported_factor(&properties, "specular_reflectance");
+                MaterialDescription::Plastic {
+                    diffuse_reflectance: self.texture_or(&properties, "diffuse_reflectance", 0.5)?,
+                    interior_ior: interior / exterior,
+                    exterior_ior: 1.0,
+                    roughness,
+                    nonlinear: properties.boolean("nonlinear", false)?,
+                    two_sided: false,
+                }
+            }
+            "twosided" => {
+                let mut nested = self.nested_bsdfs(&properties)?;
+                match nested.len() {
+                    1 => two_sided(nested.remove(0)),
+                    2 => {
+                        let back = nested.remove(1);
+                        let front = nested.remove(0);
+                        MaterialDescription::TwoSided {
+                            front: Box::new(front),
+                            back: Box::new(back),
+                        }
+                    }
+                    count => {
+                        return Err(element.location.error(format!(
+                            "bsdf 'twosided' needs one or two nested bsdfs, has {count}"
+                        )));
+                    }
+                }
+            }
+            "bumpmap" => {
+                let scale = properties.float("scale", 1.0)?;
+                // The height texture is the one nested texture, whatever its name.
+                let mut height = None;
+                for child in &element.children {
+                    let texture = match child.tag.as_str() {
+                        "texture" => Some(self.texture(child)?),
+                        "ref" => match self.referenced(child)? {
+                            NamedObject::Texture(texture) => Some(texture.clone()),
+                            _ => None,
+                        },
+                        _ => None,
+                    };
+                    if let Some(texture) = texture {
+                        if let Some(name) = child.attribute("name") {
+                            let _ = properties.get(name);
+                        }
+                        height = Some(texture);
+                        break;
+                    }
+                }
+                let height = height.ok_or_else(|| {
+                    element.location.error("bsdf 'bumpmap' needs a nested height <texture>")
+                })?;
+                let nested = self.one_nested_ignoring_textures(&properties)?;
+                MaterialDescription::BumpMap {
+                    height,
+                    scale,
+                    nested: Box::new(nested),
+                }
+            }
+            "normalmap" => {
+                let normals = self.texture_parameter(&properties, "normalmap")?.ok_or_else(|| {
+                    element
+                        .location
+                        .error("bsdf 'normalmap' needs a <texture name=\"normalmap\">")
+                })?;
+                let nested = self.one_nested(&properties)?;
+                MaterialDescription::NormalMap {
+                    normals,
+                    nested: Box::new(nested),
+                }
+            }
+            "mask" => {
+                let opacity = self.texture_or(&properties, "opacity", 0.5)?;
+                let nested = self.one_nested(&properties)?;
+                MaterialDescription::Mask {
+                    opacity,
+                    nested: Box::new(nested),
+                }
+            }
+            "null" => MaterialDescription::Interface,
+            "principled" | "principledthin" => {
+                let base = self
+                    .texture_parameter(&properties, "base_color")?
+                    .unwrap_or(TextureDescription::Constant(SpectrumDescription::Constant(0.5)));
+                self.warn(
+                    element,
+                    format!("bsdf '{kind}' is not supported: replaced by a diffuse bsdf of its base_color"),
+                );
+                // Its other parameters are knowingly dropped.
+                properties.ignore(&[
+                    "roughness", "metallic", "specular", "anisotropic", "sheen", "sheen_tint",
+                    "clearcoat", "clearcoat_gloss", "spec_tint", "spec_trans", "eta",
+                    "flatness", "diff_trans", "main_specular_sampling_rate",
+                    "clearcoat_sampling_rate", "diffuse_reflectance_sampling_rate",
+                ]);
+                MaterialDescription::Diffuse {
+                    reflectance: base,
+                    two_sided: false,
+                }
+            }
+            other => {
+                self.warn(
+                    element,
+                    format!("unknown bsdf type '{other}': replaced by a diffuse bsdf of reflectance 0.5"),
+                );
+                return self.finish_bsdf_silently(
+                    element,
+                    MaterialDescription::Diffuse {
+                        reflectance: TextureDescription::Constant(SpectrumDescription::Constant(0.5)),
+                        two_sided: false,
+                    },
+                );
+            }
+        };
+        self.finish_bsdf(element, &properties, material)
+    }
+
+    /// The nested BSDF of a bump map (whose texture child is not a BSDF).
+    fn one_nested_ignoring_textures(
+        &mut self,
+        properties: &Properties,
+    ) -> Result<MaterialDescription, SceneFileError> {
+        let mut nested = Vec::new();
+        for object in &properties.objects {
+            match object.tag.as_str() {
+                "bsdf" => nested.push(self.bsdf(object)?),
+                "ref" => {
+                    if let NamedObject::Bsdf(material) = self.referenced(object)? {
+                        nested.push(material.clone());
+                    }
+                }
+                _ => {}
+            }
+        }
+        match nested.len() {
+            1 => Ok(nested.remove(0)),
+            count => Err(properties.element.location.error(format!(
+                "bsdf 'bumpmap' needs exactly one nested bsdf, has {count}"
+            ))),
+        }
+    }
+
+    /// Warns when a factor the description cannot hold is not 1.
+    fn unsupported_factor(&mut self, properties: &Properties, name: &str) {
+        if let Some(element) = properties.get(name) {
+            let is_one = matches!(
+                element.attribute("value").map(super::values::parse_numbers),
+                Some(Ok(ref values)) if values.iter().all(|&v| v == 1.0)
+            );
+            if !is_one {
+                self.warn(
+                    element,
+                    format!(
+                        "'{name}' of bsdf '{}' is not supported and is taken as 1",
+                        properties.plugin_type()
+                    ),
+                );
+            }
+        }
+    }
+
+    fn finish_bsdf(
+        &mut self,
+        element: &Element,
+        properties: &Properties,
+        material: MaterialDescription,
+    ) -> Result<MaterialDescription, SceneFileError> {
+        self.finish(properties);
+        self.finish_bsdf_silently(element, material)
+    }
+
+    fn finish_bsdf_silently(
+        &mut self,
+        element: &Element,
+        material: MaterialDescription,
+    ) -> Result<MaterialDescription, SceneFileError> {
+        self.register(element, NamedObject::Bsdf(material.clone()))?;
+        Ok(material)
+    }
+}
