@@ -2,6 +2,7 @@
 //! takes its numbers from a [`crate::sampler::SampleSource`] following the
 //! dimension layout of [`crate::sampler::layout`].
 
+pub mod lqmc;
 pub mod path;
 pub mod path_vertex;
 
@@ -10,11 +11,16 @@ pub mod path_vertex;
 pub enum IntegratorKind {
     /// Unidirectional path tracing with next-event estimation and MIS.
     Path,
+    /// Local quasi-Monte Carlo exploration of Halton-seeded path tracing.
+    Lqmc,
 }
 
 impl IntegratorKind {
     /// Every integrator with its command-line name.
-    pub const ALL: [(IntegratorKind, &'static str); 1] = [(IntegratorKind::Path, "path")];
+    pub const ALL: [(IntegratorKind, &'static str); 2] = [
+        (IntegratorKind::Path, "path"),
+        (IntegratorKind::Lqmc, "lqmc"),
+    ];
 
     /// The integrator called `name`.
     pub fn from_name(name: &str) -> Option<Self> {

@@ -39,7 +39,7 @@ impl Default for PathSettings {
 }
 
 /// The shading frame and the orientation-corrected hit of a surface.
-fn oriented_hit(scene: &Scene, hit: &SurfaceHit) -> SurfaceHit {
+pub(crate) fn oriented_hit(scene: &Scene, hit: &SurfaceHit) -> SurfaceHit {
     let mut hit = *hit;
     if scene.shapes[hit.shape_index as usize].flip_normals {
         hit.geometric_normal = -hit.geometric_normal;
@@ -201,7 +201,7 @@ pub fn radiance(
 /// estimation from `previous_point` would have chosen light `light_index` and
 /// sampled `point` (normal `normal` as stored; zero for infinite lights).
 #[allow(clippy::too_many_arguments)]
-fn emission_weight(
+pub(crate) fn emission_weight(
     scene: &Scene,
     settings: &PathSettings,
     light_index: u32,
