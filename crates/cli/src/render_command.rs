@@ -31,6 +31,8 @@ pub enum IntegratorName {
     Path,
     /// Volumetric path tracing (participating media).
     Volpath,
+    /// Local quasi-Monte Carlo exploration (Halton-seeded path tracing).
+    Lqmc,
 }
 
 /// The samplers, as command-line values.
@@ -102,6 +104,138 @@ pub struct RenderArgs {
     /// `mitsuba -D`); may be repeated.
     #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_definition)]
     pub define: Vec<(String, String)>,
+    #[command(flatten)]
+    pub lqmc: LqmcArgs,
+}
+
+/// Options of `--integrator lqmc` (defaults: the paper's and the authors'
+/// renderer's; see `render::integrators::lqmc::settings`).
+#[derive(Args, Debug, Default)]
+pub struct LqmcArgs {
+    /// LQMC: explored effects, a comma-separated list of aperture,
+    /// wavelength, time, image, direction (default
+    /// aperture,wavelength,image,direction).
+    #[arg(long, value_name = "LIST")]
+    pub explore: Option<String>,
+    /// LQMC: the breakup vertex, a number (0: the camera) or `cdf` for the
+    /// roughness CDF (default cdf).
+    #[arg(long, value_name = "B|cdf")]
+    pub breakup: Option<String>,
+    /// LQMC: lattice size N ∈ {7, 23, 97, 313} of a class (normal, caustic,
+    /// dof, nee), e.g. `normal=23`; may be repeated.
+    #[arg(long, value_name = "CLASS=N")]
+    pub lattice_size: Vec<String>,
+    /// LQMC: tiles per lens dimension of a class, e.g. `caustic=4`.
+    #[arg(long, value_name = "CLASS=K")]
+    pub aperture_tiles: Vec<String>,
+    /// LQMC: tiles across the image width of a class, e.g. `normal=24`.
+    #[arg(long, value_name = "CLASS=K")]
+    pub image_tiles: Vec<String>,
+    /// LQMC: tiles per outgoing-direction dimension of a class.
+    #[arg(long, value_name = "CLASS=K")]
+    pub direction_tiles: Vec<String>,
+    /// LQMC: tiles per wavelength dimension (default 1).
+    #[arg(long, value_name = "K")]
+    pub wavelength_tiles: Option<u32>,
+    /// LQMC: tiles per time dimension (default 1).
+    #[arg(long, value_name = "K")]
+    pub time_tiles: Option<u32>,
+    /// LQMC: a class whose paths are splatted without exploration; may be
+    /// repeated.
+    #[arg(long, value_name = "CLASS")]
+    pub skip_class: Vec<String>,
+    /// LQMC: no tile jitter.
+    #[arg(long)]
+    pub no_jitter: bool,
+    /// LQMC: no lattice dimension scrambling.
+    #[arg(long)]
+    pub no_scramble: bool,
+    /// LQMC: print explorations per class, set sizes, failures and the
+    /// closest-point search time.
+    #[arg(long)]
+    pub stats: bool,
+}
+
+/// The LQMC class called `name`.
+fn parse_class(name: &str) -> Result<render::integrators::lqmc::PathClass, CliError> {
+    render::integrators::lqmc::PathClass::ALL
+        .into_iter()
+        .find(|class| class.name() == name)
+        .ok_or_else(|| {
+            usage(format!(
+                "unknown LQMC class `{name}` (expected normal, caustic, dof or nee)"
+            ))
+        })
+}
+
+/// Parses `CLASS=VALUE`.
+fn parse_class_value(
+    option: &str,
+    text: &str,
+) -> Result<(render::integrators::lqmc::PathClass, u32), CliError> {
+    let (name, value) = text
+        .split_once('=')
+        .ok_or_else(|| usage(format!("--{option}: expected CLASS=VALUE, got `{text}`")))?;
+    let value: u32 = value
+        .parse()
+        .ok()
+        .filter(|value| *value > 0)
+        .ok_or_else(|| usage(format!("--{option}: `{value}` is not a positive integer")))?;
+    Ok((parse_class(name)?, value))
+}
+
+/// The LQMC settings from the command line.
+fn lqmc_settings(args: &LqmcArgs) -> Result<render::integrators::lqmc::LqmcSettings, CliError> {
+    use render::integrators::lqmc::{BreakupChoice, ExploredEffects, LqmcSettings};
+    let mut settings = LqmcSettings::default();
+    if let Some(list) = &args.explore {
+        settings.effects =
+            ExploredEffects::parse(list).map_err(|error| usage(format!("--explore: {error}")))?;
+    }
+    if let Some(breakup) = &args.breakup {
+        settings.breakup = if breakup == "cdf" {
+            BreakupChoice::Roughness
+        } else {
+            BreakupChoice::Fixed(breakup.parse().map_err(|_| {
+                usage(format!(
+                    "--breakup: expected a vertex number or `cdf`, got `{breakup}`"
+                ))
+            })?)
+        };
+    }
+    for text in &args.lattice_size {
+        let (class, size) = parse_class_value("lattice-size", text)?;
+        if !qmc::lattice_table::LQMC_LATTICE_SIZES.contains(&(size as u64)) {
+            return Err(usage(format!(
+                "--lattice-size: N must be one of 7, 23, 97, 313, got {size}"
+            )));
+        }
+        settings.class_parameters_mut(class).lattice_size = size as u64;
+    }
+    for text in &args.aperture_tiles {
+        let (class, tiles) = parse_class_value("aperture-tiles", text)?;
+        settings.class_parameters_mut(class).aperture_tiles = tiles;
+    }
+    for text in &args.image_tiles {
+        let (class, tiles) = parse_class_value("image-tiles", text)?;
+        settings.class_parameters_mut(class).image_tiles = tiles;
+    }
+    for text in &args.direction_tiles {
+        let (class, tiles) = parse_class_value("direction-tiles", text)?;
+        settings.class_parameters_mut(class).direction_tiles = tiles;
+    }
+    for name in &args.skip_class {
+        settings.class_parameters_mut(parse_class(name)?).explore = false;
+    }
+    if let Some(tiles) = args.wavelength_tiles {
+        settings.wavelength_tiles = tiles.max(1);
+    }
+    if let Some(tiles) = args.time_tiles {
+        settings.time_tiles = tiles.max(1);
+    }
+    settings.jitter_tiles = !args.no_jitter;
+    settings.scramble_dimensions = !args.no_scramble;
+    Ok(settings)
 }
 
 /// Parses `NAME=VALUE` of `--define`.
@@ -192,6 +326,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         integrator: match args.integrator {
             Some(IntegratorName::Path) => IntegratorKind::Path,
             Some(IntegratorName::Volpath) => IntegratorKind::VolPath,
+            Some(IntegratorName::Lqmc) => IntegratorKind::Lqmc,
             None if scene.has_media() => IntegratorKind::VolPath,
             None => IntegratorKind::Path,
         },
@@ -210,6 +345,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             HeuristicName::Balance => render::integrators::MisHeuristic::Balance,
         },
         threads: args.threads,
+        lqmc: lqmc_settings(&args.lqmc)?,
         ..RenderSettings::default()
     };
 
@@ -300,6 +436,14 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         statistics.rays as f64 / seconds / 1e6,
         statistics.nonfinite_samples,
     );
+    if args.lqmc.stats && settings.integrator == IntegratorKind::Lqmc {
+        let threads = if settings.threads == 0 {
+            std::thread::available_parallelism().map_or(1, |count| count.get())
+        } else {
+            settings.threads
+        };
+        say!("{}", statistics.lqmc.report(seconds, threads));
+    }
     say!("wrote {}", written.join(" and "));
     Ok(())
 }

@@ -3,8 +3,9 @@
 //! consistent image. Tiles are merged into the film in a fixed order, so a
 //! seed gives the same image whatever the number of threads.
 
-use crate::film::{Film, FilmError, PixelBounds};
+use crate::film::{Film, FilmError, PixelBounds, SplatBuffer};
 use crate::geometry::Ray;
+use crate::integrators::lqmc::{self, LqmcSettings, LqmcStatistics};
 use crate::integrators::path::{self, PathSettings};
 use crate::integrators::volpath;
 use crate::integrators::{IntegratorKind, MisHeuristic, TraceCounters};
@@ -37,6 +38,8 @@ pub struct RenderSettings {
     pub threads: usize,
     /// Tile side in pixels (default 16).
     pub tile_size: usize,
+    /// Settings of the LQMC integrator (used with [`IntegratorKind::Lqmc`]).
+    pub lqmc: LqmcSettings,
 }
 
 impl Default for RenderSettings {
@@ -51,6 +54,7 @@ impl Default for RenderSettings {
             heuristic: MisHeuristic::Power,
             threads: 0,
             tile_size: 16,
+            lqmc: LqmcSettings::default(),
         }
     }
 }
@@ -70,6 +74,8 @@ pub struct RenderStatistics {
     pub completed_samples_per_pixel: u64,
     /// True if the render stopped early (time budget or interruption).
     pub stopped_early: bool,
+    /// LQMC's counters (zero for other integrators).
+    pub lqmc: LqmcStatistics,
 }
 
 /// Why a render failed.
@@ -151,31 +157,58 @@ fn render_in_pool(
     let mut first_sample = 0;
     while first_sample < settings.samples_per_pixel && !out_of_time() {
         let end_sample = (first_sample + pass_size).min(settings.samples_per_pixel);
-        let results: Vec<Option<(crate::film::FilmTile, TraceCounters, u64)>> = tiles
+        let results: Vec<Option<TileResult>> = tiles
             .par_iter()
             .map(|bounds| {
                 if out_of_time() {
                     return None;
                 }
                 let mut sampler = prototype.clone_sampler();
-                Some(render_tile(
-                    scene,
-                    &film,
-                    settings.integrator,
-                    &path_settings,
-                    *bounds,
-                    first_sample..end_sample,
-                    sampler.as_mut(),
-                ))
+                let samples = first_sample..end_sample;
+                Some(match settings.integrator {
+                    IntegratorKind::Path | IntegratorKind::VolPath => {
+                        let (tile, counters, count) = render_tile(
+                            scene,
+                            &film,
+                            settings.integrator,
+                            &path_settings,
+                            *bounds,
+                            samples,
+                            sampler.as_mut(),
+                        );
+                        TileResult {
+                            tile,
+                            splats: None,
+                            counters,
+                            samples: count,
+                            lqmc: LqmcStatistics::default(),
+                        }
+                    }
+                    IntegratorKind::Lqmc => {
+                        let context = lqmc::LqmcContext {
+                            scene,
+                            settings: &settings.lqmc,
+                            path_settings,
+                            seed: settings.seed,
+                        };
+                        render_tile_lqmc(&context, &film, *bounds, samples, sampler.as_mut())
+                    }
+                })
             })
             .collect();
         let mut complete = true;
+        // Tiles and their splats merge in the fixed tile order: the image
+        // does not depend on the number of threads.
         for result in results {
             match result {
-                Some((tile, counters, samples)) => {
-                    film.merge_tile(&tile)?;
-                    statistics.rays += counters.rays();
-                    statistics.samples += samples;
+                Some(result) => {
+                    film.merge_tile(&result.tile)?;
+                    if let Some(splats) = &result.splats {
+                        film.merge_splats(splats);
+                    }
+                    statistics.rays += result.counters.rays();
+                    statistics.samples += result.samples;
+                    statistics.lqmc.add(&result.lqmc);
                 }
                 None => complete = false,
             }
@@ -190,6 +223,60 @@ fn render_in_pool(
     statistics.nonfinite_samples = film.nonfinite_samples();
     statistics.elapsed = start.elapsed();
     Ok(RenderOutput { film, statistics })
+}
+
+/// What rendering one tile for one pass produced.
+struct TileResult {
+    tile: crate::film::FilmTile,
+    splats: Option<SplatBuffer>,
+    counters: TraceCounters,
+    samples: u64,
+    lqmc: LqmcStatistics,
+}
+
+/// Renders samples `samples` of every pixel of a tile with LQMC: every
+/// contribution is a splat (members land in other pixels), gathered in the
+/// tile's own buffer.
+fn render_tile_lqmc(
+    context: &lqmc::LqmcContext<'_>,
+    film: &Film,
+    bounds: PixelBounds,
+    samples: std::ops::Range<u64>,
+    sampler: &mut dyn PixelSampler,
+) -> TileResult {
+    let tile = film
+        .new_tile(bounds)
+        .expect("tiles come from the film's own bounds");
+    let mut splats = SplatBuffer::new();
+    let mut counters = TraceCounters::default();
+    let mut statistics = LqmcStatistics::default();
+    let mut scratch = lqmc::LqmcScratch::default();
+    let mut count = 0;
+    for y in bounds.min[1]..bounds.max[1] {
+        for x in bounds.min[0]..bounds.max[0] {
+            for sample_index in samples.clone() {
+                sampler.start_pixel_sample((x as u32, y as u32), sample_index);
+                lqmc::render_pixel_sample(
+                    context,
+                    (x as u32, y as u32),
+                    sample_index,
+                    &mut *sampler,
+                    &mut scratch,
+                    &mut splats,
+                    &mut statistics,
+                    &mut counters,
+                );
+                count += 1;
+            }
+        }
+    }
+    TileResult {
+        tile,
+        splats: Some(splats),
+        counters,
+        samples: count,
+        lqmc: statistics,
+    }
 }
 
 /// Renders samples `samples` of every pixel of a tile.
@@ -221,7 +308,9 @@ fn render_tile(
                     SampledWavelengths::sample_visible(sampler.get(layout::WAVELENGTH));
                 let ray = Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time);
                 let radiance = match integrator {
-                    IntegratorKind::Path => path::radiance(
+                    // LQMC tiles are rendered by `render_tile_lqmc`; its seed
+                    // paths are path-traced, so the path tracer stands for it.
+                    IntegratorKind::Path | IntegratorKind::Lqmc => path::radiance(
                         scene,
                         settings,
                         ray,

@@ -55,7 +55,10 @@ fn cornell_box_loads_with_the_files_settings() {
         .camera
         .world_from_camera
         .transform_point3(glam::Vec3::ZERO);
-    assert!((eye - glam::Vec3::new(0.0, 1.0, 6.8)).length() < 1e-5, "{eye}");
+    assert!(
+        (eye - glam::Vec3::new(0.0, 1.0, 6.8)).length() < 1e-5,
+        "{eye}"
+    );
     Scene::build(description).expect("the Cornell box builds");
 }
 

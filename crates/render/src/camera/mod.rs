@@ -228,6 +228,76 @@ impl PerspectiveCamera {
     }
 }
 
+/// Where a world point appears on the image seen from a given lens point and
+/// time: what light tracing and LQMC's reconnection to the camera need.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraProjection {
+    /// Continuous raster position (pixel units).
+    pub raster: Vec2,
+    /// The lens point in world space (the ray origin).
+    pub origin: Vec3,
+    /// The camera-space cosine of the ray from the lens point to the world
+    /// point with the optical axis: the density of the point per unit area
+    /// is `focus² / (cosine³ · pixel area at the focus)` times
+    /// `|cos θ| / distance²` at the point.
+    pub axis_cosine: f32,
+}
+
+impl PerspectiveCamera {
+    /// The radius of the thin lens (0 for a pinhole).
+    pub fn lens_radius(&self) -> f32 {
+        self.lens_radius
+    }
+
+    /// The distance of the plane in focus.
+    pub fn focus_distance(&self) -> f32 {
+        self.focus_distance
+    }
+
+    /// The width of one pixel on the plane at distance 1 from the camera.
+    pub fn pixel_size_at_unit_distance(&self) -> f32 {
+        2.0 * self.screen_half_extent.x / self.resolution[0] as f32
+    }
+
+    /// The inverse of [`PerspectiveCamera::generate_ray`] for a fixed lens
+    /// sample and time: the raster position whose ray from the lens point
+    /// passes through `point`, if `point` lies in front of the camera and
+    /// inside the image.
+    pub fn project(&self, point: Vec3, u_lens: [f32; 2], u_time: f32) -> Option<CameraProjection> {
+        let time = self.time(u_time);
+        let transform = self.world_from_camera(time);
+        let camera_point = transform.inverse().transform_point3(point);
+        if camera_point.z <= 0.0 {
+            return None;
+        }
+        let (lens, on_plane) = if self.lens_radius > 0.0 {
+            let lens = (concentric_disk(u_lens) * self.lens_radius).extend(0.0);
+            let along = camera_point - lens;
+            let focus = lens + along * (self.focus_distance / along.z);
+            (lens, focus / self.focus_distance)
+        } else {
+            (Vec3::ZERO, camera_point / camera_point.z)
+        };
+        let ndc = on_plane.truncate() / self.screen_half_extent;
+        let raster = Vec2::new(
+            (ndc.x + 1.0) * 0.5 * self.resolution[0] as f32,
+            (1.0 - ndc.y) * 0.5 * self.resolution[1] as f32,
+        );
+        let inside = raster.x >= 0.0
+            && raster.y >= 0.0
+            && raster.x < self.resolution[0] as f32
+            && raster.y < self.resolution[1] as f32;
+        if !inside {
+            return None;
+        }
+        Some(CameraProjection {
+            raster,
+            origin: transform.transform_point3(lens),
+            axis_cosine: (camera_point - lens).normalize().z,
+        })
+    }
+}
+
 /// Spherical linear interpolation taking the shorter arc.
 fn slerp(a: Quat, b: Quat, t: f32) -> Quat {
     let b = if a.dot(b) < 0.0 { -b } else { b };

@@ -2,6 +2,7 @@
 //! takes its numbers from a [`crate::sampler::SampleSource`] following the
 //! dimension layout of [`crate::sampler::layout`].
 
+pub mod lqmc;
 pub mod path;
 pub mod path_vertex;
 pub mod volpath;
@@ -16,13 +17,16 @@ pub enum IntegratorKind {
     /// participating media, index-matched boundaries and spectral MIS
     /// (pbrt-v4's `VolPathIntegrator`; see [`volpath`]).
     VolPath,
+    /// Local quasi-Monte Carlo exploration of Halton-seeded path tracing.
+    Lqmc,
 }
 
 impl IntegratorKind {
     /// Every integrator with its command-line name.
-    pub const ALL: [(IntegratorKind, &'static str); 2] = [
+    pub const ALL: [(IntegratorKind, &'static str); 3] = [
         (IntegratorKind::Path, "path"),
         (IntegratorKind::VolPath, "volpath"),
+        (IntegratorKind::Lqmc, "lqmc"),
     ];
 
     /// The integrator called `name`.

@@ -207,7 +207,7 @@ pub fn radiance(
 /// estimation from `previous_point` would have chosen light `light_index` and
 /// sampled `point` (normal `normal` as stored; zero for infinite lights).
 #[allow(clippy::too_many_arguments)]
-fn emission_weight(
+pub(crate) fn emission_weight(
     scene: &Scene,
     settings: &PathSettings,
     light_index: u32,

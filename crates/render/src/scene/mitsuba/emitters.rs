@@ -5,7 +5,7 @@
 //! with a beam width of ¾ of it).
 
 use super::super::description::{
-    EnvironmentProjection, LightDescription, SpectrumDescription, TextureDescription,
+    EnvironmentProjection, LightDescription, SpectrumDescription, SpotFalloff, TextureDescription,
 };
 use super::super::loader::SceneFileError;
 use super::values::Properties;
@@ -89,6 +89,7 @@ impl Loader {
                     intensity: self.emitted(&properties, "intensity")?,
                     cutoff_degrees: cutoff,
                     falloff_start_degrees: beam_width.min(cutoff),
+                    falloff: SpotFalloff::MitsubaLinearAngle,
                     texture,
                 }
             }
@@ -110,9 +111,9 @@ impl Loader {
                 radiance: self.emitted(&properties, "radiance")?,
             },
             "envmap" => {
-                let name = properties.optional_string("filename")?.ok_or_else(|| {
-                    element.location.error("envmap needs a 'filename' string")
-                })?;
+                let name = properties
+                    .optional_string("filename")?
+                    .ok_or_else(|| element.location.error("envmap needs a 'filename' string"))?;
                 let filename = self.resolve(element, name, "environment map")?;
                 LightDescription::EnvironmentMap {
                     filename,
@@ -122,9 +123,9 @@ impl Loader {
                 }
             }
             "area" => {
-                return Err(element.location.error(
-                    "an 'area' emitter must be nested in the <shape> it covers",
-                ));
+                return Err(element
+                    .location
+                    .error("an 'area' emitter must be nested in the <shape> it covers"));
             }
             other => {
                 self.warn(

@@ -106,7 +106,12 @@ impl Loader {
     }
 
     /// Finds a file named by `element`'s scene file.
-    fn resolve(&self, element: &Element, name: &str, what: &str) -> Result<PathBuf, SceneFileError> {
+    fn resolve(
+        &self,
+        element: &Element,
+        name: &str,
+        what: &str,
+    ) -> Result<PathBuf, SceneFileError> {
         self.search_path
             .resolve(name, element.location.directory(), &element.location, what)
     }

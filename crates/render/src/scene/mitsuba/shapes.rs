@@ -69,11 +69,8 @@ impl Loader {
         })?;
         let path = self.resolve(element, name, "mesh")?;
         let read = if kind == "obj" { read_obj } else { read_ply };
-        let mesh = read(&path).map_err(|error| {
-            element
-                .location
-                .error(format!("shape '{kind}': {error}"))
-        })?;
+        let mesh = read(&path)
+            .map_err(|error| element.location.error(format!("shape '{kind}': {error}")))?;
         let face_normals = properties.boolean("face_normals", false)?;
         let flip_tex_coords = kind == "obj" && properties.boolean("flip_tex_coords", true)?;
         let normal_matrix = to_world.matrix3.inverse().transpose();
@@ -122,7 +119,9 @@ impl Loader {
         if scales.iter().any(|s| (s - mean).abs() > 1e-4 * mean) {
             self.warn(
                 element,
-                format!("sphere: to_world scales unevenly ({scales:?}); using the mean scale {mean}"),
+                format!(
+                    "sphere: to_world scales unevenly ({scales:?}); using the mean scale {mean}"
+                ),
             );
         }
         Ok(ShapeGeometry::Sphere {

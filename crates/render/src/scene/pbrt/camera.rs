@@ -142,7 +142,9 @@ impl Loader {
         if kind != "perspective" {
             self.warn(
                 position,
-                format!("Camera \"{kind}\" is not supported; a perspective camera with its fov is used"),
+                format!(
+                    "Camera \"{kind}\" is not supported; a perspective camera with its fov is used"
+                ),
             );
         }
         let camera = &mut self.camera;
@@ -164,7 +166,9 @@ impl Loader {
         }
         camera.screen_window = match parameters.floats("screenwindow")? {
             None => None,
-            Some(window) if window.len() == 4 && window[0] != window[1] && window[2] != window[3] => {
+            Some(window)
+                if window.len() == 4 && window[0] != window[1] && window[2] != window[3] =>
+            {
                 Some([window[0], window[1], window[2], window[3]])
             }
             Some(window) => {
@@ -282,7 +286,8 @@ impl Loader {
                 };
             }
             "Integrator" => {
-                self.camera.pbrt_max_depth = parameters.integer("maxdepth", PBRT_DEFAULT_MAX_DEPTH)?;
+                self.camera.pbrt_max_depth =
+                    parameters.integer("maxdepth", PBRT_DEFAULT_MAX_DEPTH)?;
                 if self.camera.pbrt_max_depth < 0 {
                     return Err(position.error(format!(
                         "Integrator: \"integer maxdepth\" must not be negative, found {}",

@@ -83,8 +83,7 @@ impl ShapeTransform {
     /// A normal (by the inverse transpose), not normalised.
     pub fn normal(&self, n: [f32; 3]) -> Vec3 {
         let linear = DMat3::from_mat4(self.matrix);
-        (linear.inverse().transpose() * DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64))
-            .as_vec3()
+        (linear.inverse().transpose() * DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64)).as_vec3()
     }
 
     /// Whether the transform mirrors (its linear part has a negative determinant).

@@ -19,7 +19,7 @@ use super::parser::Loader;
 use super::spectrum_values::{light_normalisation, scaled};
 use crate::scene::description::{
     EnvironmentProjection, LightDescription, MediumCoefficients, MediumDescription,
-    PhaseDescription, SpectrumDescription,
+    PhaseDescription, SpectrumDescription, SpotFalloff,
 };
 use crate::scene::loader::SceneFileError;
 use glam::{Affine3A, DVec3, Mat3, Vec3};
@@ -92,13 +92,13 @@ impl Loader {
                     position.error("LightSource \"spot\": \"from\" and \"to\" must differ")
                 })?;
                 let frame = frame_from_z(axis.as_vec3());
-                let light_to_world =
-                    Affine3A::from_mat3_translation(frame, from.as_vec3());
+                let light_to_world = Affine3A::from_mat3_translation(frame, from.as_vec3());
                 LightDescription::Spot {
                     to_world: Affine3A::from_mat4(ctm.as_mat4()) * light_to_world,
                     intensity: scaled(intensity, scale),
                     cutoff_degrees: cone_angle,
                     falloff_start_degrees: falloff_start,
+                    falloff: SpotFalloff::PbrtSmoothstep,
                     texture: None,
                 }
             }
@@ -127,7 +127,10 @@ impl Loader {
                 let filename = parameters.string("filename")?;
                 if parameters.has("portal") {
                     parameters.find("portal");
-                    self.warn(position, "LightSource \"infinite\": portals are not supported and are ignored");
+                    self.warn(
+                        position,
+                        "LightSource \"infinite\": portals are not supported and are ignored",
+                    );
                 }
                 match filename {
                     Some(filename) => {
@@ -181,7 +184,10 @@ impl Loader {
             }
         };
         if self.current_object.is_some() {
-            self.warn(position, "LightSource inside an object definition is added once, untransformed by instances");
+            self.warn(
+                position,
+                "LightSource inside an object definition is added once, untransformed by instances",
+            );
         }
         self.lights.push(light);
         Ok(())
@@ -246,12 +252,18 @@ impl Loader {
             return Ok(());
         }
         if parameters.string("preset")?.is_some() {
-            self.warn(position, "MakeNamedMedium: \"preset\" is not supported; sigma_a and sigma_s are used");
+            self.warn(
+                position,
+                "MakeNamedMedium: \"preset\" is not supported; sigma_a and sigma_s are used",
+            );
         }
         if parameters.has("Le") {
             parameters.find("Le");
             parameters.float("Lescale", 1.0)?;
-            self.warn(position, "MakeNamedMedium: emissive media (\"Le\") are not supported");
+            self.warn(
+                position,
+                "MakeNamedMedium: emissive media (\"Le\") are not supported",
+            );
         }
         let sigma_a = self
             .spectrum_parameter(parameters, "sigma_a")?

@@ -67,9 +67,10 @@ impl Cursor {
                 text,
                 ..
             }) => Ok(text),
-            Some(other) => Err(self
-                .at(other.line)
-                .error(format!("{directive}: expected {what} (a quoted string), found {}", other.describe()))),
+            Some(other) => Err(self.at(other.line).error(format!(
+                "{directive}: expected {what} (a quoted string), found {}",
+                other.describe()
+            ))),
             None => Err(self.at(self.last_line()).error(format!(
                 "{directive}: expected {what} (a quoted string), found the end of the file"
             ))),
@@ -97,7 +98,11 @@ impl Cursor {
     }
 
     /// `count` numbers, optionally enclosed in brackets.
-    fn expect_numbers(&mut self, directive: &str, count: usize) -> Result<Vec<f64>, SceneFileError> {
+    fn expect_numbers(
+        &mut self,
+        directive: &str,
+        count: usize,
+    ) -> Result<Vec<f64>, SceneFileError> {
         let bracketed = matches!(self.peek(), Some(t) if t.kind == TokenKind::OpenBracket);
         if bracketed {
             self.next();
@@ -115,9 +120,9 @@ impl Cursor {
                     )));
                 }
                 None => {
-                    return Err(self
-                        .at(self.last_line())
-                        .error(format!("{directive}: expected ']', found the end of the file")));
+                    return Err(self.at(self.last_line()).error(format!(
+                        "{directive}: expected ']', found the end of the file"
+                    )));
                 }
             }
         }
@@ -181,7 +186,12 @@ impl Cursor {
                 }
             }
             let values = self.values(&declaration.text, kind, &value_tokens)?;
-            parameters.push(Parameter::new(type_name, name.to_string(), values, position));
+            parameters.push(Parameter::new(
+                type_name,
+                name.to_string(),
+                values,
+                position,
+            ));
         }
         Ok(ParameterList { parameters })
     }
@@ -432,9 +442,9 @@ impl Loader {
             }
             "Rotate" => {
                 let v = cursor.expect_numbers(name, 4)?;
-                let axis = DVec3::new(v[1], v[2], v[3]).try_normalize().ok_or_else(|| {
-                    position.error("Rotate: the rotation axis must not be zero")
-                })?;
+                let axis = DVec3::new(v[1], v[2], v[3])
+                    .try_normalize()
+                    .ok_or_else(|| position.error("Rotate: the rotation axis must not be zero"))?;
                 self.transform_by(DMat4::from_axis_angle(axis, v[0].to_radians()));
             }
             "LookAt" => {
@@ -484,9 +494,9 @@ impl Loader {
                 let which = match cursor.next() {
                     Some(t) if t.kind == TokenKind::Word => t.text,
                     _ => {
-                        return Err(position.error(
-                            "ActiveTransform: expected StartTime, EndTime or All",
-                        ));
+                        return Err(
+                            position.error("ActiveTransform: expected StartTime, EndTime or All")
+                        );
                     }
                 };
                 if which != "All" && which != "StartTime" && which != "EndTime" {
@@ -503,7 +513,10 @@ impl Loader {
             }
             "TransformTimes" => {
                 cursor.expect_numbers(name, 2)?;
-                self.warn(position, "TransformTimes: animated transforms are not supported");
+                self.warn(
+                    position,
+                    "TransformTimes: animated transforms are not supported",
+                );
             }
             "AttributeBegin" | "TransformBegin" => {
                 let scope = if name == "AttributeBegin" {
@@ -629,8 +642,10 @@ impl Loader {
                 let transform = self.state.ctm;
                 let shapes = definition.shapes.clone();
                 for shape in shapes {
-                    let instanced = super::shapes::transform_shape(shape, transform)
-                        .map_err(|message| position.error(format!("ObjectInstance \"{object}\": {message}")))?;
+                    let instanced =
+                        super::shapes::transform_shape(shape, transform).map_err(|message| {
+                            position.error(format!("ObjectInstance \"{object}\": {message}"))
+                        })?;
                     self.shapes.push(instanced);
                 }
             }
@@ -653,7 +668,8 @@ impl Loader {
                 }
             }
             "Attribute" => {
-                let target = cursor.expect_string(name, "shape, light, material, medium or texture")?;
+                let target =
+                    cursor.expect_string(name, "shape, light, material, medium or texture")?;
                 let parameters = cursor.parameter_list()?;
                 if !parameters.parameters.is_empty() {
                     self.warn(
@@ -666,7 +682,8 @@ impl Loader {
                 let kind = cursor.expect_string(name, "a camera type")?;
                 let parameters = cursor.parameter_list()?;
                 if self.in_world {
-                    return Err(position.error("Camera inside the world block (expected before WorldBegin)"));
+                    return Err(position
+                        .error("Camera inside the world block (expected before WorldBegin)"));
                 }
                 let camera_from_world = self.state.ctm;
                 let world_from_camera = camera_from_world.inverse();
@@ -703,7 +720,8 @@ impl Loader {
             }
             "Texture" => {
                 let texture = cursor.expect_string(name, "a texture name")?;
-                let value_type = cursor.expect_string(name, "the texture's type, \"spectrum\" or \"float\"")?;
+                let value_type =
+                    cursor.expect_string(name, "the texture's type, \"spectrum\" or \"float\"")?;
                 let class = cursor.expect_string(name, "a texture class such as \"imagemap\"")?;
                 let parameters = cursor.parameter_list()?;
                 self.texture_directive(&texture, &value_type, &class, &parameters, position)?;
@@ -730,9 +748,15 @@ impl Loader {
                     .insert(material_name.clone(), material)
                     .is_some()
                 {
-                    self.warn(position, format!("named material \"{material_name}\" redefined"));
+                    self.warn(
+                        position,
+                        format!("named material \"{material_name}\" redefined"),
+                    );
                 }
-                self.warn_unused(&parameters, &format!("MakeNamedMaterial \"{material_name}\""));
+                self.warn_unused(
+                    &parameters,
+                    &format!("MakeNamedMaterial \"{material_name}\""),
+                );
             }
             "NamedMaterial" => {
                 let material_name = cursor.expect_string(name, "a material name")?;
@@ -779,7 +803,10 @@ impl Loader {
                 Scope::Transform => "TransformBegin",
                 Scope::Object => "ObjectBegin",
             };
-            self.warn(&position, format!("{begin} without a matching end at the end of the scene"));
+            self.warn(
+                &position,
+                format!("{begin} without a matching end at the end of the scene"),
+            );
         }
         Ok(())
     }

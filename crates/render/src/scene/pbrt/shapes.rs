@@ -59,11 +59,7 @@ fn check_indices(
 
 /// Transforms a mesh given in object space and orients its triangles as pbrt
 /// would (see the module documentation).
-fn orient_mesh(
-    mesh: MeshData,
-    transform: &ShapeTransform,
-    reverse_orientation: bool,
-) -> WorldMesh {
+fn orient_mesh(mesh: MeshData, transform: &ShapeTransform, reverse_orientation: bool) -> WorldMesh {
     let positions: Vec<Vec3> = mesh
         .positions
         .iter()
@@ -143,8 +139,8 @@ fn uniform_scale(matrix: &DMat4) -> Option<f64> {
             .transform_vector3(DVec3::X)
             .dot(matrix.transform_vector3(DVec3::Z))
             .abs();
-    let similar = lengths.iter().all(|l| (l - mean).abs() <= 1e-5 * mean)
-        && orthogonal <= 1e-5 * mean * mean;
+    let similar =
+        lengths.iter().all(|l| (l - mean).abs() <= 1e-5 * mean) && orthogonal <= 1e-5 * mean * mean;
     similar.then_some(mean)
 }
 
@@ -239,7 +235,10 @@ impl Loader {
                 if parameters.has("displacement") {
                     parameters.find("displacement");
                     parameters.float("edgelength", 1.0)?;
-                    self.warn(position, "Shape \"plymesh\": displacement is not supported and is ignored");
+                    self.warn(
+                        position,
+                        "Shape \"plymesh\": displacement is not supported and is ignored",
+                    );
                 }
                 let mesh = read_ply(&path)?;
                 let world = orient_mesh(mesh, &transform, reverse);
@@ -294,8 +293,11 @@ impl Loader {
                 let object = Affine3A::from_translation(Vec3::new(0.0, 0.0, height))
                     * Affine3A::from_scale(Vec3::new(radius, radius, 1.0));
                 let to_world = transform.affine() * object;
-                let area =
-                    PI * to_world.transform_vector3(Vec3::X).cross(to_world.transform_vector3(Vec3::Y)).length();
+                let area = PI
+                    * to_world
+                        .transform_vector3(Vec3::X)
+                        .cross(to_world.transform_vector3(Vec3::Y))
+                        .length();
                 (ShapeGeometry::Disk { to_world }, area, reverse)
             }
             other => {
@@ -344,7 +346,10 @@ impl Loader {
             match loader.named_media.get(name) {
                 Some(&index) => Some(index),
                 None => {
-                    loader.warn(position, format!("MediumInterface: no medium named \"{name}\"; vacuum is used"));
+                    loader.warn(
+                        position,
+                        format!("MediumInterface: no medium named \"{name}\"; vacuum is used"),
+                    );
                     None
                 }
             }
@@ -385,9 +390,9 @@ impl Loader {
         parameters: &ParameterList,
         position: &Position,
     ) -> Result<MeshData, SceneFileError> {
-        let positions = parameters
-            .tuples::<3>("P", &["point3"])?
-            .ok_or_else(|| position.error("Shape \"trianglemesh\": expected a \"point3 P\" parameter"))?;
+        let positions = parameters.tuples::<3>("P", &["point3"])?.ok_or_else(|| {
+            position.error("Shape \"trianglemesh\": expected a \"point3 P\" parameter")
+        })?;
         let indices = match parameters.integers("indices")? {
             Some(indices) => indices,
             None if positions.len() == 3 => vec![0, 1, 2],
@@ -417,9 +422,9 @@ impl Loader {
         parameters: &ParameterList,
         position: &Position,
     ) -> Result<MeshData, SceneFileError> {
-        let positions = parameters
-            .tuples::<3>("P", &["point3"])?
-            .ok_or_else(|| position.error("Shape \"bilinearmesh\": expected a \"point3 P\" parameter"))?;
+        let positions = parameters.tuples::<3>("P", &["point3"])?.ok_or_else(|| {
+            position.error("Shape \"bilinearmesh\": expected a \"point3 P\" parameter")
+        })?;
         let indices = match parameters.integers("indices")? {
             Some(indices) => indices,
             None if positions.len() == 4 => vec![0, 1, 2, 3],
@@ -443,7 +448,10 @@ impl Loader {
             triangles.push([p00, p11, p01]);
         }
         if non_planar {
-            self.warn(position, "Shape \"bilinearmesh\": non-planar patches are approximated by two triangles each");
+            self.warn(
+                position,
+                "Shape \"bilinearmesh\": non-planar patches are approximated by two triangles each",
+            );
         }
         let mesh = self.mesh_attributes(parameters, position, positions, "bilinearmesh")?;
         Ok(MeshData { triangles, ..mesh })
@@ -574,7 +582,8 @@ mod tests {
     #[test]
     fn uniform_scales_are_recognised() {
         let rotation = DMat4::from_axis_angle(DVec3::new(1.0, 2.0, 3.0).normalize(), 0.7);
-        let similarity = DMat4::from_translation(DVec3::ONE) * rotation * DMat4::from_scale(DVec3::splat(2.0));
+        let similarity =
+            DMat4::from_translation(DVec3::ONE) * rotation * DMat4::from_scale(DVec3::splat(2.0));
         assert!((uniform_scale(&similarity).unwrap() - 2.0).abs() < 1e-9);
         assert!(uniform_scale(&DMat4::from_scale(DVec3::new(1.0, 2.0, 1.0))).is_none());
     }

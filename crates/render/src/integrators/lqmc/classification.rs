@@ -1,0 +1,214 @@
+//! Path classes (normal, caustic, depth of field, next-event estimation)
+//! and the breakup vertex distribution `P(b | X)` (the paper's Sec. 3.3 and
+//! 3.4). Both are functions of a path alone, so that every member of an
+//! exploration can evaluate them for itself: the estimator needs `P(b | X_j)`
+//! and class membership of each member to stay unbiased.
+
+use super::path_record::{CameraVertex, SplatEvent, SurfaceVertex};
+use super::settings::{BreakupChoice, LqmcSettings};
+use crate::scene::Scene;
+
+/// The classes that choose the lattice size and the tiles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum PathClass {
+    /// Everything else.
+    Normal,
+    /// A (near-)diffuse vertex followed by a (near-)specular chain to the
+    /// light.
+    Caustic,
+    /// The first hit is out of focus.
+    DepthOfField,
+    /// Made by next-event estimation.
+    NextEvent,
+}
+
+impl PathClass {
+    /// Every class, in the order statistics list them.
+    pub const ALL: [PathClass; 4] = [
+        PathClass::Normal,
+        PathClass::Caustic,
+        PathClass::DepthOfField,
+        PathClass::NextEvent,
+    ];
+
+    /// Index in [`PathClass::ALL`].
+    pub fn index(self) -> usize {
+        match self {
+            PathClass::Normal => 0,
+            PathClass::Caustic => 1,
+            PathClass::DepthOfField => 2,
+            PathClass::NextEvent => 3,
+        }
+    }
+
+    /// The name used by options and statistics.
+    pub fn name(self) -> &'static str {
+        match self {
+            PathClass::Normal => "normal",
+            PathClass::Caustic => "caustic",
+            PathClass::DepthOfField => "dof",
+            PathClass::NextEvent => "nee",
+        }
+    }
+}
+
+/// The roughness of a surface vertex for the breakup CDF: 0 for a specular
+/// scattering, 1 otherwise (diffuse). This is the one place to switch to the
+/// BSDF's own roughness (α of rough materials) once materials provide it.
+pub fn vertex_roughness(vertex: &SurfaceVertex) -> f32 {
+    if vertex.sampled.is_specular() {
+        0.0
+    } else {
+        1.0
+    }
+}
+
+/// A path of an event: the camera vertex, the surface vertices and the
+/// event.
+#[derive(Debug, Clone, Copy)]
+pub struct EventPath<'a> {
+    /// The camera vertex.
+    pub camera: &'a CameraVertex,
+    /// The event's surface vertices.
+    pub vertices: &'a [SurfaceVertex],
+    /// The event.
+    pub event: &'a SplatEvent,
+}
+
+impl EventPath<'_> {
+    /// Roughness of vertex `x_index` (paper numbering): 1 for the camera and
+    /// for the light vertex (environment and area lights alike).
+    pub fn roughness(&self, index: usize) -> f32 {
+        if index == 0 || index >= self.event.last_vertex() {
+            return 1.0;
+        }
+        let vertex = &self.vertices[index - 1];
+        if index - 1 >= self.event.scattering_count() {
+            1.0
+        } else {
+            vertex_roughness(vertex)
+        }
+    }
+}
+
+/// The circle of confusion of the path's first hit, in pixels (diameter on
+/// the plane in focus, aperture diameter × |focus − distance| / distance,
+/// over the pixel size there).
+pub fn circle_of_confusion_pixels(scene: &Scene, path: &EventPath<'_>) -> f32 {
+    let camera = &scene.camera;
+    let Some(first) = path.vertices.first() else {
+        return 0.0;
+    };
+    if camera.lens_radius() <= 0.0 {
+        return 0.0;
+    }
+    let focus = camera.focus_distance();
+    let distance = (first.hit.point - path.camera.origin).length();
+    let diameter = 2.0 * camera.lens_radius() * (focus - distance).abs() / distance;
+    diameter / (camera.pixel_size_at_unit_distance() * focus)
+}
+
+/// The class of a path.
+pub fn classify(scene: &Scene, settings: &LqmcSettings, path: &EventPath<'_>) -> PathClass {
+    if circle_of_confusion_pixels(scene, path) > settings.depth_of_field_threshold_pixels {
+        return PathClass::DepthOfField;
+    }
+    let scattering = &path.vertices[..path.event.scattering_count()];
+    let chain = scattering
+        .iter()
+        .rev()
+        .take_while(|vertex| vertex_roughness(vertex) < settings.caustic_roughness)
+        .count();
+    if chain > 0 && chain < scattering.len() {
+        return PathClass::Caustic;
+    }
+    if path.event.is_next_event() {
+        PathClass::NextEvent
+    } else {
+        PathClass::Normal
+    }
+}
+
+/// The breakup weights `w_b`, b = 0 .. k − 1: the roughness CDF's
+/// unnormalised masses (min roughness of `x_b` and `x_{b+1}`, b = 0 weighted
+/// up for depth-of-field paths), or the fixed choice; `explorable(b)` says
+/// whether `b` has between 1 and 21 explored dimensions.
+pub fn breakup_weights(
+    settings: &LqmcSettings,
+    path: &EventPath<'_>,
+    class: PathClass,
+    mut explorable: impl FnMut(usize) -> bool,
+    weights: &mut Vec<f64>,
+) {
+    weights.clear();
+    let last = path.event.last_vertex();
+    for b in 0..last {
+        let roughness = path.roughness(b).min(path.roughness(b + 1)) as f64;
+        let mut weight = match settings.breakup {
+            BreakupChoice::Fixed(fixed) => {
+                if fixed == b && roughness > 0.0 {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+            BreakupChoice::Roughness => roughness,
+        };
+        if b == 0 && class == PathClass::DepthOfField {
+            weight *= settings.depth_of_field_camera_weight as f64;
+        }
+        if weight > 0.0 && !explorable(b) {
+            weight = 0.0;
+        }
+        weights.push(weight);
+    }
+}
+
+/// `P(b | X)` from the weights (0 where they are all zero).
+pub fn breakup_probability(weights: &[f64], breakup: usize) -> f64 {
+    let total: f64 = weights.iter().sum();
+    if total > 0.0 {
+        weights.get(breakup).copied().unwrap_or(0.0) / total
+    } else {
+        0.0
+    }
+}
+
+/// Draws `b` from the weights with `u ∈ [0, 1)`; `None` if all are zero.
+pub fn draw_breakup(weights: &[f64], u: f64) -> Option<usize> {
+    let total: f64 = weights.iter().sum();
+    if total <= 0.0 {
+        return None;
+    }
+    let target = u * total;
+    let mut running = 0.0;
+    let mut chosen = None;
+    for (index, weight) in weights.iter().enumerate() {
+        if *weight <= 0.0 {
+            continue;
+        }
+        chosen = Some(index);
+        running += weight;
+        if target < running {
+            break;
+        }
+    }
+    chosen
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn breakup_draw_follows_the_weights() {
+        let weights = [0.0, 1.0, 0.0, 3.0];
+        assert_eq!(draw_breakup(&weights, 0.0), Some(1));
+        assert_eq!(draw_breakup(&weights, 0.24), Some(1));
+        assert_eq!(draw_breakup(&weights, 0.26), Some(3));
+        assert_eq!(draw_breakup(&weights, 0.999), Some(3));
+        assert_eq!(draw_breakup(&[0.0, 0.0], 0.5), None);
+        assert!((breakup_probability(&weights, 3) - 0.75).abs() < 1e-12);
+        assert_eq!(breakup_probability(&weights, 2), 0.0);
+    }
+}

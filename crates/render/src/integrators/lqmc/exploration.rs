@@ -1,0 +1,437 @@
+//! One pixel sample of LQMC (Alg. 1 around a Halton-seeded path tracer):
+//! trace the seed path, and for each of its splat events either splat it as
+//! it is or explore it with a lattice set and splat every member with its
+//! estimator weight.
+
+use super::classification::{
+    EventPath, PathClass, breakup_probability, breakup_weights, classify, draw_breakup,
+};
+use super::estimator::member_weights;
+use super::explored_dimensions::{DimensionKind, ExploredDimension, explored_dimensions};
+use super::lattice_step::{LatticeMembers, TileGrid, lattice_members};
+use super::path_record::{SplatEvent, SurfaceVertex};
+use super::path_walk::{WalkInput, walk};
+use super::prefix_rebuild::{MemberCamera, MemberSource, rebuild_member};
+use super::seed_path::{SeedPath, trace_seed_path};
+use super::settings::{BreakupChoice, LqmcSettings};
+use super::statistics::{FailureReason, LqmcStatistics};
+use crate::film::SplatBuffer;
+use crate::integrators::TraceCounters;
+use crate::integrators::path::PathSettings;
+use crate::sampler::{SampleSource, layout};
+use crate::scene::Scene;
+use crate::spectrum::to_linear_srgb;
+use glam::Vec2;
+use qmc::hash::{hash2, hash3, to_unit_f64};
+use qmc::lattice_table::{LQMC_MAX_DIMENSIONS, lqmc_lattice_entry};
+use std::time::Instant;
+
+/// Purposes of the deterministic random choices (hash keys).
+const BREAKUP_KEY: u64 = 0x6272_6561_6b75_7000;
+const JITTER_KEY: u64 = 0x6a69_7474_6572_0000;
+const SCRAMBLE_KEY: u64 = 0x7363_7261_6d62_6c65;
+
+/// What every pixel sample of a render shares.
+#[derive(Debug, Clone, Copy)]
+pub struct LqmcContext<'a> {
+    /// The scene.
+    pub scene: &'a Scene,
+    /// LQMC's settings.
+    pub settings: &'a LqmcSettings,
+    /// The seed path tracer's settings.
+    pub path_settings: PathSettings,
+    /// The render's seed (keys the tile jitter, the breakup draw and the
+    /// dimension scrambling).
+    pub seed: u64,
+}
+
+/// Buffers reused from one pixel sample to the next.
+#[derive(Debug, Default)]
+pub struct LqmcScratch {
+    seed_path: SeedPath,
+    member_vertices: Vec<SurfaceVertex>,
+    dimensions: Vec<ExploredDimension>,
+    probe_dimensions: Vec<ExploredDimension>,
+    breakup_weights: Vec<f64>,
+    seed_numbers: Vec<f64>,
+    tiles: Vec<u32>,
+    jitter: Vec<f64>,
+    lattice_dimension: Vec<usize>,
+    query: Vec<f64>,
+    members: LatticeMembers,
+    overrides: Vec<(usize, f32)>,
+    member_splats: Vec<([f32; 2], [f32; 3])>,
+    member_densities: Vec<f64>,
+    weights: Vec<f64>,
+}
+
+/// Renders one pixel sample: `sampler` is positioned at it.
+#[allow(clippy::too_many_arguments)]
+pub fn render_pixel_sample(
+    context: &LqmcContext<'_>,
+    pixel: (u32, u32),
+    sample_index: u64,
+    sampler: &mut dyn SampleSource,
+    scratch: &mut LqmcScratch,
+    splats: &mut SplatBuffer,
+    statistics: &mut LqmcStatistics,
+    counters: &mut TraceCounters,
+) {
+    let film = sampler.get_2d(layout::FILM);
+    let raster = Vec2::new(pixel.0 as f32 + film[0], pixel.1 as f32 + film[1]);
+    let mut seed_path = std::mem::take(&mut scratch.seed_path);
+    trace_seed_path(
+        context.scene,
+        &context.path_settings,
+        raster,
+        sampler,
+        counters,
+        &mut seed_path,
+    );
+    let sample_key = hash3(context.seed, crate::sampler::pixel_key(pixel), sample_index);
+    for (event_index, event) in seed_path.events.iter().enumerate() {
+        let event_key = hash2(sample_key, event_index as u64);
+        handle_event(
+            context,
+            &seed_path,
+            event,
+            sample_index,
+            event_key,
+            sampler,
+            scratch,
+            splats,
+            statistics,
+            counters,
+        );
+    }
+    scratch.seed_path = seed_path;
+}
+
+/// Splats one event, explored or not.
+#[allow(clippy::too_many_arguments)]
+fn handle_event(
+    context: &LqmcContext<'_>,
+    seed_path: &SeedPath,
+    event: &SplatEvent,
+    sample_index: u64,
+    event_key: u64,
+    sampler: &mut dyn SampleSource,
+    scratch: &mut LqmcScratch,
+    splats: &mut SplatBuffer,
+    statistics: &mut LqmcStatistics,
+    counters: &mut TraceCounters,
+) {
+    let scene = context.scene;
+    let settings = context.settings;
+    let camera = seed_path.camera.as_ref().expect("traced");
+    let vertices = &seed_path.vertices[..event.vertex_count];
+    let Ok(walked) = walk(
+        scene,
+        &context.path_settings,
+        &WalkInput {
+            camera,
+            vertices,
+            terminal: &event.terminal,
+            rebuilt_vertices: 0,
+            breakup: None,
+        },
+        sampler,
+    ) else {
+        return;
+    };
+    statistics.events += 1;
+    let rgb = to_linear_srgb(&walked.contribution, &walked.wavelengths);
+    let direct = |splats: &mut SplatBuffer, statistics: &mut LqmcStatistics| {
+        statistics.direct_splats += 1;
+        let _ = splats.add(camera.raster.to_array(), rgb);
+    };
+    // Paths of fewer than three vertices are not explored.
+    if event.last_vertex() < 2 {
+        return direct(splats, statistics);
+    }
+    let path = EventPath {
+        camera,
+        vertices,
+        event,
+    };
+    let class = classify(scene, settings, &path);
+    let parameters = *settings.class_parameters(class);
+    if !parameters.explore {
+        return direct(splats, statistics);
+    }
+    let probe = &mut scratch.probe_dimensions;
+    let mut weights = std::mem::take(&mut scratch.breakup_weights);
+    breakup_weights(
+        settings,
+        &path,
+        class,
+        |b| {
+            explored_dimensions(scene, settings, &parameters, &path, b, probe);
+            (1..=LQMC_MAX_DIMENSIONS).contains(&probe.len())
+        },
+        &mut weights,
+    );
+    let breakup = draw_breakup(&weights, to_unit_f64(hash2(event_key, BREAKUP_KEY)));
+    scratch.breakup_weights = weights;
+    let Some(breakup) = breakup else {
+        return direct(splats, statistics);
+    };
+    debug_assert!(
+        matches!(settings.breakup, BreakupChoice::Roughness)
+            || settings.breakup == BreakupChoice::Fixed(breakup)
+    );
+    explore(
+        context,
+        seed_path,
+        event,
+        class,
+        breakup,
+        sample_index,
+        event_key,
+        sampler,
+        scratch,
+        splats,
+        statistics,
+        counters,
+    );
+}
+
+/// Explores one event with breakup vertex `breakup` (Alg. 1).
+#[allow(clippy::too_many_arguments)]
+fn explore(
+    context: &LqmcContext<'_>,
+    seed_path: &SeedPath,
+    event: &SplatEvent,
+    class: PathClass,
+    breakup: usize,
+    sample_index: u64,
+    event_key: u64,
+    sampler: &mut dyn SampleSource,
+    scratch: &mut LqmcScratch,
+    splats: &mut SplatBuffer,
+    statistics: &mut LqmcStatistics,
+    counters: &mut TraceCounters,
+) {
+    let scene = context.scene;
+    let settings = context.settings;
+    let camera = seed_path.camera.as_ref().expect("traced");
+    let vertices = &seed_path.vertices[..event.vertex_count];
+    let parameters = *settings.class_parameters(class);
+    let path = EventPath {
+        camera,
+        vertices,
+        event,
+    };
+    explored_dimensions(
+        scene,
+        settings,
+        &parameters,
+        &path,
+        breakup,
+        &mut scratch.dimensions,
+    );
+    let dimension_count = scratch.dimensions.len();
+    let [width, height] = scene.camera.resolution().map(|size| size as f32);
+
+    // The seed's explored numbers, tiles, jitter and lattice dimensions.
+    scratch.seed_numbers.clear();
+    scratch.tiles.clear();
+    scratch.jitter.clear();
+    scratch.lattice_dimension.clear();
+    for (index, dimension) in scratch.dimensions.iter().enumerate() {
+        let value = match dimension.kind {
+            DimensionKind::Lens(axis) => camera.u_lens[axis],
+            DimensionKind::Wavelength => camera.u_wavelength,
+            DimensionKind::Time => camera.u_time,
+            DimensionKind::Image(0) => camera.raster.x / width,
+            DimensionKind::Image(_) => camera.raster.y / height,
+            DimensionKind::Direction { vertex, axis } => {
+                sampler.get(layout::vertex(vertex, layout::SCATTER_DIRECTION + axis))
+            }
+        };
+        scratch
+            .seed_numbers
+            .push((value as f64).clamp(0.0, 1.0 - f64::EPSILON));
+        scratch.tiles.push(dimension.tiles);
+        let jitter = if settings.jitter_tiles {
+            to_unit_f64(hash3(
+                context.seed ^ JITTER_KEY,
+                sample_index,
+                dimension.kind.key(),
+            )) / dimension.tiles as f64
+        } else {
+            0.0
+        };
+        scratch.jitter.push(jitter);
+        scratch.lattice_dimension.push(index);
+    }
+    if settings.scramble_dimensions {
+        scramble_lattice_dimensions(
+            &scratch.dimensions,
+            &mut scratch.lattice_dimension,
+            hash2(event_key, SCRAMBLE_KEY),
+        );
+    }
+    let Ok(entry) = lqmc_lattice_entry(parameters.lattice_size, dimension_count) else {
+        let _ = splats.add(camera.raster.to_array(), [0.0; 3]);
+        return;
+    };
+    let start = Instant::now();
+    let found = lattice_members(
+        entry,
+        &TileGrid {
+            tiles: &scratch.tiles,
+            jitter: &scratch.jitter,
+            lattice_dimension: &scratch.lattice_dimension,
+        },
+        &scratch.seed_numbers,
+        &mut scratch.query,
+        &mut scratch.members,
+    );
+    statistics.closest_point_nanoseconds += start.elapsed().as_nanos() as u64;
+    if found.is_err() {
+        return;
+    }
+    statistics.explorations[class.index()] += 1;
+    statistics.breakups[breakup.min(3)] += 1;
+
+    let member_count = scratch.members.numbers.len() / dimension_count;
+    scratch.member_splats.clear();
+    scratch.member_densities.clear();
+    let mut probe = std::mem::take(&mut scratch.probe_dimensions);
+    let mut member_breakup_weights = std::mem::take(&mut scratch.breakup_weights);
+    for j in 0..member_count {
+        let numbers = &scratch.members.numbers[j * dimension_count..(j + 1) * dimension_count];
+        let mut member_camera = MemberCamera {
+            raster: camera.raster,
+            u_lens: camera.u_lens,
+            u_time: camera.u_time,
+            u_wavelength: camera.u_wavelength,
+        };
+        scratch.overrides.clear();
+        for (dimension, value) in scratch.dimensions.iter().zip(numbers) {
+            let value = crate::sampler::to_f32(*value);
+            match dimension.kind {
+                DimensionKind::Lens(axis) => member_camera.u_lens[axis] = value,
+                DimensionKind::Wavelength => member_camera.u_wavelength = value,
+                DimensionKind::Time => member_camera.u_time = value,
+                DimensionKind::Image(0) => {
+                    member_camera.raster.x = (value * width).min(width.next_down())
+                }
+                DimensionKind::Image(_) => {
+                    member_camera.raster.y = (value * height).min(height.next_down())
+                }
+                DimensionKind::Direction { vertex, axis } => scratch.overrides.push((
+                    layout::vertex(vertex, layout::SCATTER_DIRECTION + axis),
+                    value,
+                )),
+            }
+        }
+        let mut source = MemberSource {
+            seed: &mut *sampler,
+            overrides: &scratch.overrides,
+        };
+        statistics.members[class.index()] += 1;
+        let member = rebuild_member(
+            scene,
+            settings.reconnection_tolerance,
+            &seed_path.vertices,
+            event,
+            breakup,
+            &member_camera,
+            &mut source,
+            counters,
+            &mut scratch.member_vertices,
+        )
+        .and_then(|member_vertex| {
+            let walked = walk(
+                scene,
+                &context.path_settings,
+                &WalkInput {
+                    camera: &member_vertex,
+                    vertices: &scratch.member_vertices,
+                    terminal: &event.terminal,
+                    rebuilt_vertices: breakup,
+                    breakup: Some(breakup),
+                },
+                &mut source,
+            )?;
+            // P(c | X_j): the member's own class and breakup probability.
+            let member_path = EventPath {
+                camera: &member_vertex,
+                vertices: &scratch.member_vertices,
+                event,
+            };
+            let member_class = classify(scene, settings, &member_path);
+            if member_class != class {
+                return Err(FailureReason::ClassChange);
+            }
+            breakup_weights(
+                settings,
+                &member_path,
+                class,
+                |b| {
+                    explored_dimensions(scene, settings, &parameters, &member_path, b, &mut probe);
+                    (1..=LQMC_MAX_DIMENSIONS).contains(&probe.len())
+                },
+                &mut member_breakup_weights,
+            );
+            let probability = breakup_probability(&member_breakup_weights, breakup);
+            if probability <= 0.0 {
+                return Err(FailureReason::ClassChange);
+            }
+            Ok((member_vertex, walked, probability))
+        });
+        match member {
+            Ok((member_vertex, walked, probability)) => {
+                let density = probability * walked.suffix_density;
+                if !(density > 0.0 && density.is_finite()) {
+                    statistics.fail(FailureReason::Evaluation);
+                    continue;
+                }
+                statistics.valid_members[class.index()] += 1;
+                scratch.member_splats.push((
+                    member_vertex.raster.to_array(),
+                    to_linear_srgb(&walked.contribution, &walked.wavelengths),
+                ));
+                scratch.member_densities.push(density);
+            }
+            Err(reason) => statistics.fail(reason),
+        }
+    }
+    scratch.probe_dimensions = probe;
+    scratch.breakup_weights = member_breakup_weights;
+    if scratch.member_splats.is_empty() {
+        statistics.empty_explorations += 1;
+        return;
+    }
+    member_weights(&scratch.member_densities, &mut scratch.weights);
+    for ((raster, rgb), weight) in scratch.member_splats.iter().zip(&scratch.weights) {
+        let weight = *weight as f32;
+        let _ = splats.add(*raster, rgb.map(|channel| channel * weight));
+    }
+}
+
+/// The paper's proposed remedy against visible lattice structure: the two
+/// image-plane dimensions take the lattice dimensions of two other explored
+/// dimensions chosen at random (and those take theirs).
+fn scramble_lattice_dimensions(
+    dimensions: &[ExploredDimension],
+    lattice_dimension: &mut [usize],
+    key: u64,
+) {
+    let image: Vec<usize> = (0..dimensions.len())
+        .filter(|&i| matches!(dimensions[i].kind, DimensionKind::Image(_)))
+        .collect();
+    let mut others: Vec<usize> = (0..dimensions.len())
+        .filter(|&i| !matches!(dimensions[i].kind, DimensionKind::Image(_)))
+        .collect();
+    if image.len() != 2 || others.len() < 2 {
+        return;
+    }
+    for (round, &image_index) in image.iter().enumerate() {
+        let pick = (to_unit_f64(hash2(key, round as u64)) * others.len() as f64) as usize;
+        let other = others.swap_remove(pick.min(others.len() - 1));
+        lattice_dimension.swap(image_index, other);
+    }
+}

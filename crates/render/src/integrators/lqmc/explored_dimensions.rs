@@ -1,0 +1,119 @@
+//! Which primary-sample-space dimensions an exploration perturbs and in how
+//! many tiles each is cut (the paper's Sec. 3.1 and 3.4): wavelength, time
+//! and aperture always (breakup b = 0), the image plane from b ≥ 1, and the
+//! outgoing direction of every non-specular vertex x_1 .. x_{b−1} (which
+//! places x_2 .. x_b). Specular vertices consume no explored dimension;
+//! Russian roulette and component selection keep the seed's numbers.
+//! Free-flight distances (media) will add one dimension per medium segment.
+
+use super::classification::EventPath;
+use super::settings::{ClassParameters, LqmcSettings};
+use crate::sampler::layout;
+use crate::scene::Scene;
+
+/// One explored dimension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DimensionKind {
+    /// Lens position, axis 0 or 1.
+    Lens(usize),
+    /// Hero wavelength.
+    Wavelength,
+    /// Time.
+    Time,
+    /// Image plane, axis 0 (width) or 1 (height), as a fraction of the image.
+    Image(usize),
+    /// Outgoing direction of layout vertex `vertex`, axis 0 or 1.
+    Direction {
+        /// The layout vertex (x_{vertex+1} in the paper's numbering).
+        vertex: usize,
+        /// The axis.
+        axis: usize,
+    },
+}
+
+impl DimensionKind {
+    /// A number that identifies the dimension (its layout dimension; the
+    /// image plane uses the film dimensions), for the tile jitter.
+    pub fn key(self) -> u64 {
+        match self {
+            DimensionKind::Lens(axis) => (layout::LENS + axis) as u64,
+            DimensionKind::Wavelength => layout::WAVELENGTH as u64,
+            DimensionKind::Time => layout::TIME as u64,
+            DimensionKind::Image(axis) => (layout::FILM + axis) as u64,
+            DimensionKind::Direction { vertex, axis } => {
+                layout::vertex(vertex, layout::SCATTER_DIRECTION + axis) as u64
+            }
+        }
+    }
+}
+
+/// An explored dimension and its tile count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ExploredDimension {
+    /// Which dimension.
+    pub kind: DimensionKind,
+    /// Tiles along it (≥ 1).
+    pub tiles: u32,
+}
+
+/// The explored dimensions for breakup vertex `b` of `path` with the
+/// parameters of its class.
+pub fn explored_dimensions(
+    scene: &Scene,
+    settings: &LqmcSettings,
+    parameters: &ClassParameters,
+    path: &EventPath<'_>,
+    breakup: usize,
+    dimensions: &mut Vec<ExploredDimension>,
+) {
+    dimensions.clear();
+    let effects = settings.effects;
+    let camera = &scene.camera;
+    if effects.aperture && camera.lens_radius() > 0.0 {
+        for axis in 0..2 {
+            dimensions.push(ExploredDimension {
+                kind: DimensionKind::Lens(axis),
+                tiles: parameters.aperture_tiles.max(1),
+            });
+        }
+    }
+    if effects.wavelength {
+        dimensions.push(ExploredDimension {
+            kind: DimensionKind::Wavelength,
+            tiles: settings.wavelength_tiles.max(1),
+        });
+    }
+    if effects.time {
+        dimensions.push(ExploredDimension {
+            kind: DimensionKind::Time,
+            tiles: settings.time_tiles.max(1),
+        });
+    }
+    if breakup >= 1 {
+        if effects.image {
+            let [width, height] = camera.resolution();
+            let across = parameters.image_tiles.max(1);
+            let down = ((across as f64 * height as f64 / width as f64).round() as u32).max(1);
+            for (axis, tiles) in [across, down].into_iter().enumerate() {
+                dimensions.push(ExploredDimension {
+                    kind: DimensionKind::Image(axis),
+                    tiles,
+                });
+            }
+        }
+        if effects.direction {
+            // Vertex x_{m+1} (layout vertex m) samples the direction to x_{m+2}.
+            for vertex in 0..breakup.saturating_sub(1) {
+                if path.vertices[vertex].sampled.is_specular() {
+                    continue;
+                }
+                for axis in 0..2 {
+                    dimensions.push(ExploredDimension {
+                        kind: DimensionKind::Direction { vertex, axis },
+                        tiles: parameters.direction_tiles.max(1),
+                    });
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,114 @@
+//! The lattice step of Alg. 1: map the seed's explored numbers into their
+//! tile (`T(ū) = (ū − o)/k`, Eq. 12, on a tile grid jittered once per
+//! progression), find the closest lattice point and its Cranley–Patterson
+//! shift, and map every shifted lattice point back (`u_j = T⁻¹({r_j + Δ})`,
+//! Eq. 3 on the tile). The lattice dimension assigned to each explored
+//! dimension may be permuted (the paper's Sec. 5 remedy against visible
+//! lattice structure); a permuted rank-1 lattice is again a rank-1 lattice,
+//! so its Voronoi cells stay congruent and the shift consistent.
+
+use qmc::PointSet;
+use qmc::lattice_table::LqmcLatticeEntry;
+
+/// The explored numbers of every member, `N × s̄` row-major.
+#[derive(Debug, Clone, Default)]
+pub struct LatticeMembers {
+    /// Numbers in `[0, 1)`, one row per lattice point.
+    pub numbers: Vec<f64>,
+    /// The lattice point the seed is closest to (its own member).
+    pub seed_member: usize,
+}
+
+/// Tile grid and lattice dimension mapping of one exploration.
+#[derive(Debug, Clone, Copy)]
+pub struct TileGrid<'a> {
+    /// Tiles per explored dimension.
+    pub tiles: &'a [u32],
+    /// Grid offset per explored dimension, in `[0, 1/k)`.
+    pub jitter: &'a [f64],
+    /// The lattice dimension of each explored dimension (a permutation).
+    pub lattice_dimension: &'a [usize],
+}
+
+/// Fraction of `x` in `[0, 1)`.
+fn fraction(x: f64) -> f64 {
+    let fraction = x - x.floor();
+    if fraction >= 1.0 { 0.0 } else { fraction }
+}
+
+/// Fills `members` with the explored numbers of the exploration of `seed`
+/// (the seed's explored numbers, in `[0, 1)`).
+pub fn lattice_members(
+    entry: &LqmcLatticeEntry,
+    grid: &TileGrid<'_>,
+    seed: &[f64],
+    query: &mut Vec<f64>,
+    members: &mut LatticeMembers,
+) -> Result<(), qmc::PointSetError> {
+    let dimensions = seed.len();
+    query.clear();
+    query.resize(dimensions, 0.0);
+    let mut tile_index = [0.0f64; qmc::lattice_table::LQMC_MAX_DIMENSIONS];
+    for d in 0..dimensions {
+        let tiles = grid.tiles[d] as f64;
+        let scaled = (seed[d] - grid.jitter[d]) * tiles;
+        let tile = scaled.floor();
+        tile_index[d] = tile;
+        query[grid.lattice_dimension[d]] = fraction(scaled - tile).min(1.0 - f64::EPSILON);
+    }
+    let closest = entry.closest_point_search().closest_point(query)?;
+    let lattice = entry.lattice();
+    let count = lattice.point_count() as usize;
+    members.numbers.clear();
+    members.numbers.reserve(count * dimensions);
+    members.seed_member = closest.index as usize;
+    for j in 0..count {
+        for d in 0..dimensions {
+            let lattice_dimension = grid.lattice_dimension[d];
+            let in_tile = fraction(
+                lattice.sample(j as u64, lattice_dimension) + closest.shift[lattice_dimension],
+            );
+            let tiles = grid.tiles[d] as f64;
+            let value = fraction(grid.jitter[d] + (tile_index[d] + in_tile) / tiles);
+            members.numbers.push(value);
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use qmc::lattice_table::lqmc_lattice_entry;
+
+    #[test]
+    fn the_seed_is_a_member_and_members_stay_in_its_tile() {
+        let entry = lqmc_lattice_entry(23, 3).unwrap();
+        let tiles = [4, 1, 10];
+        let jitter = [0.1, 0.0, 0.05];
+        let grid = TileGrid {
+            tiles: &tiles,
+            jitter: &jitter,
+            lattice_dimension: &[2, 0, 1],
+        };
+        let seed = [0.37, 0.81, 0.999];
+        let mut members = LatticeMembers::default();
+        lattice_members(&entry, &grid, &seed, &mut Vec::new(), &mut members).unwrap();
+        assert_eq!(members.numbers.len(), 23 * 3);
+        let own = &members.numbers[members.seed_member * 3..members.seed_member * 3 + 3];
+        for d in 0..3 {
+            assert!((own[d] - seed[d]).abs() < 1e-12, "{own:?} vs {seed:?}");
+        }
+        for row in members.numbers.chunks(3) {
+            for d in 0..3 {
+                // Same tile as the seed on the jittered grid (mod 1).
+                let tile = |x: f64| {
+                    ((x - jitter[d]) * tiles[d] as f64)
+                        .floor()
+                        .rem_euclid(tiles[d] as f64)
+                };
+                assert_eq!(tile(row[d]), tile(seed[d]));
+            }
+        }
+    }
+}

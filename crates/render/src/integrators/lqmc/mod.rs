@@ -1,0 +1,35 @@
+//! Local quasi-Monte Carlo exploration (LQMC; Tessari, Hanika &
+//! Dachsbacher): Halton-seeded path tracing with next-event estimation
+//! whose every splat event is explored locally in primary sample space by
+//! a Cranley–Patterson-rotated rank-1 lattice on a tile around the seed's
+//! numbers (Alg. 1), with the prefix up to a breakup vertex rebuilt from the
+//! lattice numbers and reconnected to the seed's suffix.
+//!
+//! Unlike the authors' renderer, the estimator includes the probability
+//! `P(b | X_j)` of the breakup vertex and class membership of every member
+//! (see [`estimator`]), and every seed contribution reaches the image.
+//!
+//! Modules: [`settings`] (options and defaults), [`path_record`] and
+//! [`seed_path`] (the seed), [`classification`] (classes, breakup CDF),
+//! [`explored_dimensions`] (dimensions and tiles), [`lattice_step`] (tile
+//! transform, closest point, shift), [`prefix_rebuild`] (members),
+//! [`path_walk`] (contribution and suffix density of a path),
+//! [`estimator`] (Eq. 9 extended), [`statistics`] (`--stats`),
+//! [`exploration`] (one pixel sample).
+
+pub mod classification;
+pub mod estimator;
+pub mod exploration;
+pub mod explored_dimensions;
+pub mod lattice_step;
+pub mod path_record;
+pub mod path_walk;
+pub mod prefix_rebuild;
+pub mod seed_path;
+pub mod settings;
+pub mod statistics;
+
+pub use classification::PathClass;
+pub use exploration::{LqmcContext, LqmcScratch, render_pixel_sample};
+pub use settings::{BreakupChoice, ClassParameters, ExploredEffects, LqmcSettings};
+pub use statistics::{FailureReason, LqmcStatistics};

@@ -1,0 +1,115 @@
+//! The record of a camera path that LQMC explores: its camera vertex, its
+//! surface vertices and how it ends (an emitter reached by BSDF sampling,
+//! the environment, or a next-event-estimation connection). A record holds
+//! positions only; every value and density is recomputed from it by
+//! [`super::path_walk`], so that the seed and each lattice member go
+//! through the same code.
+
+use crate::geometry::SurfaceHit;
+use crate::material::BsdfFlags;
+use glam::{Vec2, Vec3};
+
+/// The camera vertex `x_0`: the numbers that place it and the lens point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraVertex {
+    /// Continuous raster position of the camera ray.
+    pub raster: Vec2,
+    /// Lens numbers (dimensions 2, 3).
+    pub u_lens: [f32; 2],
+    /// Time number (dimension 4).
+    pub u_time: f32,
+    /// Hero-wavelength number (dimension 5).
+    pub u_wavelength: f32,
+    /// The lens point in world space (the camera ray's origin).
+    pub origin: Vec3,
+}
+
+/// One surface vertex `x_{m+1}` (vertex `m` of the dimension layout).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceVertex {
+    /// The hit as the geometry returned it (for ray spawning and emission).
+    pub raw_hit: SurfaceHit,
+    /// The hit with normals flipped for shapes with `flip_normals` (for
+    /// materials).
+    pub hit: SurfaceHit,
+    /// Flags of the scattering sampled here (empty where none was).
+    pub sampled: BsdfFlags,
+}
+
+/// A next-event-estimation connection from the last surface vertex.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LightConnection {
+    /// The light.
+    pub light_index: usize,
+    /// Probability of choosing it.
+    pub selection_probability: f32,
+    /// The point sampled on it (for infinite lights: far along the direction).
+    pub point: Vec3,
+    /// Its normal as stored in the geometry (before any flip).
+    pub stored_normal: Vec3,
+    /// Its normal facing the emitting side.
+    pub front_normal: Vec3,
+    /// The direction from the seed's vertex (infinite lights keep it).
+    pub direction: Vec3,
+    /// A delta light (a point light): reconnection samples it again.
+    pub is_delta: bool,
+    /// An infinite light: reconnection keeps the direction.
+    pub is_infinite: bool,
+    /// The numbers that sampled it (for delta lights).
+    pub u_primitive: f32,
+    /// The light-position numbers.
+    pub u_position: [f32; 2],
+}
+
+/// How a path of a splat event ends.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Terminal {
+    /// Its last surface vertex lies on the emitter `light_index`, reached by
+    /// BSDF sampling.
+    Emission {
+        /// The area light.
+        light_index: u32,
+    },
+    /// Its last scattering escaped along `direction` to the environment.
+    Environment {
+        /// The escaping direction.
+        direction: Vec3,
+    },
+    /// Next-event estimation from its last surface vertex.
+    NextEvent(LightConnection),
+}
+
+/// One splat event of a seed path: the path made of the first
+/// `vertex_count` surface vertices and `terminal`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SplatEvent {
+    /// Surface vertices of this event's path.
+    pub vertex_count: usize,
+    /// How it ends.
+    pub terminal: Terminal,
+}
+
+impl SplatEvent {
+    /// Index `k` of the path's last vertex in the paper's numbering
+    /// (`x_0` the camera, `x_k` on the light).
+    pub fn last_vertex(&self) -> usize {
+        match self.terminal {
+            Terminal::Emission { .. } => self.vertex_count,
+            Terminal::Environment { .. } | Terminal::NextEvent(_) => self.vertex_count + 1,
+        }
+    }
+
+    /// Number of surface vertices that scatter (the emitter of an emission
+    /// event does not).
+    pub fn scattering_count(&self) -> usize {
+        match self.terminal {
+            Terminal::Emission { .. } => self.vertex_count - 1,
+            Terminal::Environment { .. } | Terminal::NextEvent(_) => self.vertex_count,
+        }
+    }
+
+    /// Whether this path was made by next-event estimation.
+    pub fn is_next_event(&self) -> bool {
+        matches!(self.terminal, Terminal::NextEvent(_))
+    }
+}

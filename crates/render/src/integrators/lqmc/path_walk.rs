@@ -1,0 +1,303 @@
+//! Evaluation of a recorded path: the path tracer's contribution
+//! `w_t f(X) / p_t(X)` of a given vertex sequence, and the density with
+//! which the seed's technique generates the path's suffix from its prefix
+//! (`p_t(X) / J`, Eq. 8 of the paper, up to factors every member of an
+//! exploration shares).
+//!
+//! The formulas are those of [`crate::integrators::path`] (next-event
+//! estimation, MIS, Russian roulette after the third vertex), evaluated on
+//! fixed positions instead of sampled ones. Every discrete decision — BSDF
+//! component (reflect or refract at a smooth dielectric) and Russian
+//! roulette — is decided with the seed's numbers, as LQMC requires (Sec.
+//! 3.1: "we do not change the random numbers of the seed path responsible
+//! for Russian roulette or BSDF layer selection"); a member whose decisions
+//! come out differently fails. Because those numbers are shared by the set,
+//! the discrete probabilities belong in `p_t` of the contribution and not in
+//! the suffix density (see `estimator`).
+
+use super::path_record::{CameraVertex, SurfaceVertex, Terminal};
+use super::statistics::FailureReason;
+use crate::geometry::{offset_ray_origin, spawn_ray, spawn_ray_to_point};
+use crate::integrators::path::{PathSettings, emission_weight};
+use crate::sampler::{SampleSource, layout};
+use crate::scene::Scene;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::Vec3;
+
+/// Directions of a specular scattering recomputed for a member must agree
+/// with the recorded ones to this cosine.
+const SPECULAR_DIRECTION_COSINE: f32 = 1.0 - 1e-4;
+
+/// The value of a path and the density of its suffix.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WalkedPath {
+    /// `w_t f(X) / p_t(X)`, per hero wavelength.
+    pub contribution: SampledSpectrum,
+    /// The wavelengths (secondary ones possibly terminated by dispersion).
+    pub wavelengths: SampledWavelengths,
+    /// The continuous density of generating vertices `x_{b+1} .. x_k` from
+    /// `x_0 .. x_b` (1 when no breakup vertex was given).
+    pub suffix_density: f64,
+}
+
+/// What [`walk`] evaluates.
+#[derive(Debug, Clone, Copy)]
+pub struct WalkInput<'a> {
+    /// The camera vertex.
+    pub camera: &'a CameraVertex,
+    /// The surface vertices (for an emission path the last is the emitter).
+    pub vertices: &'a [SurfaceVertex],
+    /// How the path ends.
+    pub terminal: &'a Terminal,
+    /// Vertices before this index were rebuilt for a member: a
+    /// next-event connection from one of them needs a shadow ray.
+    pub rebuilt_vertices: usize,
+    /// The breakup vertex `b` (paper numbering) whose suffix density is
+    /// wanted.
+    pub breakup: Option<usize>,
+}
+
+/// Evaluates the path; `numbers` answers the seed's numbers by dimension.
+pub fn walk(
+    scene: &Scene,
+    settings: &PathSettings,
+    input: &WalkInput<'_>,
+    numbers: &mut dyn SampleSource,
+) -> Result<WalkedPath, FailureReason> {
+    let camera = input.camera;
+    let vertices = input.vertices;
+    let mut wavelengths = SampledWavelengths::sample_visible(camera.u_wavelength);
+    let mut throughput = SampledSpectrum::splat(1.0);
+    let mut eta_scale = 1.0f32;
+    let mut specular_bounce = true;
+    let mut previous_reference = camera.origin;
+    let mut previous_bsdf_pdf = 0.0f32;
+    let mut suffix_density = 1.0f64;
+    // Step `s` generates x_{s+1} from x_s; the suffix density is the
+    // product over the steps s ≥ b.
+    let in_suffix = |step: usize| input.breakup.is_some_and(|b| step >= b);
+    let escapes_at_once = matches!(input.terminal, Terminal::Environment { .. });
+    if vertices.is_empty() && !escapes_at_once {
+        return Err(FailureReason::Evaluation);
+    }
+    if in_suffix(0) && !vertices.is_empty() {
+        let first = &vertices[0];
+        let projection = scene
+            .camera
+            .project(first.hit.point, camera.u_lens, camera.u_time)
+            .ok_or(FailureReason::OutsideImage)?;
+        let to_point = first.hit.point - projection.origin;
+        let distance_squared = to_point.length_squared() as f64;
+        let cosine =
+            (first.raw_hit.geometric_normal.dot(to_point).abs() as f64) / distance_squared.sqrt();
+        let axis = projection.axis_cosine as f64;
+        suffix_density *= cosine / (axis * axis * axis * distance_squared);
+    }
+    let scattering_count = match input.terminal {
+        Terminal::Emission { .. } => vertices.len() - 1,
+        _ => vertices.len(),
+    };
+    for m in 0..scattering_count {
+        let vertex = &vertices[m];
+        let previous_point = if m == 0 {
+            camera.origin
+        } else {
+            vertices[m - 1].hit.point
+        };
+        let wo = (previous_point - vertex.hit.point).normalize();
+        let Some(material) = &scene.shapes[vertex.hit.shape_index as usize].material else {
+            return Err(FailureReason::Evaluation);
+        };
+        let bsdf = material.surface_bsdf_at(&vertex.hit, &wavelengths);
+        let reference = offset_ray_origin(vertex.hit.point, vertex.hit.geometric_normal, wo);
+        let step = m + 1;
+        let last = m + 1 == scattering_count;
+
+        if last && let Terminal::NextEvent(connection) = input.terminal {
+            let light = &scene.lights[connection.light_index];
+            let (radiance, wi, solid_angle_pdf) = if connection.is_delta {
+                let sample = light
+                    .sample_incident(
+                        &scene.geometry,
+                        reference,
+                        connection.u_primitive,
+                        connection.u_position,
+                        &wavelengths,
+                    )
+                    .ok_or(FailureReason::Evaluation)?;
+                (sample.radiance, sample.wi, 1.0)
+            } else if connection.is_infinite {
+                let wi = connection.direction;
+                (
+                    light.environment_radiance(wi, &wavelengths),
+                    wi,
+                    light.pdf_incident(&scene.geometry, reference, reference + wi, Vec3::ZERO),
+                )
+            } else {
+                let wi = (connection.point - reference).normalize();
+                (
+                    light.emitted_radiance(connection.stored_normal, -wi, &wavelengths),
+                    wi,
+                    light.pdf_incident(
+                        &scene.geometry,
+                        reference,
+                        connection.point,
+                        connection.stored_normal,
+                    ),
+                )
+            };
+            if radiance.is_black() || !(solid_angle_pdf > 0.0 && solid_angle_pdf.is_finite()) {
+                return Err(FailureReason::Evaluation);
+            }
+            let value = bsdf.evaluate(wo, wi, &wavelengths) * wi.dot(bsdf.frame.normal()).abs();
+            if value.is_black() {
+                return Err(FailureReason::Evaluation);
+            }
+            if m < input.rebuilt_vertices {
+                let visible = if connection.is_infinite {
+                    let ray = spawn_ray(&vertex.hit, wi);
+                    !scene.geometry.occluded(&ray, f32::INFINITY)
+                } else {
+                    match spawn_ray_to_point(&vertex.hit, connection.point, connection.front_normal)
+                    {
+                        Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
+                        None => false,
+                    }
+                };
+                if !visible {
+                    return Err(FailureReason::Occluded);
+                }
+            }
+            let light_pdf = connection.selection_probability * solid_angle_pdf;
+            let weight = if connection.is_delta {
+                1.0
+            } else {
+                settings.heuristic.weight(light_pdf, bsdf.pdf(wo, wi))
+            };
+            if in_suffix(step) && !connection.is_delta {
+                let mut density = solid_angle_pdf as f64;
+                if !connection.is_infinite {
+                    let to_light = connection.point - vertex.hit.point;
+                    let distance_squared = to_light.length_squared() as f64;
+                    density *= connection.stored_normal.dot(to_light).abs() as f64
+                        / distance_squared.sqrt()
+                        / distance_squared;
+                }
+                suffix_density *= density;
+            }
+            return Ok(WalkedPath {
+                contribution: throughput * value * radiance * (weight / light_pdf),
+                wavelengths,
+                suffix_density,
+            });
+        }
+
+        // The continuation to the next vertex (or the environment).
+        let (wi, next) = if m + 1 < vertices.len() {
+            let next = &vertices[m + 1];
+            ((next.hit.point - vertex.hit.point).normalize(), Some(next))
+        } else if let Terminal::Environment { direction } = input.terminal {
+            (*direction, None)
+        } else {
+            return Err(FailureReason::Evaluation);
+        };
+        let specular = vertex.sampled.is_specular();
+        let (value, pdf) = if specular {
+            let u_component = numbers.get(layout::vertex(m, layout::SCATTER_COMPONENT));
+            let u = numbers.get_2d(layout::vertex(m, layout::SCATTER_DIRECTION));
+            let sample = bsdf
+                .sample(wo, u_component, u, &mut wavelengths)
+                .ok_or(FailureReason::Evaluation)?;
+            if sample.flags != vertex.sampled || sample.wi.dot(wi) < SPECULAR_DIRECTION_COSINE {
+                return Err(FailureReason::ModeChange);
+            }
+            if sample.is_transmission() {
+                eta_scale *= sample.eta * sample.eta;
+            }
+            (sample.value, sample.pdf)
+        } else {
+            (bsdf.evaluate(wo, wi, &wavelengths), bsdf.pdf(wo, wi))
+        };
+        if !(pdf > 0.0) || value.is_black() {
+            return Err(FailureReason::Evaluation);
+        }
+        let cosine = wi.dot(bsdf.frame.normal()).abs();
+        throughput *= value * (cosine / pdf);
+        if in_suffix(step) && !specular {
+            let mut density = pdf as f64;
+            if let Some(next) = next {
+                let to_next = next.hit.point - vertex.hit.point;
+                let distance_squared = to_next.length_squared() as f64;
+                density *= next.raw_hit.geometric_normal.dot(to_next).abs() as f64
+                    / distance_squared.sqrt()
+                    / distance_squared;
+            }
+            suffix_density *= density;
+        }
+        specular_bounce = specular;
+        previous_bsdf_pdf = pdf;
+        previous_reference = reference;
+        let roulette_throughput = (throughput * eta_scale).max_component();
+        if m as u32 + 1 >= settings.russian_roulette_depth && roulette_throughput < 1.0 {
+            let survival = roulette_throughput.max(0.05);
+            if numbers.get(layout::vertex(m, layout::RUSSIAN_ROULETTE)) >= survival {
+                return Err(FailureReason::RussianRoulette);
+            }
+            throughput /= survival;
+        }
+    }
+
+    let contribution = match input.terminal {
+        Terminal::Emission { light_index } => {
+            let emitter = vertices.last().expect("checked non-empty");
+            let previous_point = if vertices.len() == 1 {
+                camera.origin
+            } else {
+                vertices[vertices.len() - 2].hit.point
+            };
+            let wo = (previous_point - emitter.raw_hit.point).normalize();
+            let light = &scene.lights[*light_index as usize];
+            let emitted =
+                light.emitted_radiance(emitter.raw_hit.geometric_normal, wo, &wavelengths);
+            let weight = emission_weight(
+                scene,
+                settings,
+                *light_index,
+                specular_bounce,
+                previous_reference,
+                previous_bsdf_pdf,
+                emitter.raw_hit.point,
+                emitter.raw_hit.geometric_normal,
+            );
+            throughput * emitted * weight
+        }
+        Terminal::Environment { direction } => {
+            let mut total = SampledSpectrum::zero();
+            for &index in &scene.environment_lights {
+                let light = &scene.lights[index as usize];
+                let emitted = light.environment_radiance(*direction, &wavelengths);
+                let weight = emission_weight(
+                    scene,
+                    settings,
+                    index,
+                    specular_bounce,
+                    previous_reference,
+                    previous_bsdf_pdf,
+                    previous_reference + *direction,
+                    Vec3::ZERO,
+                );
+                total += throughput * emitted * weight;
+            }
+            total
+        }
+        Terminal::NextEvent(_) => return Err(FailureReason::Evaluation),
+    };
+    if contribution.is_black() {
+        return Err(FailureReason::Evaluation);
+    }
+    Ok(WalkedPath {
+        contribution,
+        wavelengths,
+        suffix_density,
+    })
+}

@@ -1,0 +1,176 @@
+//! Rebuilding a member's prefix `x_0 .. x_b` from its numbers and
+//! reconnecting it to the seed's static suffix `x_{b+1} .. x_k` (Alg. 1,
+//! lines 9 and 10), with the failure rules of the implementation notes: a
+//! prefix vertex that changes its sampled mode, a prefix ray that leaves the
+//! scene, a blocked reconnection, or one that lands away from the seed's
+//! `x_{b+1}` make the member fail.
+//!
+//! Media: a medium vertex would be rebuilt here from its free-flight number
+//! (layout dimension 7 of its block) like a surface vertex from its
+//! direction numbers, and the reconnection would then need the
+//! transmittance along the segment.
+
+use super::path_record::{CameraVertex, SplatEvent, SurfaceVertex, Terminal};
+use super::statistics::FailureReason;
+use crate::geometry::{SurfaceHit, spawn_ray};
+use crate::integrators::TraceCounters;
+use crate::integrators::path::oriented_hit;
+use crate::sampler::{SampleSource, layout};
+use crate::scene::Scene;
+use crate::spectrum::SampledWavelengths;
+use glam::Vec2;
+
+/// Answers explored dimensions from a member's numbers and every other
+/// dimension from the seed's.
+pub struct MemberSource<'a> {
+    /// The seed's numbers.
+    pub seed: &'a mut dyn SampleSource,
+    /// `(dimension, number)` of the explored dimensions.
+    pub overrides: &'a [(usize, f32)],
+}
+
+impl SampleSource for MemberSource<'_> {
+    fn get(&mut self, dimension: usize) -> f32 {
+        match self.overrides.iter().find(|(d, _)| *d == dimension) {
+            Some((_, value)) => *value,
+            None => self.seed.get(dimension),
+        }
+    }
+}
+
+/// The camera numbers of a member.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MemberCamera {
+    /// Raster position (for b ≥ 1).
+    pub raster: Vec2,
+    /// Lens numbers.
+    pub u_lens: [f32; 2],
+    /// Time number.
+    pub u_time: f32,
+    /// Wavelength number.
+    pub u_wavelength: f32,
+}
+
+/// Whether a reconnection ray's hit is the seed's vertex.
+fn lands_on(hit: &SurfaceHit, target: &SurfaceVertex, distance: f32, tolerance: f32) -> bool {
+    hit.shape_index == target.raw_hit.shape_index
+        && (hit.point - target.raw_hit.point).length() <= tolerance * distance.max(1e-6)
+}
+
+/// Rebuilds the member's vertices (prefix, then the seed's suffix) into
+/// `vertices` and returns its camera vertex.
+#[allow(clippy::too_many_arguments)]
+pub fn rebuild_member(
+    scene: &Scene,
+    tolerance: f32,
+    seed_vertices: &[SurfaceVertex],
+    event: &SplatEvent,
+    breakup: usize,
+    camera: &MemberCamera,
+    source: &mut dyn SampleSource,
+    counters: &mut TraceCounters,
+    vertices: &mut Vec<SurfaceVertex>,
+) -> Result<CameraVertex, FailureReason> {
+    vertices.clear();
+    let seed_vertices = &seed_vertices[..event.vertex_count];
+    if breakup == 0 {
+        let first = seed_vertices.first().ok_or(FailureReason::Evaluation)?;
+        let projection = scene
+            .camera
+            .project(first.raw_hit.point, camera.u_lens, camera.u_time)
+            .ok_or(FailureReason::OutsideImage)?;
+        let to_first = first.raw_hit.point - projection.origin;
+        let distance = to_first.length();
+        let ray = crate::geometry::Ray::with_time(
+            projection.origin,
+            to_first / distance,
+            scene.camera.time(camera.u_time),
+        );
+        counters.closest_hit_rays += 1;
+        match scene.geometry.intersect(&ray, f32::INFINITY) {
+            Some(hit) if lands_on(&hit, first, distance, tolerance) => {}
+            Some(hit) if hit.t < distance * (1.0 - tolerance) => {
+                return Err(FailureReason::Occluded);
+            }
+            _ => return Err(FailureReason::Misplaced),
+        }
+        vertices.extend_from_slice(seed_vertices);
+        return Ok(CameraVertex {
+            raster: projection.raster,
+            u_lens: camera.u_lens,
+            u_time: camera.u_time,
+            u_wavelength: camera.u_wavelength,
+            origin: projection.origin,
+        });
+    }
+
+    let camera_ray = scene
+        .camera
+        .generate_ray(camera.raster, camera.u_lens, camera.u_time);
+    let camera_vertex = CameraVertex {
+        raster: camera.raster,
+        u_lens: camera.u_lens,
+        u_time: camera.u_time,
+        u_wavelength: camera.u_wavelength,
+        origin: camera_ray.origin,
+    };
+    let mut wavelengths = SampledWavelengths::sample_visible(camera.u_wavelength);
+    let mut ray =
+        crate::geometry::Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time);
+    for m in 0..breakup {
+        counters.closest_hit_rays += 1;
+        let raw_hit = scene
+            .geometry
+            .intersect(&ray, f32::INFINITY)
+            .ok_or(FailureReason::Escaped)?;
+        let hit = oriented_hit(scene, &raw_hit);
+        let seed_vertex = &seed_vertices[m];
+        vertices.push(SurfaceVertex {
+            raw_hit,
+            hit,
+            sampled: seed_vertex.sampled,
+        });
+        let Some(material) = &scene.shapes[hit.shape_index as usize].material else {
+            return Err(FailureReason::Escaped);
+        };
+        if m + 1 == breakup {
+            break;
+        }
+        let bsdf = material.surface_bsdf_at(&hit, &wavelengths);
+        let u_component = source.get(layout::vertex(m, layout::SCATTER_COMPONENT));
+        let u = source.get_2d(layout::vertex(m, layout::SCATTER_DIRECTION));
+        let sample = bsdf
+            .sample(-ray.direction, u_component, u, &mut wavelengths)
+            .ok_or(FailureReason::Evaluation)?;
+        if sample.flags != seed_vertex.sampled {
+            return Err(FailureReason::ModeChange);
+        }
+        ray = spawn_ray(&raw_hit, sample.wi);
+    }
+
+    // Reconnect x_b (layout vertex b − 1) to x_{b+1}.
+    let breakup_vertex = *vertices.last().expect("breakup ≥ 1 pushed a vertex");
+    if breakup < seed_vertices.len() {
+        let target = &seed_vertices[breakup];
+        let to_target = target.raw_hit.point - breakup_vertex.raw_hit.point;
+        let distance = to_target.length();
+        let ray = spawn_ray(&breakup_vertex.raw_hit, to_target / distance);
+        counters.closest_hit_rays += 1;
+        match scene.geometry.intersect(&ray, f32::INFINITY) {
+            Some(hit) if lands_on(&hit, target, distance, tolerance) => {}
+            Some(hit) if hit.t < distance * (1.0 - tolerance) => {
+                return Err(FailureReason::Occluded);
+            }
+            _ => return Err(FailureReason::Misplaced),
+        }
+        vertices.extend_from_slice(&seed_vertices[breakup..]);
+    } else if let Terminal::Environment { direction } = event.terminal {
+        let ray = spawn_ray(&breakup_vertex.raw_hit, direction);
+        counters.closest_hit_rays += 1;
+        if scene.geometry.intersect(&ray, f32::INFINITY).is_some() {
+            return Err(FailureReason::Occluded);
+        }
+    }
+    // A next-event connection from x_b is checked by the walk's shadow ray.
+    Ok(camera_vertex)
+}

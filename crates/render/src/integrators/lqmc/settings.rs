@@ -1,0 +1,203 @@
+//! The options of the LQMC integrator, with the defaults of the paper
+//! (Tessari, Hanika & Dachsbacher, Sec. 3.4) and of the authors' renderer
+//! (`../shared/docs/lqmc-implementation-notes.md`).
+
+use super::classification::PathClass;
+
+/// The effects (groups of primary-sample-space dimensions) LQMC may explore.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ExploredEffects {
+    /// Lens position (2 dimensions; only for a thin lens).
+    pub aperture: bool,
+    /// Hero wavelength (1 dimension).
+    pub wavelength: bool,
+    /// Time in the shutter interval (1 dimension).
+    pub time: bool,
+    /// Image-plane position (2 dimensions, breakup vertex b ≥ 1).
+    pub image: bool,
+    /// Outgoing directions of the non-specular vertices before the breakup
+    /// vertex (2 dimensions each).
+    pub direction: bool,
+}
+
+impl Default for ExploredEffects {
+    /// Aperture, wavelength, image plane and directions; time is optional
+    /// (as in the authors' renderer).
+    fn default() -> Self {
+        Self {
+            aperture: true,
+            wavelength: true,
+            time: false,
+            image: true,
+            direction: true,
+        }
+    }
+}
+
+impl ExploredEffects {
+    /// Every effect by its command-line name.
+    pub const NAMES: [&'static str; 5] = ["aperture", "wavelength", "time", "image", "direction"];
+
+    /// No effect at all.
+    pub fn none() -> Self {
+        Self {
+            aperture: false,
+            wavelength: false,
+            time: false,
+            image: false,
+            direction: false,
+        }
+    }
+
+    /// Parses a comma-separated list such as `aperture,wavelength,time`.
+    pub fn parse(list: &str) -> Result<Self, String> {
+        let mut effects = Self::none();
+        for name in list
+            .split(',')
+            .map(str::trim)
+            .filter(|name| !name.is_empty())
+        {
+            match name {
+                "aperture" => effects.aperture = true,
+                "wavelength" => effects.wavelength = true,
+                "time" => effects.time = true,
+                "image" => effects.image = true,
+                "direction" => effects.direction = true,
+                other => {
+                    return Err(format!(
+                        "unknown effect `{other}` (expected a list of {})",
+                        Self::NAMES.join(", ")
+                    ));
+                }
+            }
+        }
+        Ok(effects)
+    }
+}
+
+/// Lattice size and tiles per dimension of one path class.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClassParameters {
+    /// Points of the rank-1 lattice: 7, 23, 97 or 313.
+    pub lattice_size: u64,
+    /// Tiles per lens dimension.
+    pub aperture_tiles: u32,
+    /// Tiles across the image width (the height gets the same tile size).
+    pub image_tiles: u32,
+    /// Tiles per outgoing-direction dimension.
+    pub direction_tiles: u32,
+    /// Whether paths of this class are explored at all (otherwise splatted
+    /// as they are).
+    pub explore: bool,
+}
+
+/// How the breakup vertex is chosen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BreakupChoice {
+    /// Always this vertex (0: the camera); paths too short for it or whose
+    /// vertex `b` or `b + 1` is specular are splatted unexplored.
+    Fixed(usize),
+    /// Drawn from the roughness CDF of the paper (Sec. 3.3, 3.4).
+    Roughness,
+}
+
+/// Settings of the LQMC integrator.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LqmcSettings {
+    /// The explored effects (default: aperture, wavelength, image,
+    /// direction).
+    pub effects: ExploredEffects,
+    /// The breakup vertex (default: the roughness CDF).
+    pub breakup: BreakupChoice,
+    /// Normal paths: N = 23, 2×2 aperture tiles, 24 image tiles, 155
+    /// direction tiles.
+    pub normal: ClassParameters,
+    /// Caustic paths: N = 97, 4×4 aperture tiles, 48 image tiles, 55
+    /// direction tiles.
+    pub caustic: ClassParameters,
+    /// Depth-of-field paths: as normal paths.
+    pub depth_of_field: ClassParameters,
+    /// Next-event-estimation paths: N = 7 (the authors' renderer), tiles as
+    /// normal paths.
+    pub next_event: ClassParameters,
+    /// Tiles per wavelength dimension (default 1: the whole spectrum).
+    pub wavelength_tiles: u32,
+    /// Tiles per time dimension (default 1: the whole shutter interval).
+    pub time_tiles: u32,
+    /// A first hit whose circle of confusion exceeds this many pixels makes
+    /// the path a depth-of-field path (default 2).
+    pub depth_of_field_threshold_pixels: f32,
+    /// The factor on the breakup weight of b = 0 for depth-of-field paths
+    /// (default 16).
+    pub depth_of_field_camera_weight: f32,
+    /// Roughness below which a vertex counts as (near-)specular for the
+    /// caustic class (default 0.05).
+    pub caustic_roughness: f32,
+    /// Relative distance within which a reconnection must land on the
+    /// seed's vertex (default 1e-3).
+    pub reconnection_tolerance: f32,
+    /// Swap the two image-plane lattice dimensions with two random other
+    /// ones per exploration (default on; the paper's Sec. 5 remedy).
+    pub scramble_dimensions: bool,
+    /// Jitter the tile grid once per progression (default on; Sec. 3.4).
+    pub jitter_tiles: bool,
+}
+
+impl Default for LqmcSettings {
+    fn default() -> Self {
+        let normal = ClassParameters {
+            lattice_size: 23,
+            aperture_tiles: 2,
+            image_tiles: 24,
+            direction_tiles: 155,
+            explore: true,
+        };
+        Self {
+            effects: ExploredEffects::default(),
+            breakup: BreakupChoice::Roughness,
+            normal,
+            caustic: ClassParameters {
+                lattice_size: 97,
+                aperture_tiles: 4,
+                image_tiles: 48,
+                direction_tiles: 55,
+                explore: true,
+            },
+            depth_of_field: normal,
+            next_event: ClassParameters {
+                lattice_size: 7,
+                ..normal
+            },
+            wavelength_tiles: 1,
+            time_tiles: 1,
+            depth_of_field_threshold_pixels: 2.0,
+            depth_of_field_camera_weight: 16.0,
+            caustic_roughness: 0.05,
+            reconnection_tolerance: 1e-3,
+            scramble_dimensions: true,
+            jitter_tiles: true,
+        }
+    }
+}
+
+impl LqmcSettings {
+    /// The parameters of `class`.
+    pub fn class_parameters(&self, class: PathClass) -> &ClassParameters {
+        match class {
+            PathClass::Normal => &self.normal,
+            PathClass::Caustic => &self.caustic,
+            PathClass::DepthOfField => &self.depth_of_field,
+            PathClass::NextEvent => &self.next_event,
+        }
+    }
+
+    /// The parameters of `class`, mutable (for command-line overrides).
+    pub fn class_parameters_mut(&mut self, class: PathClass) -> &mut ClassParameters {
+        match class {
+            PathClass::Normal => &mut self.normal,
+            PathClass::Caustic => &mut self.caustic,
+            PathClass::DepthOfField => &mut self.depth_of_field,
+            PathClass::NextEvent => &mut self.next_event,
+        }
+    }
+}

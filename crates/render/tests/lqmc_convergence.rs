@@ -1,0 +1,205 @@
+//! LQMC converges to the path tracer's image: a per-pixel z-test and an
+//! image-mean test on small renders of the built-in scenes.
+//!
+//! Both integrators use the independent sampler here, so that renders with
+//! different seeds are independent replications (Halton's points do not
+//! depend on the seed). The path tracer's reference is one render of many
+//! samples with the film's per-pixel variance of the mean; LQMC's mean and
+//! its variance come from `REPLICATIONS` renders with different seeds. A
+//! pixel fails when |z| > 4; path contributions are skewed and the variance
+//! comes from few replications, so up to 2 % may fail. The image mean, per
+//! channel, must agree within 4 standard errors (the per-pixel variances
+//! summed over the pixel count squared): this is the sensitive test for a
+//! bias.
+
+use render::image::Image;
+use render::integrators::IntegratorKind;
+use render::integrators::lqmc::{BreakupChoice, LqmcSettings, LqmcStatistics};
+use render::renderer::{RenderSettings, render};
+use render::sampler::SamplerKind;
+use render::scene::Scene;
+use render::scene::builtin::builtin_scene;
+use std::sync::atomic::AtomicBool;
+
+const RESOLUTION: u32 = 32;
+const REPLICATIONS: u64 = 8;
+
+fn scene(name: &str) -> Scene {
+    let mut description = builtin_scene(name).unwrap();
+    let [width, height] = description.camera.resolution;
+    // Keep the aspect ratio, at most 32 pixels wide.
+    let scaled_height = ((RESOLUTION as f64 * height as f64 / width as f64).round() as u32).max(1);
+    description.camera.resolution = [RESOLUTION, scaled_height];
+    Scene::build(&description).unwrap()
+}
+
+/// One render's image (splats scaled by 1/spp) and variance image.
+fn render_once(
+    scene: &Scene,
+    integrator: IntegratorKind,
+    lqmc: LqmcSettings,
+    spp: u64,
+    seed: u64,
+) -> (Image, Image, LqmcStatistics) {
+    let settings = RenderSettings {
+        integrator,
+        sampler: SamplerKind::Independent,
+        samples_per_pixel: spp,
+        seed,
+        max_depth: scene.max_depth.unwrap_or(6),
+        lqmc,
+        ..RenderSettings::default()
+    };
+    let stop = AtomicBool::new(false);
+    let output = render(scene, &settings, &stop, &|_, _| {}).unwrap();
+    (
+        output.film.image(1.0 / spp as f64),
+        output.film.variance_image(),
+        output.statistics.lqmc,
+    )
+}
+
+/// Renders LQMC `REPLICATIONS` times and compares with a path-traced
+/// reference; returns LQMC's summed statistics.
+fn assert_converges(
+    name: &str,
+    lqmc: LqmcSettings,
+    lqmc_spp: u64,
+    reference_spp: u64,
+) -> LqmcStatistics {
+    let scene = scene(name);
+    let (reference, reference_variance, _) =
+        render_once(&scene, IntegratorKind::Path, lqmc, reference_spp, 1000);
+    let pixel_count = reference.pixels().len();
+    let mut sum = vec![[0.0f64; 3]; pixel_count];
+    let mut sum_squares = vec![[0.0f64; 3]; pixel_count];
+    let mut statistics = LqmcStatistics::default();
+    for replication in 0..REPLICATIONS {
+        let (image, _, counters) =
+            render_once(&scene, IntegratorKind::Lqmc, lqmc, lqmc_spp, replication);
+        statistics.add(&counters);
+        for (pixel, value) in image.pixels().iter().enumerate() {
+            for channel in 0..3 {
+                let value = value[channel] as f64;
+                sum[pixel][channel] += value;
+                sum_squares[pixel][channel] += value * value;
+            }
+        }
+    }
+    let r = REPLICATIONS as f64;
+    let mut failures = 0;
+    for channel in 0..3 {
+        let mut image_difference = 0.0;
+        let mut image_variance = 0.0;
+        for pixel in 0..pixel_count {
+            let mean = sum[pixel][channel] / r;
+            let sample_variance =
+                ((sum_squares[pixel][channel] / r - mean * mean) * r / (r - 1.0)).max(0.0);
+            let variance = sample_variance / r + reference_variance.pixels()[pixel][channel] as f64;
+            let difference = mean - reference.pixels()[pixel][channel] as f64;
+            image_difference += difference;
+            image_variance += variance;
+            if difference.abs() > 4.0 * variance.sqrt() + 1e-5 {
+                failures += 1;
+            }
+        }
+        let count = pixel_count as f64;
+        let bound = 4.0 * image_variance.sqrt() / count + 1e-6;
+        assert!(
+            (image_difference / count).abs() < bound,
+            "{name}: channel {channel}: LQMC mean differs from the path tracer's by {} (bound {bound})",
+            image_difference / count
+        );
+    }
+    assert!(
+        failures as f64 <= 0.02 * 3.0 * pixel_count as f64,
+        "{name}: {failures} of {} pixel channels fail the z-test",
+        3 * pixel_count
+    );
+    statistics
+}
+
+fn fixed(breakup: usize) -> LqmcSettings {
+    LqmcSettings {
+        breakup: BreakupChoice::Fixed(breakup),
+        ..LqmcSettings::default()
+    }
+}
+
+#[test]
+fn cornell_box_fixed_breakup_one() {
+    let statistics = assert_converges("cornell-box", fixed(1), 4, 256);
+    assert!(
+        statistics.explorations.iter().sum::<u64>() > 1000,
+        "{statistics:?}"
+    );
+}
+
+#[test]
+fn cornell_box_fixed_breakup_two() {
+    let statistics = assert_converges("cornell-box", fixed(2), 4, 256);
+    assert!(statistics.breakups[2] > 1000, "{statistics:?}");
+}
+
+#[test]
+fn dof_spheres_fixed_breakup_zero() {
+    let statistics = assert_converges("dof-spheres", fixed(0), 4, 256);
+    assert!(statistics.breakups[0] > 1000, "{statistics:?}");
+}
+
+#[test]
+fn dof_spheres_roughness_breakup() {
+    let statistics = assert_converges("dof-spheres", LqmcSettings::default(), 4, 256);
+    assert!(
+        statistics.breakups[0] > 100 && statistics.breakups[1] > 100,
+        "{statistics:?}"
+    );
+}
+
+#[test]
+fn office_roughness_breakup() {
+    let statistics = assert_converges("office", LqmcSettings::default(), 4, 256);
+    assert!(
+        statistics.breakups[2] + statistics.breakups[3] > 100,
+        "{statistics:?}"
+    );
+}
+
+#[test]
+fn glass_sphere_box_caustic() {
+    let statistics = assert_converges("glass-sphere-box", LqmcSettings::default(), 4, 256);
+    assert!(
+        statistics.explorations[1] > 10,
+        "caustic explorations: {statistics:?}"
+    );
+}
+
+/// Members that fail contribute nothing and are counted; the image stays
+/// unbiased (checked above), and the counters add up.
+#[test]
+fn failing_members_are_counted() {
+    let scene = scene("cornell-box");
+    let (_, _, statistics) = render_once(&scene, IntegratorKind::Lqmc, fixed(2), 2, 7);
+    let members: u64 = statistics.members.iter().sum();
+    let valid: u64 = statistics.valid_members.iter().sum();
+    let failed: u64 = statistics.failures.iter().sum();
+    assert!(failed > 0, "{statistics:?}");
+    assert_eq!(members, valid + failed, "{statistics:?}");
+}
+
+#[test]
+fn lqmc_images_do_not_depend_on_the_thread_count() {
+    let scene = scene("dof-spheres");
+    let image = |threads: usize| {
+        let settings = RenderSettings {
+            integrator: IntegratorKind::Lqmc,
+            samples_per_pixel: 2,
+            threads,
+            tile_size: 8,
+            ..RenderSettings::default()
+        };
+        let output = render(&scene, &settings, &AtomicBool::new(false), &|_, _| {}).unwrap();
+        output.film.image(0.5)
+    };
+    assert_eq!(image(1).pixels(), image(2).pixels());
+}
