@@ -406,3 +406,141 @@ fn bvh_closest_hit_matches_brute_force() {
         "too few hits ({hit_count}) to be a meaningful comparison"
     );
 }
+
+/// Rays from inside a closed box never escape, also from origins within
+/// 2e-6 to 2e-5 of a wall (obvhs' traversal, used before, dropped boxes
+/// entered closer than 1e-4, and such rays escaped) and rays aimed at the
+/// box's edges and corners: the BVH accepts boxes from `t = 0` and its slab
+/// test is conservative.
+#[test]
+fn rays_never_escape_a_closed_box() {
+    let mut rng = TestRng(19);
+    let rotation = Transform::rotate(21.0, Vec3::new(1.0, -2.0, 0.5)).unwrap();
+    let room_transform = rotation * Transform::scale(Vec3::new(3.0, 1.0, 2.0)).unwrap();
+    let room = TriangleMesh::cube(&room_transform).unwrap();
+    let inner_box = TriangleMesh::cube(
+        &(Transform::translate(Vec3::new(0.3, 0.1, -0.2))
+            * Transform::scale(Vec3::splat(0.2)).unwrap()),
+    )
+    .unwrap();
+    let geometry = Geometry::new(vec![
+        room.into(),
+        inner_box.into(),
+        Sphere::new(Vec3::new(-1.0, 0.0, 0.5), 0.3).unwrap().into(),
+    ])
+    .unwrap();
+    let corner = |k: usize| {
+        room_transform.point(Vec3::new(
+            if k & 1 == 0 { -1.0 } else { 1.0 },
+            if k & 2 == 0 { -1.0 } else { 1.0 },
+            if k & 4 == 0 { -1.0 } else { 1.0 },
+        ))
+    };
+    let mut escaped = 0;
+    let mut short_hits = 0;
+    for i in 0..100_000 {
+        let mut local = Vec3::new(
+            0.99 * (2.0 * rng.uniform() - 1.0),
+            0.99 * (2.0 * rng.uniform() - 1.0),
+            0.99 * (2.0 * rng.uniform() - 1.0),
+        );
+        if i % 2 == 0 {
+            let side = if rng.uniform() < 0.5 { -1.0 } else { 1.0 };
+            local[i / 2 % 3] = side * (1.0 - 2e-6 * (1.0 + 9.0 * rng.uniform()));
+        }
+        let origin = room_transform.point(local);
+        let direction = match i % 3 {
+            // A corner, or a point on an edge.
+            0 => (corner(i / 3 % 8) - origin).normalize(),
+            1 => {
+                let k = i / 3 % 8;
+                let target = corner(k).lerp(corner(k ^ (1 << (i / 24 % 3))), rng.uniform());
+                (target - origin).normalize()
+            }
+            _ => rng.direction(),
+        };
+        let ray = Ray::new(origin, direction);
+        match geometry.intersect(&ray, f32::INFINITY) {
+            Some(hit) => short_hits += (hit.t < 1e-4) as u32,
+            None => escaped += 1,
+        }
+        if !geometry.occluded(&ray, f32::INFINITY) {
+            escaped += 1;
+        }
+    }
+    assert_eq!(escaped, 0, "{escaped} rays escaped the closed box");
+    assert!(short_hits > 100, "only {short_hits} hits closer than 1e-4");
+}
+
+/// The BVH against brute force on a mesh large enough for many levels and
+/// full leaves (a displaced grid of 5,000 triangles with spheres and disks),
+/// including axis-parallel rays (direction components exactly zero) and
+/// rays through vertices.
+#[test]
+fn bvh_matches_brute_force_on_a_large_mesh() {
+    let mut rng = TestRng(23);
+    let (positions, indices) = render::geometry::procedural::displaced_grid(50);
+    let vertices = positions.clone();
+    let mut shapes: Vec<Shape> = vec![
+        TriangleMesh::new(positions, None, None, indices, &Transform::IDENTITY)
+            .unwrap()
+            .into(),
+    ];
+    for _ in 0..5 {
+        shapes.push(
+            Sphere::new(rng.in_ball(1.0), 0.05 + 0.1 * rng.uniform())
+                .unwrap()
+                .into(),
+        );
+        shapes.push(
+            Disk::new(
+                Transform::translate(rng.in_ball(1.0))
+                    * Transform::rotate(360.0 * rng.uniform(), rng.direction()).unwrap()
+                    * Transform::scale(Vec3::splat(0.2)).unwrap(),
+            )
+            .unwrap()
+            .into(),
+        );
+    }
+    let geometry = Geometry::new(shapes).unwrap();
+    let mut hit_count = 0;
+    for i in 0..20_000 {
+        let origin = rng.in_ball(1.5);
+        let direction = match i % 4 {
+            0 => {
+                let mut axis = Vec3::ZERO;
+                axis[i / 4 % 3] = if rng.uniform() < 0.5 { -1.0 } else { 1.0 };
+                axis
+            }
+            1 => (vertices[(i * 7919) % vertices.len()] - origin).normalize(),
+            _ => rng.direction(),
+        };
+        let ray = Ray::new(origin, direction);
+        let t_max = if i % 5 == 0 {
+            2.0 * rng.uniform()
+        } else {
+            f32::INFINITY
+        };
+        let fast = geometry.intersect(&ray, t_max);
+        let slow = geometry.intersect_brute_force(&ray, t_max);
+        assert_eq!(geometry.occluded(&ray, t_max), slow.is_some(), "{ray:?}");
+        match (fast, slow) {
+            (None, None) => {}
+            (Some(fast), Some(slow)) => {
+                hit_count += 1;
+                if (fast.shape_index, fast.primitive_index)
+                    != (slow.shape_index, slow.primitive_index)
+                {
+                    // A tie: triangles sharing the vertex or edge the ray
+                    // passes through, their distances equal up to rounding.
+                    assert_abs_diff_eq!(fast.t, slow.t, epsilon = 1e-5 * slow.t);
+                    assert_abs_diff_eq!(fast.point.distance(slow.point), 0.0, epsilon = 1e-4);
+                } else {
+                    assert_eq!(fast.t, slow.t, "{ray:?}");
+                }
+            }
+            (fast, slow) => panic!("BVH {fast:?} vs brute force {slow:?} for {ray:?}"),
+        }
+    }
+    assert!(hit_count > 5_000, "only {hit_count} hits");
+}

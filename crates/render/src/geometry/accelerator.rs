@@ -1,16 +1,10 @@
-//! The scene's geometry: all shapes plus an 8-wide compressed BVH (obvhs' CWBVH,
-//! Ylitie et al. 2017, built with PLOC) over every primitive, traversed with
-//! this module's own intersection routines.
+//! The scene's geometry: all shapes plus a 4-wide BVH over every primitive
+//! ([`super::wide_bvh`]: built by obvhs' PLOC, traversed with SIMD slab tests
+//! and packets of watertight triangle tests).
 
-use std::time::Duration;
+use glam::Vec3;
 
-// `UVec2` is used unqualified inside obvhs' `traverse!` macro.
-use glam::{UVec2, Vec3, Vec3A};
-use obvhs::BvhBuildParams;
-use obvhs::cwbvh::CwBvh;
-use obvhs::cwbvh::builder::build_cwbvh;
-
-use super::triangle::WatertightRay;
+use super::wide_bvh::{ClosestPrimitive, WideBvh};
 use super::{Bounds3, GeometryError, Ray, Shape, SurfaceHit};
 
 /// Which shape, and which primitive within it, a BVH leaf entry stands for.
@@ -22,12 +16,11 @@ pub struct PrimitiveReference {
     pub primitive_index: u32,
 }
 
-/// What the traversal loop needs to test one primitive, stored in BVH leaf
-/// order so leaves index it directly. Triangles are stored inline (no index
-/// indirection), analytic shapes are looked up through their shape index.
+/// What the traversal needs to test an analytic primitive (triangles live in
+/// the BVH's packets), stored in BVH slot order.
 #[derive(Clone, Copy, Debug)]
 enum PrimitiveData {
-    Triangle([Vec3; 3]),
+    Triangle,
     Sphere(super::Sphere),
     Disk,
 }
@@ -42,8 +35,9 @@ struct BvhPrimitive {
 /// construction and `Sync`, so any number of threads can trace rays at once.
 pub struct Geometry {
     shapes: Vec<Shape>,
+    /// Primitives in BVH slot order.
     primitives: Vec<BvhPrimitive>,
-    bvh: Option<CwBvh>,
+    bvh: Option<WideBvh>,
     bounds: Bounds3,
 }
 
@@ -57,19 +51,11 @@ impl std::fmt::Debug for Geometry {
     }
 }
 
-/// The per-hit outcome of traversal before the full record is built.
-#[derive(Clone, Copy)]
-struct ClosestPrimitive {
-    slot: usize,
-    t: f32,
-    barycentric: [f32; 3],
-}
-
 impl Geometry {
-    /// Builds the BVH over every primitive of `shapes` (obvhs' `medium_build`
-    /// preset: PLOC with medium search distance plus reinsertion, up to 3
-    /// primitives per leaf). An empty list is allowed (nothing is ever hit).
-    /// Fails if more than `u32::MAX` primitives are given.
+    /// Builds the BVH over every primitive of `shapes` (obvhs' PLOC with its
+    /// `medium_build` search distance and reinsertion, collapsed into a 4-wide
+    /// tree with up to 4 primitives per leaf). An empty list is allowed
+    /// (nothing is ever hit). Fails if more than `u32::MAX` primitives are given.
     pub fn new(shapes: Vec<Shape>) -> Result<Self, GeometryError> {
         let mut primitives = Vec::new();
         let mut aabbs = Vec::new();
@@ -79,9 +65,7 @@ impl Geometry {
                 .map_err(|_| GeometryError::InvalidMesh("too many shapes".into()))?;
             for primitive_index in 0..shape.primitive_count() {
                 let data = match shape {
-                    Shape::Mesh(mesh) => {
-                        PrimitiveData::Triangle(mesh.triangle_vertices(primitive_index))
-                    }
+                    Shape::Mesh(_) => PrimitiveData::Triangle,
                     Shape::Sphere(sphere) => PrimitiveData::Sphere(*sphere),
                     Shape::Disk(_) => PrimitiveData::Disk,
                 };
@@ -97,22 +81,26 @@ impl Geometry {
                 });
             }
         }
-        if u32::try_from(primitives.len()).is_err() {
+        if u32::try_from(primitives.len()).is_err() || primitives.len() >= 1 << 31 {
             return Err(GeometryError::InvalidMesh(
-                "more than u32::MAX primitives".into(),
+                "more than 2^31 primitives".into(),
             ));
         }
         let bvh = if primitives.is_empty() {
             None
         } else {
-            let bvh = build_cwbvh(
-                &aabbs,
-                BvhBuildParams::medium_build(),
-                &mut Duration::default(),
-            );
-            // Reorder so leaf slot i holds the primitive the BVH refers to.
+            let bvh = WideBvh::build(&aabbs, |i| {
+                let reference = primitives[i].reference;
+                match &shapes[reference.shape_index as usize] {
+                    Shape::Mesh(mesh) => {
+                        Some(mesh.triangle_vertices(reference.primitive_index as usize))
+                    }
+                    _ => None,
+                }
+            });
+            // Reorder so slot i holds the primitive the BVH refers to.
             primitives = bvh
-                .primitive_indices
+                .slot_primitives()
                 .iter()
                 .map(|&i| primitives[i as usize])
                 .collect();
@@ -155,39 +143,18 @@ impl Geometry {
             && t_max > 0.0
     }
 
-    #[inline(always)]
-    fn test_primitive(
-        &self,
-        slot: usize,
-        ray: &Ray,
-        watertight: &WatertightRay,
-        t_max: f32,
-    ) -> Option<(f32, [f32; 3])> {
-        let primitive = &self.primitives[slot];
+    /// Tests the analytic primitive in `slot` (a sphere or a disk).
+    #[inline]
+    fn test_analytic(&self, slot: u32, ray: &Ray, t_max: f32) -> Option<f32> {
+        let primitive = &self.primitives[slot as usize];
         match primitive.data {
-            PrimitiveData::Triangle([p0, p1, p2]) => watertight
-                .intersect(p0, p1, p2, t_max)
-                .map(|hit| (hit.t, hit.barycentric)),
-            PrimitiveData::Sphere(sphere) => sphere
-                .intersect_t(ray.origin, ray.direction, t_max)
-                .map(|t| (t, [0.0; 3])),
+            PrimitiveData::Sphere(sphere) => sphere.intersect_t(ray.origin, ray.direction, t_max),
             PrimitiveData::Disk => match &self.shapes[primitive.reference.shape_index as usize] {
-                Shape::Disk(disk) => disk
-                    .intersect_t(ray.origin, ray.direction, t_max)
-                    .map(|t| (t, [0.0; 3])),
+                Shape::Disk(disk) => disk.intersect_t(ray.origin, ray.direction, t_max),
                 _ => None,
             },
+            PrimitiveData::Triangle => None,
         }
-    }
-
-    /// The ray in obvhs' form for the node tests. Negative zeros in the
-    /// direction are replaced by positive zeros (`-0 + 0 = +0`): obvhs picks the
-    /// near slab plane from `direction < 0` but takes the reciprocal's sign from
-    /// the zero's sign, so a `-0` component would swap near and far and make the
-    /// ray miss every box (e.g. for `-Vec3::Y`, whose x and z are `-0`).
-    fn obvhs_ray(ray: &Ray, t_max: f32) -> obvhs::ray::Ray {
-        let direction = Vec3A::from(ray.direction) + Vec3A::ZERO;
-        obvhs::ray::Ray::new(Vec3A::from(ray.origin), direction, 0.0, t_max)
     }
 
     /// The closest hit of `ray` with `0 < t < t_max`, or `None`. The direction
@@ -197,31 +164,10 @@ impl Geometry {
         if !Self::traceable(ray, t_max) {
             return None;
         }
-        let watertight = WatertightRay::new(ray.origin, ray.direction);
-        let mut traversal_ray = Self::obvhs_ray(ray, t_max);
-        let mut closest: Option<ClosestPrimitive> = None;
-        let mut state = bvh.new_traversal(traversal_ray.direction);
-        let mut node;
-        obvhs::traverse!(
-            bvh,
-            node,
-            state,
-            node.intersect_ray(&traversal_ray, state.oct_inv4),
-            {
-                let slot = state.primitive_id as usize;
-                if let Some((t, barycentric)) =
-                    self.test_primitive(slot, ray, &watertight, traversal_ray.tmax)
-                {
-                    traversal_ray.tmax = t;
-                    closest = Some(ClosestPrimitive {
-                        slot,
-                        t,
-                        barycentric,
-                    });
-                }
-            }
-        );
-        closest.map(|hit| self.surface_hit(ray, hit))
+        bvh.closest_hit(ray, t_max, |slot, t_max| {
+            self.test_analytic(slot, ray, t_max)
+        })
+        .map(|hit| self.surface_hit(ray, hit))
     }
 
     /// Whether anything is hit with `0 < t < t_max` (any-hit query for shadow
@@ -233,29 +179,9 @@ impl Geometry {
         if !Self::traceable(ray, t_max) {
             return false;
         }
-        let watertight = WatertightRay::new(ray.origin, ray.direction);
-        let traversal_ray = Self::obvhs_ray(ray, t_max);
-        let mut state = bvh.new_traversal(traversal_ray.direction);
-        let mut node;
-        let mut hit = false;
-        'traversal: {
-            obvhs::traverse!(
-                bvh,
-                node,
-                state,
-                node.intersect_ray(&traversal_ray, state.oct_inv4),
-                {
-                    if self
-                        .test_primitive(state.primitive_id as usize, ray, &watertight, t_max)
-                        .is_some()
-                    {
-                        hit = true;
-                        break 'traversal;
-                    }
-                }
-            );
-        }
-        hit
+        bvh.any_hit(ray, t_max, |slot, t_max| {
+            self.test_analytic(slot, ray, t_max).is_some()
+        })
     }
 
     /// The closest hit found by testing every primitive of every shape (slow;
@@ -276,7 +202,7 @@ impl Geometry {
     }
 
     fn surface_hit(&self, ray: &Ray, closest: ClosestPrimitive) -> SurfaceHit {
-        let reference = self.primitives[closest.slot].reference;
+        let reference = self.primitives[closest.slot as usize].reference;
         let mut hit = match &self.shapes[reference.shape_index as usize] {
             Shape::Mesh(mesh) => mesh.surface_hit(
                 reference.primitive_index as usize,

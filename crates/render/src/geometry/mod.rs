@@ -2,8 +2,9 @@
 //! (triangle meshes, spheres, disks, and Mitsuba-style rectangles and cubes built
 //! as meshes), their ray intersection routines, robust spawning of secondary rays,
 //! uniform and solid-angle sampling of shapes for area lights, and the
-//! [`Geometry`] aggregate that owns all shapes and an 8-wide compressed BVH
-//! (obvhs' CWBVH) for closest-hit and any-hit queries.
+//! [`Geometry`] aggregate that owns all shapes and a 4-wide BVH (built with
+//! obvhs' PLOC, traversed by this crate with SIMD box and triangle tests) for
+//! closest-hit and any-hit queries.
 //!
 //! Geometry is single precision (`f32`, glam `Vec3`). pbrt-v4 is the model for
 //! conventions: intersection routines are written to be watertight (triangles) or
@@ -12,8 +13,8 @@
 //!
 //! Conventions shared by all modules:
 //! * ray directions passed to [`Geometry::intersect`] and [`Geometry::occluded`]
-//!   should be normalised (the BVH node test of obvhs uses an absolute
-//!   `t >= 1e-4` cutoff on boxes, so `t` must be a distance in scene units);
+//!   should be normalised (`t` is then a distance in scene units, as the
+//!   shadow-ray and offset conventions assume);
 //! * geometric normals face "as authored": the counter-clockwise winding side of a
 //!   triangle, the outside of a sphere, `+z` of a disk in its object space;
 //! * every BVH primitive remembers the `shape_index` (position in the list given to
@@ -30,10 +31,13 @@ pub mod procedural;
 mod ray;
 mod sampling;
 mod shape;
+mod simd;
 mod spawn;
 mod sphere;
 mod transform;
 mod triangle;
+mod triangle_packet;
+mod wide_bvh;
 
 pub use accelerator::{Geometry, PrimitiveReference};
 pub use bounds::Bounds3;

@@ -28,12 +28,12 @@ pub struct TriangleIntersection {
 /// shear), shared by all triangles tested against one ray.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct WatertightRay {
-    origin: Vec3,
+    pub(super) origin: Vec3,
     /// Axes: `kx`, `ky` (the 2-D test plane) and `kz` (the dominant direction axis).
-    axes: [usize; 3],
-    shear_x: f32,
-    shear_y: f32,
-    shear_z: f32,
+    pub(super) axes: [usize; 3],
+    pub(super) shear_x: f32,
+    pub(super) shear_y: f32,
+    pub(super) shear_z: f32,
 }
 
 impl WatertightRay {

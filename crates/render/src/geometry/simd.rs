@@ -1,0 +1,255 @@
+//! A four-lane single-precision vector for the BVH node and triangle tests:
+//! SSE2 on x86_64 (always available there), plain arrays elsewhere.
+//!
+//! Only what the traversal needs is provided. Every operation is a lane-wise
+//! IEEE single-precision operation (no fused multiply–add), so a lane computes
+//! exactly what the scalar code computes for the same inputs; the watertight
+//! triangle test relies on that.
+
+#[cfg(target_arch = "x86_64")]
+use std::arch::x86_64::*;
+
+/// Four `f32` lanes.
+#[derive(Clone, Copy, Debug)]
+#[repr(transparent)]
+pub(crate) struct F32x4(
+    #[cfg(target_arch = "x86_64")] __m128,
+    #[cfg(not(target_arch = "x86_64"))] [f32; 4],
+);
+
+/// A lane mask from a comparison (all bits of a lane set where true).
+#[derive(Clone, Copy, Debug)]
+#[repr(transparent)]
+pub(crate) struct Mask4(
+    #[cfg(target_arch = "x86_64")] __m128,
+    #[cfg(not(target_arch = "x86_64"))] [bool; 4],
+);
+
+// SAFETY (for every `unsafe` block in this file): SSE2 is part of the x86_64
+// baseline, so its intrinsics are always available; loads and stores go
+// through references to `[f32; 4]`, which are valid for 16 bytes.
+#[cfg(target_arch = "x86_64")]
+impl F32x4 {
+    #[inline(always)]
+    pub(crate) fn splat(value: f32) -> Self {
+        unsafe { Self(_mm_set1_ps(value)) }
+    }
+    #[inline(always)]
+    pub(crate) fn load(values: &[f32; 4]) -> Self {
+        unsafe { Self(_mm_loadu_ps(values.as_ptr())) }
+    }
+    #[inline(always)]
+    pub(crate) fn to_array(self) -> [f32; 4] {
+        let mut out = [0.0; 4];
+        unsafe { _mm_storeu_ps(out.as_mut_ptr(), self.0) };
+        out
+    }
+    #[inline(always)]
+    pub(crate) fn add(self, other: Self) -> Self {
+        unsafe { Self(_mm_add_ps(self.0, other.0)) }
+    }
+    #[inline(always)]
+    pub(crate) fn sub(self, other: Self) -> Self {
+        unsafe { Self(_mm_sub_ps(self.0, other.0)) }
+    }
+    #[inline(always)]
+    pub(crate) fn mul(self, other: Self) -> Self {
+        unsafe { Self(_mm_mul_ps(self.0, other.0)) }
+    }
+    #[inline(always)]
+    pub(crate) fn div(self, other: Self) -> Self {
+        unsafe { Self(_mm_div_ps(self.0, other.0)) }
+    }
+    /// Lane-wise minimum (inputs must not be NaN).
+    #[inline(always)]
+    pub(crate) fn min(self, other: Self) -> Self {
+        unsafe { Self(_mm_min_ps(self.0, other.0)) }
+    }
+    /// Lane-wise maximum (inputs must not be NaN).
+    #[inline(always)]
+    pub(crate) fn max(self, other: Self) -> Self {
+        unsafe { Self(_mm_max_ps(self.0, other.0)) }
+    }
+    /// Flips the sign of the lanes where `sign_source` has its sign bit set
+    /// (`self · sign(sign_source)` for non-zero sources).
+    #[inline(always)]
+    pub(crate) fn xor_sign_of(self, sign_source: Self) -> Self {
+        unsafe {
+            let sign = _mm_and_ps(sign_source.0, _mm_set1_ps(-0.0));
+            Self(_mm_xor_ps(self.0, sign))
+        }
+    }
+    /// `|self|`.
+    #[inline(always)]
+    pub(crate) fn abs(self) -> Self {
+        unsafe { Self(_mm_andnot_ps(_mm_set1_ps(-0.0), self.0)) }
+    }
+    #[inline(always)]
+    pub(crate) fn lt(self, other: Self) -> Mask4 {
+        unsafe { Mask4(_mm_cmplt_ps(self.0, other.0)) }
+    }
+    #[inline(always)]
+    pub(crate) fn le(self, other: Self) -> Mask4 {
+        unsafe { Mask4(_mm_cmple_ps(self.0, other.0)) }
+    }
+    #[inline(always)]
+    pub(crate) fn gt(self, other: Self) -> Mask4 {
+        unsafe { Mask4(_mm_cmpgt_ps(self.0, other.0)) }
+    }
+    #[inline(always)]
+    pub(crate) fn eq(self, other: Self) -> Mask4 {
+        unsafe { Mask4(_mm_cmpeq_ps(self.0, other.0)) }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Mask4 {
+    #[inline(always)]
+    pub(crate) fn and(self, other: Self) -> Self {
+        unsafe { Self(_mm_and_ps(self.0, other.0)) }
+    }
+    #[inline(always)]
+    pub(crate) fn or(self, other: Self) -> Self {
+        unsafe { Self(_mm_or_ps(self.0, other.0)) }
+    }
+    /// `self & !other`.
+    #[inline(always)]
+    pub(crate) fn and_not(self, other: Self) -> Self {
+        unsafe { Self(_mm_andnot_ps(other.0, self.0)) }
+    }
+    /// Bit `i` set where lane `i` is true.
+    #[inline(always)]
+    pub(crate) fn bits(self) -> u32 {
+        unsafe { _mm_movemask_ps(self.0) as u32 }
+    }
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+impl F32x4 {
+    #[inline(always)]
+    fn map2(self, other: Self, f: impl Fn(f32, f32) -> f32) -> Self {
+        Self(std::array::from_fn(|i| f(self.0[i], other.0[i])))
+    }
+    #[inline(always)]
+    fn compare(self, other: Self, f: impl Fn(f32, f32) -> bool) -> Mask4 {
+        Mask4(std::array::from_fn(|i| f(self.0[i], other.0[i])))
+    }
+    #[inline(always)]
+    pub(crate) fn splat(value: f32) -> Self {
+        Self([value; 4])
+    }
+    #[inline(always)]
+    pub(crate) fn load(values: &[f32; 4]) -> Self {
+        Self(*values)
+    }
+    #[inline(always)]
+    pub(crate) fn to_array(self) -> [f32; 4] {
+        self.0
+    }
+    #[inline(always)]
+    pub(crate) fn add(self, other: Self) -> Self {
+        self.map2(other, |a, b| a + b)
+    }
+    #[inline(always)]
+    pub(crate) fn sub(self, other: Self) -> Self {
+        self.map2(other, |a, b| a - b)
+    }
+    #[inline(always)]
+    pub(crate) fn mul(self, other: Self) -> Self {
+        self.map2(other, |a, b| a * b)
+    }
+    #[inline(always)]
+    pub(crate) fn div(self, other: Self) -> Self {
+        self.map2(other, |a, b| a / b)
+    }
+    #[inline(always)]
+    pub(crate) fn min(self, other: Self) -> Self {
+        self.map2(other, |a, b| if a < b { a } else { b })
+    }
+    #[inline(always)]
+    pub(crate) fn max(self, other: Self) -> Self {
+        self.map2(other, |a, b| if a > b { a } else { b })
+    }
+    #[inline(always)]
+    pub(crate) fn xor_sign_of(self, sign_source: Self) -> Self {
+        self.map2(sign_source, |a, s| {
+            f32::from_bits(a.to_bits() ^ (s.to_bits() & 0x8000_0000))
+        })
+    }
+    #[inline(always)]
+    pub(crate) fn abs(self) -> Self {
+        Self(self.0.map(f32::abs))
+    }
+    #[inline(always)]
+    pub(crate) fn lt(self, other: Self) -> Mask4 {
+        self.compare(other, |a, b| a < b)
+    }
+    #[inline(always)]
+    pub(crate) fn le(self, other: Self) -> Mask4 {
+        self.compare(other, |a, b| a <= b)
+    }
+    #[inline(always)]
+    pub(crate) fn gt(self, other: Self) -> Mask4 {
+        self.compare(other, |a, b| a > b)
+    }
+    #[inline(always)]
+    pub(crate) fn eq(self, other: Self) -> Mask4 {
+        self.compare(other, |a, b| a == b)
+    }
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+impl Mask4 {
+    #[inline(always)]
+    pub(crate) fn and(self, other: Self) -> Self {
+        Self(std::array::from_fn(|i| self.0[i] & other.0[i]))
+    }
+    #[inline(always)]
+    pub(crate) fn or(self, other: Self) -> Self {
+        Self(std::array::from_fn(|i| self.0[i] | other.0[i]))
+    }
+    #[inline(always)]
+    pub(crate) fn and_not(self, other: Self) -> Self {
+        Self(std::array::from_fn(|i| self.0[i] & !other.0[i]))
+    }
+    #[inline(always)]
+    pub(crate) fn bits(self) -> u32 {
+        self.0
+            .iter()
+            .enumerate()
+            .fold(0, |bits, (i, &lane)| bits | (lane as u32) << i)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lanes_match_scalar_arithmetic() {
+        let a = [1.5f32, -2.0, 0.0, 3.25];
+        let b = [0.5f32, 4.0, -1.0, 3.25];
+        let (x, y) = (F32x4::load(&a), F32x4::load(&b));
+        for i in 0..4 {
+            assert_eq!(x.add(y).to_array()[i], a[i] + b[i]);
+            assert_eq!(x.sub(y).to_array()[i], a[i] - b[i]);
+            assert_eq!(x.mul(y).to_array()[i], a[i] * b[i]);
+            assert_eq!(x.div(y).to_array()[i], a[i] / b[i]);
+            assert_eq!(x.min(y).to_array()[i], a[i].min(b[i]));
+            assert_eq!(x.max(y).to_array()[i], a[i].max(b[i]));
+            assert_eq!(x.abs().to_array()[i], a[i].abs());
+            assert_eq!(
+                x.xor_sign_of(y).to_array()[i],
+                if b[i].is_sign_negative() { -a[i] } else { a[i] }
+            );
+        }
+        assert_eq!(x.lt(y).bits(), 0b0010);
+        assert_eq!(x.le(y).bits(), 0b1010);
+        assert_eq!(x.gt(y).bits(), 0b0101);
+        assert_eq!(x.eq(y).bits(), 0b1000);
+        assert_eq!(x.lt(y).or(x.eq(y)).bits(), 0b1010);
+        assert_eq!(x.le(y).and(x.eq(y)).bits(), 0b1000);
+        assert_eq!(x.le(y).and_not(x.eq(y)).bits(), 0b0010);
+        assert_eq!(F32x4::splat(2.0).to_array(), [2.0; 4]);
+    }
+}

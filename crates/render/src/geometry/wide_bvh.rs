@@ -1,0 +1,706 @@
+//! A 4-wide BVH with SIMD traversal: obvhs builds a binary BVH (PLOC, Meister
+//! & Bittner 2018, plus parallel reinsertion), which is collapsed here into
+//! nodes of four children whose boxes are tested against a ray in one SIMD
+//! slab test, with leaves of triangle packets ([`TrianglePacket`]) tested four
+//! at a time with the watertight test.
+//!
+//! Why not obvhs' own traversal: its compressed 8-wide nodes are decoded child
+//! by child, its node test drops boxes closer than `t = 1e-4` (rays that start
+//! on a surface can miss the triangle next to their origin) and its callback
+//! per primitive keeps triangles out of registers. Here:
+//!
+//! * a node is 128 bytes (two cache lines): the six slab planes of the four
+//!   children as `[f32; 4]` rows, and four child references;
+//! * the slab test follows Ize, "Robust BVH Ray Traversal" (JCGT 2(2), 2013):
+//!   `t_far` is scaled by `1 + 2γ₃` (pbrt-v4's `Bounds3::IntersectP` uses the
+//!   same bound), so rounding can never make a ray miss a box it passes
+//!   through, and boxes are accepted from `t = 0`;
+//! * closest-hit traversal visits children front to back and skips stacked
+//!   nodes whose entry distance lies beyond the closest hit found so far;
+//!   any-hit traversal (shadow rays) stops at the first hit;
+//! * leaves hold up to [`MAX_LEAF_PRIMITIVES`] primitives, triangles in one
+//!   packet; analytic primitives (spheres, disks) are listed by slot and
+//!   tested through a callback.
+
+use glam::Vec3;
+use obvhs::aabb::Aabb;
+use obvhs::bvh2::Bvh2;
+use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
+use obvhs::ploc::PlocBuilder;
+
+use super::Ray;
+use super::simd::F32x4;
+use super::triangle::WatertightRay;
+use super::triangle_packet::{PACKET_LANES, PacketRay, TrianglePacket};
+
+/// Children per node.
+const WIDTH: usize = 4;
+
+/// A subtree of the binary BVH with at most this many primitives becomes a
+/// leaf (one packet of triangles).
+const MAX_LEAF_PRIMITIVES: u32 = PACKET_LANES as u32;
+
+/// Child reference bit: the child is a leaf.
+const LEAF_BIT: u32 = 1 << 31;
+/// Leaf reference bit: the low 30 bits index [`WideBvh::general_leaves`].
+const GENERAL_LEAF_BIT: u32 = 1 << 30;
+/// Compact leaves: packet count − 1 in bits 27..30, first packet in bits 0..27.
+const COMPACT_COUNT_SHIFT: u32 = 27;
+const COMPACT_MAX_PACKETS: usize = 8;
+const COMPACT_START_MASK: u32 = (1 << COMPACT_COUNT_SHIFT) - 1;
+/// The reference of an unused child slot (its box is empty, so never entered).
+const EMPTY_CHILD: u32 = u32::MAX;
+
+/// `1 + 2γ₃` with `γₙ = nε/(1 − nε)`, `ε = 2⁻²⁴` (pbrt-v4, section 6.8.1).
+const ROBUST_FAR_SCALE: f32 =
+    1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+
+/// Direction components smaller than this in magnitude are replaced by it
+/// before taking reciprocals, so slab distances stay finite (no `0 · ∞`).
+const MIN_DIRECTION_COMPONENT: f32 = 1e-20;
+
+/// Traversal stack entries kept inline; deeper trees use a heap stack.
+const INLINE_STACK: usize = 96;
+
+/// Four children: their boxes as slab planes (`bounds[plane][child]`, planes
+/// 0–2 the minima of x, y, z and 3–5 the maxima) and their references.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+struct WideNode {
+    bounds: [[f32; WIDTH]; 6],
+    children: [u32; WIDTH],
+}
+
+impl WideNode {
+    const EMPTY: Self = Self {
+        bounds: [
+            [f32::INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+        ],
+        children: [EMPTY_CHILD; WIDTH],
+    };
+
+    fn set_child(&mut self, index: usize, aabb: &Aabb, reference: u32) {
+        for axis in 0..3 {
+            self.bounds[axis][index] = aabb.min[axis];
+            self.bounds[axis + 3][index] = aabb.max[axis];
+        }
+        self.children[index] = reference;
+    }
+}
+
+/// A leaf that does not fit the compact reference: analytic primitives, or
+/// more packets than a compact reference can count.
+#[derive(Clone, Copy, Debug)]
+struct GeneralLeaf {
+    packet_start: u32,
+    packet_count: u32,
+    analytic_start: u32,
+    analytic_count: u32,
+}
+
+/// The closest primitive found by [`WideBvh::closest_hit`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct ClosestPrimitive {
+    /// The primitive's slot (position in [`WideBvh::slot_primitives`]).
+    pub(crate) slot: u32,
+    /// Ray parameter.
+    pub(crate) t: f32,
+    /// Barycentric weights for triangles (zero for analytic primitives).
+    pub(crate) barycentric: [f32; 3],
+}
+
+/// The 4-wide BVH (see the module documentation).
+#[derive(Debug)]
+pub(crate) struct WideBvh {
+    nodes: Vec<WideNode>,
+    packets: Vec<TrianglePacket>,
+    general_leaves: Vec<GeneralLeaf>,
+    analytic_slots: Vec<u32>,
+    /// For each slot, the index of the primitive (in the order given to
+    /// [`WideBvh::build`]); slots are numbered in leaf order.
+    slot_primitives: Vec<u32>,
+    /// Whether the tree is too deep for the inline traversal stack.
+    deep: bool,
+}
+
+/// The ray's data for the slab test.
+struct NodeRay {
+    origin: [F32x4; 3],
+    inverse_direction: [F32x4; 3],
+    /// Plane rows entered first and left last along each axis.
+    near_plane: [usize; 3],
+    far_plane: [usize; 3],
+}
+
+impl NodeRay {
+    fn new(ray: &Ray) -> Self {
+        let inverse = ray.direction.to_array().map(|d| {
+            let d = if d.abs() < MIN_DIRECTION_COMPONENT {
+                MIN_DIRECTION_COMPONENT
+            } else {
+                d
+            };
+            1.0 / d
+        });
+        let near_plane = [0, 1, 2].map(|axis| if inverse[axis] >= 0.0 { axis } else { axis + 3 });
+        Self {
+            origin: ray.origin.to_array().map(F32x4::splat),
+            inverse_direction: inverse.map(F32x4::splat),
+            near_plane,
+            far_plane: near_plane.map(|plane| (plane + 3) % 6),
+        }
+    }
+
+    /// The children whose boxes the ray enters within `[0, t_max]` (bit `i`
+    /// for child `i`) and their entry distances.
+    #[inline(always)]
+    fn intersect(&self, node: &WideNode, t_max: f32) -> (u32, F32x4) {
+        let slab = |plane: usize, axis: usize| {
+            F32x4::load(&node.bounds[plane])
+                .sub(self.origin[axis])
+                .mul(self.inverse_direction[axis])
+        };
+        let near = slab(self.near_plane[0], 0)
+            .max(slab(self.near_plane[1], 1))
+            .max(slab(self.near_plane[2], 2).max(F32x4::splat(0.0)));
+        let far = slab(self.far_plane[0], 0)
+            .min(slab(self.far_plane[1], 1))
+            .min(slab(self.far_plane[2], 2).min(F32x4::splat(t_max)))
+            .mul(F32x4::splat(ROBUST_FAR_SCALE));
+        (near.le(far).bits(), near)
+    }
+}
+
+/// A stacked child: its reference and the distance at which the ray enters it.
+#[derive(Clone, Copy)]
+struct StackEntry {
+    reference: u32,
+    distance: f32,
+}
+
+trait TraversalStack {
+    fn push(&mut self, entry: StackEntry);
+    fn pop(&mut self) -> Option<StackEntry>;
+}
+
+struct InlineStack {
+    entries: [StackEntry; INLINE_STACK],
+    len: usize,
+}
+
+impl InlineStack {
+    #[inline(always)]
+    fn new() -> Self {
+        Self {
+            entries: [StackEntry {
+                reference: 0,
+                distance: 0.0,
+            }; INLINE_STACK],
+            len: 0,
+        }
+    }
+}
+
+impl TraversalStack for InlineStack {
+    #[inline(always)]
+    fn push(&mut self, entry: StackEntry) {
+        // The build checks that the tree fits (see `WideBvh::deep`).
+        self.entries[self.len] = entry;
+        self.len += 1;
+    }
+    #[inline(always)]
+    fn pop(&mut self) -> Option<StackEntry> {
+        if self.len == 0 {
+            return None;
+        }
+        self.len -= 1;
+        Some(self.entries[self.len])
+    }
+}
+
+impl TraversalStack for Vec<StackEntry> {
+    fn push(&mut self, entry: StackEntry) {
+        Vec::push(self, entry);
+    }
+    fn pop(&mut self) -> Option<StackEntry> {
+        Vec::pop(self)
+    }
+}
+
+/// What a leaf holds.
+struct LeafContents {
+    packets: std::ops::Range<usize>,
+    analytic: std::ops::Range<usize>,
+}
+
+impl WideBvh {
+    /// Builds the BVH over primitives with boxes `aabbs`; `triangle(i)` gives
+    /// primitive `i`'s vertices if it is a triangle (`None`: analytic, tested
+    /// through the traversal callbacks). `aabbs` must not be empty.
+    pub(crate) fn build(aabbs: &[Aabb], triangle: impl Fn(usize) -> Option<[Vec3; 3]>) -> Self {
+        assert!(!aabbs.is_empty());
+        let parameters = obvhs::BvhBuildParams::medium_build();
+        let mut binary = PlocBuilder::with_capacity(aabbs.len()).build(
+            parameters.ploc_search_distance,
+            aabbs,
+            (0..aabbs.len() as u32).collect(),
+            parameters.sort_precision,
+            parameters.search_depth_threshold,
+        );
+        ReinsertionOptimizer::default().run(&mut binary, parameters.reinsertion_batch_ratio, None);
+        Collapser {
+            binary: &binary,
+            counts: subtree_primitive_counts(&binary),
+            triangle: &triangle,
+            bvh: WideBvh {
+                nodes: Vec::new(),
+                packets: Vec::new(),
+                general_leaves: Vec::new(),
+                analytic_slots: Vec::new(),
+                slot_primitives: Vec::with_capacity(aabbs.len()),
+                deep: false,
+            },
+        }
+        .collapse()
+    }
+
+    /// For each slot, the index of its primitive in the build order.
+    pub(crate) fn slot_primitives(&self) -> &[u32] {
+        &self.slot_primitives
+    }
+
+    #[inline(always)]
+    fn leaf_contents(&self, reference: u32) -> LeafContents {
+        if reference & GENERAL_LEAF_BIT == 0 {
+            let start = (reference & COMPACT_START_MASK) as usize;
+            let count = ((reference & !LEAF_BIT) >> COMPACT_COUNT_SHIFT) as usize + 1;
+            LeafContents {
+                packets: start..start + count,
+                analytic: 0..0,
+            }
+        } else {
+            let leaf = &self.general_leaves[(reference & !(LEAF_BIT | GENERAL_LEAF_BIT)) as usize];
+            let packets = leaf.packet_start as usize;
+            let analytic = leaf.analytic_start as usize;
+            LeafContents {
+                packets: packets..packets + leaf.packet_count as usize,
+                analytic: analytic..analytic + leaf.analytic_count as usize,
+            }
+        }
+    }
+
+    /// The closest primitive hit by `ray` with `0 < t < t_max`.
+    /// `analytic(slot, t_max)` tests an analytic primitive and returns its `t`.
+    /// `ray`'s origin must be finite and its direction finite and non-zero.
+    pub(crate) fn closest_hit(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        analytic: impl FnMut(u32, f32) -> Option<f32>,
+    ) -> Option<ClosestPrimitive> {
+        if self.deep {
+            self.closest_hit_with(ray, t_max, analytic, Vec::new())
+        } else {
+            self.closest_hit_with(ray, t_max, analytic, InlineStack::new())
+        }
+    }
+
+    /// Whether `ray` hits any primitive with `0 < t < t_max` (stops at the
+    /// first hit). `analytic(slot, t_max)` tests an analytic primitive.
+    pub(crate) fn any_hit(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        analytic: impl FnMut(u32, f32) -> bool,
+    ) -> bool {
+        if self.deep {
+            self.any_hit_with(ray, t_max, analytic, Vec::new())
+        } else {
+            self.any_hit_with(ray, t_max, analytic, InlineStack::new())
+        }
+    }
+
+    #[inline(always)]
+    fn closest_hit_with(
+        &self,
+        ray: &Ray,
+        mut t_max: f32,
+        mut analytic: impl FnMut(u32, f32) -> Option<f32>,
+        mut stack: impl TraversalStack,
+    ) -> Option<ClosestPrimitive> {
+        let node_ray = NodeRay::new(ray);
+        let packet_ray = PacketRay::new(WatertightRay::new(ray.origin, ray.direction));
+        let mut closest = None;
+        let mut current = 0u32;
+        loop {
+            if current & LEAF_BIT == 0 {
+                let node = &self.nodes[current as usize];
+                let (mut bits, distances) = node_ray.intersect(node, t_max);
+                if bits != 0 {
+                    let distances = distances.to_array();
+                    let first = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    if bits == 0 {
+                        current = node.children[first];
+                        continue;
+                    }
+                    // Two to four children: order them far to near, push all
+                    // but the nearest, descend into the nearest.
+                    let mut order = [StackEntry {
+                        reference: node.children[first],
+                        distance: distances[first],
+                    }; WIDTH];
+                    let mut count = 1;
+                    while bits != 0 {
+                        let child = bits.trailing_zeros() as usize;
+                        bits &= bits - 1;
+                        let entry = StackEntry {
+                            reference: node.children[child],
+                            distance: distances[child],
+                        };
+                        let mut position = count;
+                        while position > 0 && order[position - 1].distance < entry.distance {
+                            order[position] = order[position - 1];
+                            position -= 1;
+                        }
+                        order[position] = entry;
+                        count += 1;
+                    }
+                    for entry in &order[..count - 1] {
+                        stack.push(*entry);
+                    }
+                    current = order[count - 1].reference;
+                    continue;
+                }
+            } else {
+                let contents = self.leaf_contents(current);
+                for packet in &self.packets[contents.packets] {
+                    if let Some(hit) = packet_ray.closest_hit(packet, t_max) {
+                        t_max = hit.t;
+                        closest = Some(ClosestPrimitive {
+                            slot: packet.slot(hit.lane),
+                            t: hit.t,
+                            barycentric: hit.barycentric,
+                        });
+                    }
+                }
+                for &slot in &self.analytic_slots[contents.analytic] {
+                    if let Some(t) = analytic(slot, t_max) {
+                        t_max = t;
+                        closest = Some(ClosestPrimitive {
+                            slot,
+                            t,
+                            barycentric: [0.0; 3],
+                        });
+                    }
+                }
+            }
+            // Next stacked child the ray can still reach before the closest hit.
+            loop {
+                let Some(entry) = stack.pop() else {
+                    return closest;
+                };
+                if entry.distance <= t_max * ROBUST_FAR_SCALE {
+                    current = entry.reference;
+                    break;
+                }
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn any_hit_with(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        mut analytic: impl FnMut(u32, f32) -> bool,
+        mut stack: impl TraversalStack,
+    ) -> bool {
+        let node_ray = NodeRay::new(ray);
+        let packet_ray = PacketRay::new(WatertightRay::new(ray.origin, ray.direction));
+        let mut current = 0u32;
+        loop {
+            if current & LEAF_BIT == 0 {
+                let node = &self.nodes[current as usize];
+                let (mut bits, _) = node_ray.intersect(node, t_max);
+                if bits != 0 {
+                    current = node.children[bits.trailing_zeros() as usize];
+                    bits &= bits - 1;
+                    while bits != 0 {
+                        stack.push(StackEntry {
+                            reference: node.children[bits.trailing_zeros() as usize],
+                            distance: 0.0,
+                        });
+                        bits &= bits - 1;
+                    }
+                    continue;
+                }
+            } else {
+                let contents = self.leaf_contents(current);
+                for packet in &self.packets[contents.packets] {
+                    if packet_ray.any_hit(packet, t_max) {
+                        return true;
+                    }
+                }
+                for &slot in &self.analytic_slots[contents.analytic] {
+                    if analytic(slot, t_max) {
+                        return true;
+                    }
+                }
+            }
+            match stack.pop() {
+                Some(entry) => current = entry.reference,
+                None => return false,
+            }
+        }
+    }
+}
+
+/// Number of primitives below every node of the binary BVH.
+fn subtree_primitive_counts(binary: &Bvh2) -> Vec<u32> {
+    let mut preorder = Vec::with_capacity(binary.nodes.len());
+    let mut pending = vec![0usize];
+    while let Some(index) = pending.pop() {
+        preorder.push(index);
+        let node = &binary.nodes[index];
+        if !node.is_leaf() {
+            pending.push(node.first_index as usize);
+            pending.push(node.first_index as usize + 1);
+        }
+    }
+    let mut counts = vec![0u32; binary.nodes.len()];
+    for &index in preorder.iter().rev() {
+        let node = &binary.nodes[index];
+        counts[index] = if node.is_leaf() {
+            node.prim_count
+        } else {
+            counts[node.first_index as usize] + counts[node.first_index as usize + 1]
+        };
+    }
+    counts
+}
+
+/// Turns the binary BVH into the wide one.
+struct Collapser<'a, F> {
+    binary: &'a Bvh2,
+    counts: Vec<u32>,
+    triangle: &'a F,
+    bvh: WideBvh,
+}
+
+impl<F: Fn(usize) -> Option<[Vec3; 3]>> Collapser<'_, F> {
+    fn becomes_leaf(&self, index: usize) -> bool {
+        self.binary.nodes[index].is_leaf() || self.counts[index] <= MAX_LEAF_PRIMITIVES
+    }
+
+    fn collapse(mut self) -> WideBvh {
+        self.bvh.nodes.push(WideNode::EMPTY);
+        // (binary node, wide node it fills, depth of the wide node)
+        let mut pending = vec![(0usize, 0usize, 1usize)];
+        let mut max_depth = 1;
+        if self.becomes_leaf(0) {
+            let reference = self.leaf(0);
+            self.bvh.nodes[0].set_child(0, &self.binary.nodes[0].aabb(), reference);
+            pending.clear();
+        }
+        while let Some((binary_index, wide_index, depth)) = pending.pop() {
+            max_depth = max_depth.max(depth);
+            // Open the largest inner child until there are four children.
+            let first = self.binary.nodes[binary_index].first_index as usize;
+            let mut children = vec![first, first + 1];
+            while children.len() < WIDTH {
+                let area = |i: usize| self.binary.nodes[i].aabb().half_area();
+                let largest = (0..children.len())
+                    .filter(|&position| !self.becomes_leaf(children[position]))
+                    .max_by(|&a, &b| area(children[a]).total_cmp(&area(children[b])));
+                let Some(position) = largest else { break };
+                let opened = children.swap_remove(position);
+                let first = self.binary.nodes[opened].first_index as usize;
+                children.extend([first, first + 1]);
+            }
+            let mut node = WideNode::EMPTY;
+            for (slot, &child) in children.iter().enumerate() {
+                let reference = if self.becomes_leaf(child) {
+                    self.leaf(child)
+                } else {
+                    let index = self.bvh.nodes.len();
+                    self.bvh.nodes.push(WideNode::EMPTY);
+                    pending.push((child, index, depth + 1));
+                    index as u32
+                };
+                node.set_child(slot, &self.binary.nodes[child].aabb(), reference);
+            }
+            self.bvh.nodes[wide_index] = node;
+        }
+        // Each level pushes at most WIDTH - 1 entries.
+        self.bvh.deep = (WIDTH - 1) * max_depth >= INLINE_STACK;
+        self.bvh
+    }
+
+    /// Emits the primitives below binary node `index` as a leaf and returns its reference.
+    fn leaf(&mut self, index: usize) -> u32 {
+        let mut primitives = Vec::new();
+        let mut pending = vec![index];
+        while let Some(index) = pending.pop() {
+            let node = &self.binary.nodes[index];
+            if node.is_leaf() {
+                let first = node.first_index as usize;
+                primitives.extend_from_slice(
+                    &self.binary.primitive_indices[first..first + node.prim_count as usize],
+                );
+            } else {
+                pending.push(node.first_index as usize + 1);
+                pending.push(node.first_index as usize);
+            }
+        }
+        let bvh = &mut self.bvh;
+        let packet_start = bvh.packets.len();
+        let analytic_start = bvh.analytic_slots.len();
+        let mut triangles = Vec::with_capacity(PACKET_LANES);
+        let flush = |triangles: &mut Vec<([Vec3; 3], u32)>, packets: &mut Vec<TrianglePacket>| {
+            if !triangles.is_empty() {
+                packets.push(TrianglePacket::new(triangles));
+                triangles.clear();
+            }
+        };
+        for &primitive in &primitives {
+            let slot = bvh.slot_primitives.len() as u32;
+            bvh.slot_primitives.push(primitive);
+            match (self.triangle)(primitive as usize) {
+                Some(vertices) => {
+                    triangles.push((vertices, slot));
+                    if triangles.len() == PACKET_LANES {
+                        flush(&mut triangles, &mut bvh.packets);
+                    }
+                }
+                None => bvh.analytic_slots.push(slot),
+            }
+        }
+        flush(&mut triangles, &mut bvh.packets);
+        let packet_count = bvh.packets.len() - packet_start;
+        let analytic_count = bvh.analytic_slots.len() - analytic_start;
+        if analytic_count == 0
+            && (1..=COMPACT_MAX_PACKETS).contains(&packet_count)
+            && packet_start <= COMPACT_START_MASK as usize
+        {
+            LEAF_BIT | ((packet_count as u32 - 1) << COMPACT_COUNT_SHIFT) | packet_start as u32
+        } else {
+            let reference = bvh.general_leaves.len() as u32;
+            assert!(reference < GENERAL_LEAF_BIT, "too many BVH leaves");
+            bvh.general_leaves.push(GeneralLeaf {
+                packet_start: packet_start as u32,
+                packet_count: packet_count as u32,
+                analytic_start: analytic_start as u32,
+                analytic_count: analytic_count as u32,
+            });
+            LEAF_BIT | GENERAL_LEAF_BIT | reference
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Bounds3;
+
+    /// SplitMix64 in [0, 1).
+    fn uniform(state: &mut u64) -> f32 {
+        *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = *state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    fn point(state: &mut u64) -> Vec3 {
+        Vec3::new(uniform(state), uniform(state), uniform(state)) * 2.0 - Vec3::ONE
+    }
+
+    /// Random small triangles: the closest hit and the any-hit answer agree
+    /// with testing every triangle, with the inline stack and with the heap
+    /// stack of deep trees, and every primitive has exactly one slot.
+    #[test]
+    fn traversal_matches_testing_every_triangle() {
+        let mut state = 9u64;
+        let triangles: Vec<[Vec3; 3]> = (0..3000)
+            .map(|_| {
+                let centre = point(&mut state);
+                std::array::from_fn(|_| centre + 0.05 * point(&mut state))
+            })
+            .collect();
+        let aabbs: Vec<Aabb> = triangles
+            .iter()
+            .map(|t| Bounds3::from_points(*t).to_aabb())
+            .collect();
+        let mut bvh = WideBvh::build(&aabbs, |i| Some(triangles[i]));
+        assert!(!bvh.deep);
+        let mut slots = bvh.slot_primitives().to_vec();
+        slots.sort_unstable();
+        assert_eq!(slots, (0..3000).collect::<Vec<u32>>());
+        for deep in [false, true] {
+            bvh.deep = deep;
+            let mut hits = 0;
+            for i in 0..5000 {
+                let ray = Ray::new(1.5 * point(&mut state), {
+                    let d = point(&mut state);
+                    if d == Vec3::ZERO {
+                        Vec3::X
+                    } else {
+                        d.normalize()
+                    }
+                });
+                let t_max = if i % 4 == 0 {
+                    uniform(&mut state)
+                } else {
+                    f32::INFINITY
+                };
+                let scalar = WatertightRay::new(ray.origin, ray.direction);
+                let mut expected: Option<f32> = None;
+                for [p0, p1, p2] in &triangles {
+                    if let Some(hit) = scalar.intersect(*p0, *p1, *p2, expected.unwrap_or(t_max)) {
+                        expected = Some(hit.t);
+                    }
+                }
+                let found = bvh.closest_hit(&ray, t_max, |_, _| None);
+                assert_eq!(found.map(|hit| hit.t), expected, "{ray:?}");
+                if let Some(hit) = found {
+                    let primitive = bvh.slot_primitives()[hit.slot as usize] as usize;
+                    let [p0, p1, p2] = triangles[primitive];
+                    assert_eq!(
+                        scalar.intersect(p0, p1, p2, f32::INFINITY).unwrap().t,
+                        hit.t
+                    );
+                    hits += 1;
+                }
+                assert_eq!(bvh.any_hit(&ray, t_max, |_, _| false), expected.is_some());
+            }
+            assert!(hits > 300, "only {hits} hits");
+        }
+    }
+
+    /// A single primitive (the root is a leaf) and analytic primitives, which
+    /// go through the callbacks with their slots.
+    #[test]
+    fn single_and_analytic_primitives() {
+        let aabbs = [Bounds3::new(Vec3::splat(-1.0), Vec3::splat(1.0)).to_aabb()];
+        let bvh = WideBvh::build(&aabbs, |_| None);
+        let ray = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
+        let hit = bvh.closest_hit(&ray, f32::INFINITY, |slot, t_max| {
+            assert_eq!(slot, 0);
+            (4.0 < t_max).then_some(4.0)
+        });
+        assert_eq!(hit.map(|h| (h.slot, h.t)), Some((0, 4.0)));
+        assert!(
+            bvh.closest_hit(&ray, 3.0, |_, t_max| (4.0 < t_max).then_some(4.0))
+                .is_none()
+        );
+        assert!(bvh.any_hit(&ray, f32::INFINITY, |_, _| true));
+        let away = Ray::new(Vec3::new(0.0, 0.0, -5.0), -Vec3::Z);
+        assert!(!bvh.any_hit(&away, f32::INFINITY, |_, _| true));
+    }
+}
