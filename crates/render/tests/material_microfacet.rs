@@ -80,7 +80,7 @@ fn expected_counts(pdf: impl Fn(Vec3) -> f32, sample_count: u64) -> Vec<f64> {
 
 /// Chi-square test of the non-delta samples of `bsdf` for `wo`.
 fn assert_sampling_matches_pdf(label: &str, bsdf: &Bsdf, wo: Vec3, seed: u64) {
-    let sample_count = 200_000u64;
+    let sample_count = 100_000u64;
     let mut rng = TestRng(seed);
     let mut observed = vec![0u64; Z_BINS * PHI_BINS];
     let mut lambdas = wavelengths();
