@@ -87,10 +87,10 @@ fn assert_sampling_matches_pdf(label: &str, bsdf: &Bsdf, wo: Vec3, seed: u64) {
     for _ in 0..sample_count {
         let u_component = rng.uniform();
         let u = rng.uniform2();
-        if let Some(sample) = bsdf.sample(wo, u_component, [u.x, u.y], &mut lambdas) {
-            if !sample.is_specular() {
-                observed[cell_of(sample.wi)] += 1;
-            }
+        if let Some(sample) = bsdf.sample(wo, u_component, [u.x, u.y], &mut lambdas)
+            && !sample.is_specular()
+        {
+            observed[cell_of(sample.wi)] += 1;
         }
     }
     let expected = expected_counts(|wi| bsdf.pdf(wo, wi), sample_count);
@@ -244,10 +244,10 @@ fn assert_pdf_integrates_to_success_rate(label: &str, bsdf: &Bsdf, wo: Vec3, see
     for _ in 0..count {
         let u_component = rng.uniform();
         let u = rng.uniform2();
-        if let Some(sample) = bsdf.sample(wo, u_component, [u.x, u.y], &mut lambdas) {
-            if !sample.is_specular() {
-                successes += 1;
-            }
+        if let Some(sample) = bsdf.sample(wo, u_component, [u.x, u.y], &mut lambdas)
+            && !sample.is_specular()
+        {
+            successes += 1;
         }
     }
     let rate = successes as f64 / count as f64;

@@ -15,7 +15,12 @@ use crate::spectrum::{
     CIE_LAMBDA_MAX, CIE_LAMBDA_MIN, ConstantSpectrum, PiecewiseLinearSpectrum, Spectrum,
 };
 
-include!("measured_conductors_data.rs");
+/// The generated tables (some measured values happen to be close to π).
+#[allow(clippy::approx_constant, clippy::type_complexity)]
+mod data {
+    include!("measured_conductors_data.rs");
+}
+use data::MEASURED_CONDUCTORS;
 
 /// The complex index of refraction of a named conductor.
 #[derive(Debug, Clone, PartialEq)]
