@@ -180,6 +180,26 @@ fn named_metals_resolve() {
                 .unwrap_or_else(|e| panic!("{name} {part}: {e}"));
         }
     }
+    // pbrt-v4's glasses: BK7 at the sodium D line (586–608 nm entries).
+    let bk7 = build_spectrum(
+        &SpectrumDescription::Named("glass-BK7".into()),
+        SpectrumUsage::Unbounded,
+        "test",
+    )
+    .unwrap();
+    assert!((bk7.evaluate(589.3) - 1.5168).abs() < 2e-4);
+    for name in ["BAF10", "FK51A", "LASF9", "F5", "SF10", "F11"] {
+        let glass = build_spectrum(
+            &SpectrumDescription::Named(format!("glass-{name}")),
+            SpectrumUsage::Unbounded,
+            "test",
+        )
+        .unwrap();
+        assert!(
+            glass.evaluate(600.0) > 1.4 && glass.evaluate(600.0) < 2.0,
+            "{name}"
+        );
+    }
     let error = build_spectrum(
         &SpectrumDescription::Named("metal-Unobtainium-eta".into()),
         SpectrumUsage::Unbounded,
