@@ -80,17 +80,17 @@ fn expected_counts(pdf: impl Fn(Vec3) -> f32, sample_count: u64) -> Vec<f64> {
 
 /// Chi-square test of the non-delta samples of `bsdf` for `wo`.
 fn assert_sampling_matches_pdf(label: &str, bsdf: &Bsdf, wo: Vec3, seed: u64) {
-    let sample_count = 200_000u64;
+    let sample_count = 100_000u64;
     let mut rng = TestRng(seed);
     let mut observed = vec![0u64; Z_BINS * PHI_BINS];
     let mut lambdas = wavelengths();
     for _ in 0..sample_count {
         let u_component = rng.uniform();
         let u = rng.uniform2();
-        if let Some(sample) = bsdf.sample(wo, u_component, [u.x, u.y], &mut lambdas) {
-            if !sample.is_specular() {
-                observed[cell_of(sample.wi)] += 1;
-            }
+        if let Some(sample) = bsdf.sample(wo, u_component, [u.x, u.y], &mut lambdas)
+            && !sample.is_specular()
+        {
+            observed[cell_of(sample.wi)] += 1;
         }
     }
     let expected = expected_counts(|wi| bsdf.pdf(wo, wi), sample_count);
@@ -244,10 +244,10 @@ fn assert_pdf_integrates_to_success_rate(label: &str, bsdf: &Bsdf, wo: Vec3, see
     for _ in 0..count {
         let u_component = rng.uniform();
         let u = rng.uniform2();
-        if let Some(sample) = bsdf.sample(wo, u_component, [u.x, u.y], &mut lambdas) {
-            if !sample.is_specular() {
-                successes += 1;
-            }
+        if let Some(sample) = bsdf.sample(wo, u_component, [u.x, u.y], &mut lambdas)
+            && !sample.is_specular()
+        {
+            successes += 1;
         }
     }
     let rate = successes as f64 / count as f64;

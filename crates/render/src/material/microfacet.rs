@@ -349,7 +349,8 @@ mod tests {
         // Λ = (√(1 + α² tan² θ) − 1)/2 with tan θ = 0.75.
         let expected = 0.5 * ((1.0_f32 + 0.25 * 0.5625).sqrt() - 1.0);
         assert!((ggx.lambda(w) - expected).abs() < 1e-6);
-        assert_eq!(ggx.g1(-w, Vec3::Z), 0.0);
+        // w sees the back of a microfacet tilted away from it.
+        assert_eq!(ggx.g1(w, Vec3::new(-0.9, 0.0, 0.436).normalize()), 0.0);
     }
 
     #[test]

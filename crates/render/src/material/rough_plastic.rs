@@ -101,11 +101,9 @@ impl RoughPlasticTables {
         );
         let tables: &'static RoughPlasticTables =
             Box::leak(Box::new(Self::compute(&isotropic, eta)));
-        *cache
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .entry(key)
-            .or_insert(tables)
+        let mut guard = cache.lock().unwrap_or_else(|e| e.into_inner());
+        let &mut shared = guard.entry(key).or_insert(tables);
+        shared
     }
 
     /// t(μ) by linear interpolation in the table.
