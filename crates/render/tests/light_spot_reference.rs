@@ -8,10 +8,9 @@
 //!
 //! Mitsuba's reference (`refs/test_spot_ref_spectral.exr`, 32,000 samples
 //! per pixel) comes with the variance of one sample per pixel
-//! (`*_var.exr`), so the reference mean's variance is that over 32,000. We
-//! compare with our film's variance of our mean added: (a) image means within
-//! 4 standard deviations plus 1 % (the RGB-illuminant spectra's known
-//! difference from Mitsuba's); (b) at least 99 % of pixels within |z| < 4.
+//! (`*_var.exr`), so the reference mean's variance is that over 32,000.
+//! Checks (see `light_common`): image means within 4 σ + 1 %, at least 99 %
+//! of pixels within |z| < 4.
 //!
 //! The stripes of the pattern are narrow and of high contrast, and our
 //! power-proportional light selection picks the spot for only about 8 % of
@@ -24,15 +23,13 @@
 //! means within +0.2 %, +0.7 %, −0.6 % (0.5, 1.9, −1.5 σ); 2297 of 2304
 //! pixels within |z| < 4.
 
+mod light_common;
+
 use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
 
 use glam::{Affine2, Affine3A, Vec3};
 use render::camera::{FovAxis, PerspectiveSettings, look_at};
 use render::image::read_exr;
-use render::renderer::{RenderSettings, render};
-use render::sampler::SamplerKind;
-use render::scene::Scene;
 use render::scene::description::{
     FilterDescription, LightDescription, MaterialDescription, SceneDescription, ShapeDescription,
     ShapeGeometry, SpectrumDescription, SpotFalloff, TextureDescription, TextureFilter,
@@ -109,72 +106,15 @@ fn textured_spot_light_matches_mitsuba() {
     let reference = read_exr(scene_directory().join("refs/test_spot_ref_spectral.exr"))
         .unwrap()
         .image;
-    let reference_variance =
-        read_exr(scene_directory().join("refs/test_spot_ref_spectral_var.exr"))
-            .unwrap()
-            .image;
+    let variance = read_exr(scene_directory().join("refs/test_spot_ref_spectral_var.exr"))
+        .unwrap()
+        .image;
     assert_eq!([reference.width(), reference.height()], [RESOLUTION; 2]);
-    let scene = Scene::build(&description()).unwrap();
-    let settings = RenderSettings {
-        sampler: SamplerKind::Independent,
-        samples_per_pixel: SAMPLES_PER_PIXEL,
-        max_depth: 2,
-        seed: 1,
-        ..RenderSettings::default()
-    };
-    let output = render(&scene, &settings, &AtomicBool::new(false), &|_, _| {}).unwrap();
-    assert_eq!(output.statistics.nonfinite_samples, 0);
-    let pixel_count = (RESOLUTION * RESOLUTION) as f64;
-    let mut ours = Vec::new();
-    for y in 0..RESOLUTION {
-        for x in 0..RESOLUTION {
-            let pixel = output.film.pixel(x, y).unwrap();
-            ours.push((pixel.weighted_mean(), pixel.variance_of_mean()));
-        }
-    }
-    for channel in 0..3 {
-        let our_mean = ours.iter().map(|(m, _)| m[channel]).sum::<f64>() / pixel_count;
-        let their_mean = reference
-            .pixels()
-            .iter()
-            .map(|p| p[channel] as f64)
-            .sum::<f64>()
-            / pixel_count;
-        let sigma = (ours
-            .iter()
-            .zip(reference_variance.pixels())
-            .map(|((_, v), r)| v[channel] + r[channel].max(0.0) as f64 / REFERENCE_SAMPLES)
-            .sum::<f64>()
-            / (pixel_count * pixel_count))
-            .sqrt();
-        eprintln!(
-            "channel {channel}: ours {our_mean:.6}, Mitsuba {their_mean:.6}, {:.2} sigma, ratio {:.5}",
-            (our_mean - their_mean) / sigma,
-            our_mean / their_mean
-        );
-        assert!(
-            (our_mean - their_mean).abs() < 4.0 * sigma + 0.01 * their_mean,
-            "channel {channel}: {our_mean} vs Mitsuba's {their_mean}"
-        );
-    }
-    let mut within = 0usize;
-    let mut worst = 0.0f64;
-    for ((mean, variance), (theirs, their_variance)) in ours
-        .iter()
-        .zip(reference.pixels().iter().zip(reference_variance.pixels()))
-    {
-        let mut pass = true;
-        for channel in 0..3 {
-            let difference = mean[channel] - theirs[channel] as f64;
-            let variance = (variance[channel]
-                + their_variance[channel].max(0.0) as f64 / REFERENCE_SAMPLES)
-                .max(1e-12);
-            let z = difference / variance.sqrt();
-            worst = worst.max(z.abs());
-            pass &= z.abs() < 4.0;
-        }
-        within += usize::from(pass);
-    }
-    eprintln!("{within} of {pixel_count} pixels within |z| < 4 (worst |z| {worst:.2})");
-    assert!(within as f64 >= 0.99 * pixel_count);
+    let ours = light_common::render_estimate(&description(), SAMPLES_PER_PIXEL, 2);
+    light_common::assert_matches_reference(
+        &ours,
+        &reference,
+        |index, channel| variance.pixels()[index][channel] as f64 / REFERENCE_SAMPLES,
+        0.99,
+    );
 }

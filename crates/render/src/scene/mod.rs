@@ -321,9 +321,10 @@ fn spot_light(
     falloff: SpotFalloff,
     texture: Option<&TextureDescription>,
 ) -> Result<Light, SceneError> {
-    if !(cutoff_degrees > 0.0 && cutoff_degrees < 90.0)
-        || !(0.0..=cutoff_degrees).contains(&falloff_start_degrees)
-    {
+    let valid_angles = cutoff_degrees > 0.0
+        && cutoff_degrees < 90.0
+        && (0.0..=cutoff_degrees).contains(&falloff_start_degrees);
+    if !valid_angles {
         return Err(parameter_error(
             "spot light",
             format!(
