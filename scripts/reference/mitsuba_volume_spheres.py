@@ -22,8 +22,9 @@ Mitsuba 3.9.1 `scalar_spectral`, integrator `volpath` with max_depth 16,
 independent sampler, rendered as K independent images of `spp` samples per
 pixel (seeds 0 .. K-1). Writes `volume_spheres_mitsuba.exr` (32-bit float):
 RGB is the per-pixel mean of the K images and `variance.R/G/B` the variance
-of that mean (s^2 / K, s^2 the unbiased sample variance over the images),
-plus `volume_spheres_mitsuba.txt` with the settings.
+of that mean (s^2 / K, s^2 the unbiased sample variance over the images;
+a pixel whose value in one image is NaN, as Mitsuba returns for a rare
+sample, leaves that image out of its statistics), plus `volume_spheres_mitsuba.txt` with the settings.
 
 Usage: pip install mitsuba==3.9.1; python3 scripts/reference/mitsuba_volume_spheres.py
 """
@@ -136,8 +137,15 @@ def main():
         print(f"image {seed + 1}/{args.images}, {time.perf_counter() - start:.1f} s", flush=True)
     seconds = time.perf_counter() - start
     stack = np.stack(images)
-    mean = stack.mean(axis=0)
-    variance_of_mean = stack.var(axis=0, ddof=1) / args.images
+    # Mitsuba's volpath returns NaN for a rare sample (about one pixel in a
+    # few hundred at 512 spp); such a pixel's image is left out of that
+    # pixel's statistics (the other images are independent of it).
+    valid = np.isfinite(stack).all(axis=3, keepdims=True)
+    dropped = int((~valid).sum())
+    counts = valid.sum(axis=0)
+    stack = np.where(valid, stack, np.nan)
+    mean = np.nanmean(stack, axis=0)
+    variance_of_mean = np.nanvar(stack, axis=0, ddof=1) / counts
 
     args.output.mkdir(parents=True, exist_ok=True)
     channels = np.concatenate([mean, variance_of_mean], axis=2).astype(np.float32)
@@ -151,6 +159,7 @@ def main():
         f"mitsuba: {mi.__version__}, variant {args.variant}, integrator volpath, max_depth {args.max_depth}, {args.threads} threads",
         f"rendered: {args.images} images of {args.res}x{args.res} at {args.spp} spp, seeds 0..{args.images - 1}",
         f"time: {seconds:.1f} s",
+        f"pixel images left out for NaN: {dropped} of {args.images * args.res * args.res}",
         f"image mean (R, G, B): {image_mean.tolist()} +- {image_mean_sd.tolist()}",
     ]
     (args.output / "volume_spheres_mitsuba.txt").write_text("\n".join(notes) + "\n")

@@ -4,7 +4,9 @@
 //! boundaries) and multiple importance sampling of light sampling against
 //! BSDF and phase-function sampling. The model is pbrt-v4's
 //! `VolPathIntegrator` (Pharr, Jakob & Humphreys, *Physically Based
-//! Rendering*, 4th ed., §14.2.3 "Improving the sampling techniques"):
+//! Rendering*, 4th ed., §14.2.2 "Improving the Sampling Techniques", where
+//! the `VolPathIntegrator` and its spectral MIS for chromatic media are
+//! introduced):
 //!
 //! # Spectral MIS over the hero wavelengths
 //!

@@ -556,7 +556,7 @@ fn translucent_spheres() -> SceneDescription {
     }
     let eye = Vec3::new(0.0, 1.2, -2.6);
     let focus = Vec3::new(0.1, 0.5, 2.0);
-    let mut camera = camera(eye.into(), focus.into(), 40.0, FovAxis::X, [160, 120]);
+    let mut camera = camera(eye.into(), focus.into(), 40.0, FovAxis::X, [128, 96]);
     camera.lens_radius = 0.1;
     camera.focus_distance = (focus - eye).length();
     SceneDescription {
@@ -572,7 +572,7 @@ fn translucent_spheres() -> SceneDescription {
         }],
         media,
         camera_medium: None,
-        max_depth: Some(64),
+        max_depth: Some(32),
         samples_per_pixel: Some(16),
         integrator: Some("volpath".into()),
     }
@@ -583,12 +583,13 @@ fn translucent_spheres() -> SceneDescription {
 /// through a smooth glass sphere, which focuses it into a bright cone in the
 /// fog behind the sphere: a volumetric caustic, reachable only by paths that
 /// scatter in the fog and then refract twice on the way to the light (the
-/// kind of the LQMC paper's Fig. 12). Needs `--integrator volpath`.
+/// kind of the LQMC paper's Fig. 12). A dim ceiling light shows the room.
+/// Needs `--integrator volpath`.
 fn volumetric_caustic() -> SceneDescription {
     let fog = MediumDescription {
         coefficients: MediumCoefficients::AbsorptionScattering {
             sigma_a: SpectrumDescription::Constant(0.01),
-            sigma_s: SpectrumDescription::Constant(0.12),
+            sigma_s: SpectrumDescription::Constant(0.25),
         },
         scale: 1.0,
         phase: PhaseDescription::HenyeyGreenstein { g: 0.4 },
@@ -642,7 +643,7 @@ fn volumetric_caustic() -> SceneDescription {
         },
         MaterialDescription::Black,
     )
-    .emitting([400.0, 160.0, 40.0]);
+    .emitting([5000.0, 2000.0, 500.0]);
     let mut sphere = ShapeDescription::new(
         ShapeGeometry::Sphere {
             center: Vec3::new(-0.6, y, 0.0),
@@ -663,6 +664,8 @@ fn volumetric_caustic() -> SceneDescription {
             ShapeDescription::new(tube, MaterialDescription::Black),
             emitter,
             sphere,
+            // A dim ceiling light so that the room shows.
+            ceiling_light([0.0, 2.99, 1.0], [0.5, 0.5], [0.8, 0.8, 0.8]),
         ],
         lights: Vec::new(),
         media: vec![fog],
