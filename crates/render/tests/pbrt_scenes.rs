@@ -58,7 +58,10 @@ fn cornell_box_loads_with_the_files_settings() {
         .camera
         .world_from_camera
         .transform_point3(glam::Vec3::ZERO);
-    assert!((eye - glam::Vec3::new(0.0, 1.0, 6.8)).length() < 1e-5, "{eye}");
+    assert!(
+        (eye - glam::Vec3::new(0.0, 1.0, 6.8)).length() < 1e-5,
+        "{eye}"
+    );
     Scene::build(description).expect("the Cornell box builds");
 }
 
@@ -166,8 +169,8 @@ fn cornell_box_image_mean_matches_tungsten() {
         for x in 0..SIDE {
             let pixel = output.film.pixel(x, y).unwrap();
             pixels.push(pixel.weighted_mean());
-            for channel in 0..3 {
-                variance[channel] += pixel.variance_of_mean()[channel];
+            for (sum, value) in variance.iter_mut().zip(pixel.variance_of_mean()) {
+                *sum += value;
             }
         }
     }
@@ -193,7 +196,10 @@ fn cornell_box_image_mean_matches_tungsten() {
     }
     let ratio = luminance(mean) / luminance(reference_mean);
     eprintln!("luminance: ratio to Tungsten {ratio:.4}");
-    assert!((ratio - 1.0).abs() < 0.02, "luminance ratio to Tungsten {ratio}");
+    assert!(
+        (ratio - 1.0).abs() < 0.02,
+        "luminance ratio to Tungsten {ratio}"
+    );
     // Red and green per half image: the red wall on the left, the green
     // one on the right, as in Tungsten's image (a mirrored camera fails).
     let half = |pixels: &[[f64; 3]], width: usize, left: bool| {
@@ -208,7 +214,10 @@ fn cornell_box_image_mean_matches_tungsten() {
         let theirs = half(&reference_pixels, reference.width(), left);
         for channel in 0..2 {
             let ratio = ours[channel] / theirs[channel];
-            eprintln!("{} half, channel {channel}: ratio to Tungsten {ratio:.4}", if left { "left" } else { "right" });
+            eprintln!(
+                "{} half, channel {channel}: ratio to Tungsten {ratio:.4}",
+                if left { "left" } else { "right" }
+            );
             assert!(
                 (ratio - 1.0).abs() < 0.03,
                 "{} half, channel {channel}: {} vs Tungsten's {} (ratio {ratio})",
@@ -218,4 +227,38 @@ fn cornell_box_image_mean_matches_tungsten() {
             );
         }
     }
+}
+
+/// Truncated and corrupted copies of a real scene give a scene or an error,
+/// never a panic (a small deterministic stand-in for the fuzz target).
+#[test]
+fn truncated_and_corrupted_files_never_panic() {
+    let original = std::fs::read(bitterli("cornell-box").join("scene-v4.pbrt")).unwrap();
+    let directory = std::env::temp_dir().join(format!("lqmc-pbrt-corrupt-{}", std::process::id()));
+    std::fs::create_dir_all(&directory).unwrap();
+    let path = directory.join("scene.pbrt");
+    let mut variants: Vec<Vec<u8>> = (0..original.len())
+        .step_by(97)
+        .map(|end| original[..end].to_vec())
+        .collect();
+    for (index, replacement) in (0..original.len())
+        .step_by(89)
+        .zip([b'"', b'[', b']', b'#', b'x', b'-', b'\n'].iter().cycle())
+    {
+        let mut corrupted = original.clone();
+        corrupted[index] = *replacement;
+        variants.push(corrupted);
+    }
+    let mut loaded = 0;
+    for bytes in &variants {
+        std::fs::write(&path, bytes).unwrap();
+        if let Ok(scene) = load_scene_file(&path, &LoadOptions::default()) {
+            loaded += 1;
+            let mut description = scene.description;
+            description.camera.resolution = [4, 4];
+            let _ = Scene::build(&description);
+        }
+    }
+    assert!(loaded > 0);
+    let _ = std::fs::remove_dir_all(&directory);
 }

@@ -142,7 +142,9 @@ impl Loader {
         if kind != "perspective" {
             self.warn(
                 position,
-                format!("Camera \"{kind}\" is not supported; a perspective camera with its fov is used"),
+                format!(
+                    "Camera \"{kind}\" is not supported; a perspective camera with its fov is used"
+                ),
             );
         }
         let camera = &mut self.camera;
@@ -164,7 +166,9 @@ impl Loader {
         }
         camera.screen_window = match parameters.floats("screenwindow")? {
             None => None,
-            Some(window) if window.len() == 4 && window[0] != window[1] && window[2] != window[3] => {
+            Some(window)
+                if window.len() == 4 && window[0] != window[1] && window[2] != window[3] =>
+            {
                 Some([window[0], window[1], window[2], window[3]])
             }
             Some(window) => {
@@ -227,7 +231,7 @@ impl Loader {
                     let x = parameters.integer("xsamples", 4)?;
                     let y = parameters.integer("ysamples", 4)?;
                     parameters.bool("jitter", true)?;
-                    (x.max(1) * y.max(1)) as u64
+                    x.clamp(1, 1 << 16) as u64 * y.clamp(1, 1 << 16) as u64
                 } else {
                     let samples = parameters.integer("pixelsamples", 16)?;
                     if samples < 1 {
@@ -257,7 +261,7 @@ impl Loader {
                         format!("PixelFilter: different x and y radii ({x_radius}, {y_radius}) are not supported; the x radius is used"),
                     );
                 }
-                if !(x_radius > 0.0) {
+                if x_radius.is_nan() || x_radius <= 0.0 {
                     return Err(position.error(format!(
                         "PixelFilter: the radius must be positive, found {x_radius}"
                     )));
@@ -282,7 +286,8 @@ impl Loader {
                 };
             }
             "Integrator" => {
-                self.camera.pbrt_max_depth = parameters.integer("maxdepth", PBRT_DEFAULT_MAX_DEPTH)?;
+                self.camera.pbrt_max_depth =
+                    parameters.integer("maxdepth", PBRT_DEFAULT_MAX_DEPTH)?;
                 if self.camera.pbrt_max_depth < 0 {
                     return Err(position.error(format!(
                         "Integrator: \"integer maxdepth\" must not be negative, found {}",

@@ -12,7 +12,7 @@ use glam::{Affine3A, DMat3, DMat4, DVec3, Vec3};
 #[derive(Debug, Clone, PartialEq)]
 pub enum CurrentMaterial {
     /// From `Material` (or pbrt's default, diffuse with reflectance 0.5).
-    Anonymous(MaterialDescription),
+    Anonymous(Box<MaterialDescription>),
     /// From `NamedMaterial`, resolved when a shape uses it.
     Named { name: String, position: Position },
 }
@@ -44,13 +44,13 @@ pub struct GraphicsState {
     pub outside_medium: Option<String>,
 }
 
-impl GraphicsState {
+impl Default for GraphicsState {
     /// pbrt-v4's initial state: identity CTM, diffuse material of reflectance 0.5.
-    pub fn new() -> Self {
+    fn default() -> Self {
         Self {
             ctm: DMat4::IDENTITY,
             reverse_orientation: false,
-            material: CurrentMaterial::Anonymous(default_material()),
+            material: CurrentMaterial::Anonymous(Box::new(default_material())),
             area_light: None,
             inside_medium: None,
             outside_medium: None,
@@ -83,8 +83,7 @@ impl ShapeTransform {
     /// A normal (by the inverse transpose), not normalised.
     pub fn normal(&self, n: [f32; 3]) -> Vec3 {
         let linear = DMat3::from_mat4(self.matrix);
-        (linear.inverse().transpose() * DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64))
-            .as_vec3()
+        (linear.inverse().transpose() * DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64)).as_vec3()
     }
 
     /// Whether the transform mirrors (its linear part has a negative determinant).

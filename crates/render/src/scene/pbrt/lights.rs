@@ -42,7 +42,7 @@ impl Loader {
             .spectrum_parameter(parameters, name)?
             .unwrap_or_else(illuminant);
         let scale = parameters.float("scale", 1.0)?;
-        if !(scale >= 0.0) {
+        if scale.is_nan() || scale < 0.0 {
             return Err(position.error(format!(
                 "\"float scale\" must not be negative, found {scale}"
             )));
@@ -75,7 +75,7 @@ impl Loader {
                 let (intensity, mut scale) = self.light_spectrum(parameters, "I", position)?;
                 let cone_angle = parameters.float("coneangle", 30.0)?;
                 let cone_delta = parameters.float("conedelta", 5.0)?;
-                if !(cone_angle > 0.0 && cone_angle <= 180.0) || !(cone_delta >= 0.0) {
+                if !(cone_angle > 0.0 && cone_angle <= 180.0 && cone_delta >= 0.0) {
                     return Err(position.error(format!(
                         "LightSource \"spot\": expected 0 < coneangle ≤ 180 and conedelta ≥ 0, found {cone_angle} and {cone_delta}"
                     )));
@@ -92,8 +92,7 @@ impl Loader {
                     position.error("LightSource \"spot\": \"from\" and \"to\" must differ")
                 })?;
                 let frame = frame_from_z(axis.as_vec3());
-                let light_to_world =
-                    Affine3A::from_mat3_translation(frame, from.as_vec3());
+                let light_to_world = Affine3A::from_mat3_translation(frame, from.as_vec3());
                 LightDescription::Spot {
                     to_world: Affine3A::from_mat4(ctm.as_mat4()) * light_to_world,
                     intensity: scaled(intensity, scale),
@@ -127,7 +126,10 @@ impl Loader {
                 let filename = parameters.string("filename")?;
                 if parameters.has("portal") {
                     parameters.find("portal");
-                    self.warn(position, "LightSource \"infinite\": portals are not supported and are ignored");
+                    self.warn(
+                        position,
+                        "LightSource \"infinite\": portals are not supported and are ignored",
+                    );
                 }
                 match filename {
                     Some(filename) => {
@@ -181,7 +183,10 @@ impl Loader {
             }
         };
         if self.current_object.is_some() {
-            self.warn(position, "LightSource inside an object definition is added once, untransformed by instances");
+            self.warn(
+                position,
+                "LightSource inside an object definition is added once, untransformed by instances",
+            );
         }
         self.lights.push(light);
         Ok(())
@@ -246,12 +251,18 @@ impl Loader {
             return Ok(());
         }
         if parameters.string("preset")?.is_some() {
-            self.warn(position, "MakeNamedMedium: \"preset\" is not supported; sigma_a and sigma_s are used");
+            self.warn(
+                position,
+                "MakeNamedMedium: \"preset\" is not supported; sigma_a and sigma_s are used",
+            );
         }
         if parameters.has("Le") {
             parameters.find("Le");
             parameters.float("Lescale", 1.0)?;
-            self.warn(position, "MakeNamedMedium: emissive media (\"Le\") are not supported");
+            self.warn(
+                position,
+                "MakeNamedMedium: emissive media (\"Le\") are not supported",
+            );
         }
         let sigma_a = self
             .spectrum_parameter(parameters, "sigma_a")?

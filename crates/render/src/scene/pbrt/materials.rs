@@ -94,7 +94,9 @@ impl Loader {
             // that constant.
             return Ok(parameters.optional_float(name)?.map(constant));
         }
-        Ok(Some(TextureDescription::Constant(self.spectrum_of(parameter)?)))
+        Ok(Some(TextureDescription::Constant(
+            self.spectrum_of(parameter)?,
+        )))
     }
 
     /// A non-texturable spectrum (conductor `eta`, `k`; dielectric `eta`):
@@ -129,7 +131,9 @@ impl Loader {
         &self,
         parameters: &ParameterList,
     ) -> Result<Option<RoughnessDescription>, SceneFileError> {
-        let roughness = self.float_texture(parameters, "roughness")?.unwrap_or(constant(0.0));
+        let roughness = self
+            .float_texture(parameters, "roughness")?
+            .unwrap_or(constant(0.0));
         let alpha_u = self
             .float_texture(parameters, "uroughness")?
             .unwrap_or_else(|| roughness.clone());
@@ -224,7 +228,11 @@ impl Loader {
                 roughness: self.roughness(parameters)?,
             },
             "thindielectric" => MaterialDescription::ThinDielectric {
-                interior_ior: self.scalar_eta(parameters, position, "Material \"thindielectric\"")?,
+                interior_ior: self.scalar_eta(
+                    parameters,
+                    position,
+                    "Material \"thindielectric\"",
+                )?,
                 exterior_ior: 1.0,
             },
             "coateddiffuse" => {
@@ -232,7 +240,11 @@ impl Loader {
                     reflectance: self
                         .spectrum_texture(parameters, "reflectance")?
                         .unwrap_or(constant(0.5)),
-                    interior_ior: self.scalar_eta(parameters, position, "Material \"coateddiffuse\"")?,
+                    interior_ior: self.scalar_eta(
+                        parameters,
+                        position,
+                        "Material \"coateddiffuse\"",
+                    )?,
                     roughness: self.roughness(parameters)?,
                     thickness: parameters.float("thickness", 0.01)?,
                 };
@@ -249,7 +261,10 @@ impl Loader {
             "mix" => {
                 let names = parameters.strings("materials")?.unwrap_or_default();
                 parameters.find("amount");
-                self.warn(position, "Material \"mix\" is not supported; its first material is used");
+                self.warn(
+                    position,
+                    "Material \"mix\" is not supported; its first material is used",
+                );
                 match names.first() {
                     Some(name) => self.named_materials.get(name).cloned().ok_or_else(|| {
                         position.error(format!("Material \"mix\": no material named \"{name}\""))
@@ -362,11 +377,19 @@ impl Loader {
                     None | Some("repeat") => TextureWrap::Repeat,
                     Some("clamp") => TextureWrap::Clamp,
                     Some("black") => {
-                        self.warn(position, "Texture: wrap \"black\" is not supported; \"clamp\" is used");
+                        self.warn(
+                            position,
+                            "Texture: wrap \"black\" is not supported; \"clamp\" is used",
+                        );
                         TextureWrap::Clamp
                     }
                     Some(other) => {
-                        self.warn(position, format!("Texture: wrap \"{other}\" is not supported; \"repeat\" is used"));
+                        self.warn(
+                            position,
+                            format!(
+                                "Texture: wrap \"{other}\" is not supported; \"repeat\" is used"
+                            ),
+                        );
                         TextureWrap::Repeat
                     }
                 };
@@ -386,17 +409,24 @@ impl Loader {
             "checkerboard" => {
                 let dimension = parameters.integer("dimension", 2)?;
                 if dimension != 2 {
-                    self.warn(position, "Texture \"checkerboard\": only dimension 2 is supported");
+                    self.warn(
+                        position,
+                        "Texture \"checkerboard\": only dimension 2 is supported",
+                    );
                 }
                 let (even, odd) = if is_float {
                     (
-                        self.float_texture(parameters, "tex1")?.unwrap_or(constant(1.0)),
-                        self.float_texture(parameters, "tex2")?.unwrap_or(constant(0.0)),
+                        self.float_texture(parameters, "tex1")?
+                            .unwrap_or(constant(1.0)),
+                        self.float_texture(parameters, "tex2")?
+                            .unwrap_or(constant(0.0)),
                     )
                 } else {
                     (
-                        self.spectrum_texture(parameters, "tex1")?.unwrap_or(constant(1.0)),
-                        self.spectrum_texture(parameters, "tex2")?.unwrap_or(constant(0.0)),
+                        self.spectrum_texture(parameters, "tex1")?
+                            .unwrap_or(constant(1.0)),
+                        self.spectrum_texture(parameters, "tex2")?
+                            .unwrap_or(constant(0.0)),
                     )
                 };
                 TextureDescription::Checkerboard {
@@ -409,7 +439,8 @@ impl Loader {
                 if is_float {
                     constant(parameters.float("value", 1.0)?)
                 } else {
-                    self.spectrum_texture(parameters, "value")?.unwrap_or(constant(1.0))
+                    self.spectrum_texture(parameters, "value")?
+                        .unwrap_or(constant(1.0))
                 }
             }
             "scale" => {
@@ -419,14 +450,37 @@ impl Loader {
                     self.spectrum_texture(parameters, "tex")?
                 }
                 .unwrap_or(constant(1.0));
-                let scale = self.float_texture(parameters, "scale")?.unwrap_or(constant(1.0));
+                let scale = self
+                    .float_texture(parameters, "scale")?
+                    .unwrap_or(constant(1.0));
                 match (constant_value(&scale), texture) {
                     (Some(factor), TextureDescription::Constant(spectrum)) => {
-                        TextureDescription::Constant(super::spectrum_values::scaled(spectrum, factor))
+                        TextureDescription::Constant(super::spectrum_values::scaled(
+                            spectrum, factor,
+                        ))
                     }
-                    (Some(factor), TextureDescription::Bitmap { filename, encoding, filter, wrap, to_uv, flip_vertically, scale, invert }) if !invert => {
-                        TextureDescription::Bitmap { filename, encoding, filter, wrap, to_uv, flip_vertically, scale: scale * factor, invert }
-                    }
+                    (
+                        Some(factor),
+                        TextureDescription::Bitmap {
+                            filename,
+                            encoding,
+                            filter,
+                            wrap,
+                            to_uv,
+                            flip_vertically,
+                            scale,
+                            invert,
+                        },
+                    ) if !invert => TextureDescription::Bitmap {
+                        filename,
+                        encoding,
+                        filter,
+                        wrap,
+                        to_uv,
+                        flip_vertically,
+                        scale: scale * factor,
+                        invert,
+                    },
                     (_, texture) => {
                         self.warn(position, "Texture \"scale\": only constant scales of constants and image maps are supported; the texture is used unscaled");
                         texture
@@ -436,7 +490,9 @@ impl Loader {
             other => {
                 self.warn(
                     position,
-                    format!("Texture class \"{other}\" is not supported; \"{name}\" is the constant 0.5"),
+                    format!(
+                        "Texture class \"{other}\" is not supported; \"{name}\" is the constant 0.5"
+                    ),
                 );
                 for parameter in &parameters.parameters {
                     parameters.find(&parameter.name);
@@ -463,10 +519,19 @@ impl Loader {
     ) -> Result<Affine2, SceneFileError> {
         let mapping = parameters.string("mapping")?.unwrap_or_else(|| "uv".into());
         if mapping != "uv" {
-            self.warn(position, format!("Texture: mapping \"{mapping}\" is not supported; \"uv\" is used"));
+            self.warn(
+                position,
+                format!("Texture: mapping \"{mapping}\" is not supported; \"uv\" is used"),
+            );
         }
-        let scale = Vec2::new(parameters.float("uscale", 1.0)?, parameters.float("vscale", 1.0)?);
-        let delta = Vec2::new(parameters.float("udelta", 0.0)?, parameters.float("vdelta", 0.0)?);
+        let scale = Vec2::new(
+            parameters.float("uscale", 1.0)?,
+            parameters.float("vscale", 1.0)?,
+        );
+        let delta = Vec2::new(
+            parameters.float("udelta", 0.0)?,
+            parameters.float("vdelta", 0.0)?,
+        );
         Ok(Affine2::from_scale_angle_translation(scale, 0.0, delta))
     }
 }
@@ -493,7 +558,10 @@ fn artist_conductor(
                 .step_by(5)
                 .map(|l| l as f32)
                 .collect();
-            let values = wavelengths.iter().map(|&l| k_of(lifted.evaluate(l))).collect();
+            let values = wavelengths
+                .iter()
+                .map(|&l| k_of(lifted.evaluate(l)))
+                .collect();
             SpectrumDescription::Sampled {
                 wavelengths,
                 values,

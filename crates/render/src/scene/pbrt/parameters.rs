@@ -110,14 +110,18 @@ impl Parameter {
     }
 
     fn error(&self, message: impl std::fmt::Display) -> SceneFileError {
-        self.position
-            .error(format!("parameter \"{} {}\": {message}", self.type_name, self.name))
+        self.position.error(format!(
+            "parameter \"{} {}\": {message}",
+            self.type_name, self.name
+        ))
     }
 
     /// The numbers, checking the count is a multiple of `group` (and not 0).
     fn numbers(&self, group: usize) -> Result<&[f64], SceneFileError> {
         match &self.values {
-            Values::Numbers(numbers) if !numbers.is_empty() && numbers.len() % group == 0 => {
+            Values::Numbers(numbers)
+                if !numbers.is_empty() && numbers.len().is_multiple_of(group) =>
+            {
                 Ok(numbers)
             }
             Values::Numbers(numbers) => Err(self.error(format!(
@@ -268,7 +272,11 @@ impl ParameterList {
         self.string_of_types(name, &["string"])
     }
 
-    fn string_of_types(&self, name: &str, types: &[&str]) -> Result<Option<String>, SceneFileError> {
+    fn string_of_types(
+        &self,
+        name: &str,
+        types: &[&str],
+    ) -> Result<Option<String>, SceneFileError> {
         match self.typed(name, types)? {
             None => Ok(None),
             Some(p) => match &p.values {
@@ -371,7 +379,10 @@ mod tests {
         let parameters = list(vec![("integer", "radius", Values::Numbers(vec![2.0]))]);
         let message = parameters.float("radius", 1.0).unwrap_err().to_string();
         assert!(message.starts_with("scene.pbrt:7:"), "{message}");
-        assert!(message.contains("'integer'") && message.contains("'float'"), "{message}");
+        assert!(
+            message.contains("'integer'") && message.contains("'float'"),
+            "{message}"
+        );
         let parameters = list(vec![("float", "radius", Values::Numbers(vec![1.0, 2.0]))]);
         let message = parameters.float("radius", 1.0).unwrap_err().to_string();
         assert!(message.contains("expected one value, found 2"), "{message}");

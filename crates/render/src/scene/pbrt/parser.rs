@@ -20,6 +20,10 @@ use std::sync::Arc;
 /// includes itself).
 const MAXIMUM_INCLUDE_DEPTH: usize = 32;
 
+/// More included files than this in one scene is an error (files that
+/// include themselves several times would otherwise take exponential time).
+const MAXIMUM_INCLUDED_FILES: usize = 10_000;
+
 /// The tokens of one file and a read position.
 pub struct Cursor {
     tokens: Vec<Token>,
@@ -67,9 +71,10 @@ impl Cursor {
                 text,
                 ..
             }) => Ok(text),
-            Some(other) => Err(self
-                .at(other.line)
-                .error(format!("{directive}: expected {what} (a quoted string), found {}", other.describe()))),
+            Some(other) => Err(self.at(other.line).error(format!(
+                "{directive}: expected {what} (a quoted string), found {}",
+                other.describe()
+            ))),
             None => Err(self.at(self.last_line()).error(format!(
                 "{directive}: expected {what} (a quoted string), found the end of the file"
             ))),
@@ -97,7 +102,11 @@ impl Cursor {
     }
 
     /// `count` numbers, optionally enclosed in brackets.
-    fn expect_numbers(&mut self, directive: &str, count: usize) -> Result<Vec<f64>, SceneFileError> {
+    fn expect_numbers(
+        &mut self,
+        directive: &str,
+        count: usize,
+    ) -> Result<Vec<f64>, SceneFileError> {
         let bracketed = matches!(self.peek(), Some(t) if t.kind == TokenKind::OpenBracket);
         if bracketed {
             self.next();
@@ -115,9 +124,9 @@ impl Cursor {
                     )));
                 }
                 None => {
-                    return Err(self
-                        .at(self.last_line())
-                        .error(format!("{directive}: expected ']', found the end of the file")));
+                    return Err(self.at(self.last_line()).error(format!(
+                        "{directive}: expected ']', found the end of the file"
+                    )));
                 }
             }
         }
@@ -181,7 +190,12 @@ impl Cursor {
                 }
             }
             let values = self.values(&declaration.text, kind, &value_tokens)?;
-            parameters.push(Parameter::new(type_name, name.to_string(), values, position));
+            parameters.push(Parameter::new(
+                type_name,
+                name.to_string(),
+                values,
+                position,
+            ));
         }
         Ok(ParameterList { parameters })
     }
@@ -318,6 +332,7 @@ pub struct Loader {
     /// Whether `WorldBegin` has been seen.
     pub in_world: bool,
     include_depth: usize,
+    included_files: usize,
 }
 
 impl Loader {
@@ -329,7 +344,7 @@ impl Loader {
                 .map(Path::to_path_buf)
                 .unwrap_or_default(),
             warnings: Vec::new(),
-            state: GraphicsState::new(),
+            state: GraphicsState::default(),
             stack: Vec::new(),
             named_coordinate_systems: HashMap::new(),
             named_materials: HashMap::new(),
@@ -344,6 +359,7 @@ impl Loader {
             camera: CameraSettings::default(),
             in_world: false,
             include_depth: 0,
+            included_files: 0,
         }
     }
 
@@ -432,9 +448,9 @@ impl Loader {
             }
             "Rotate" => {
                 let v = cursor.expect_numbers(name, 4)?;
-                let axis = DVec3::new(v[1], v[2], v[3]).try_normalize().ok_or_else(|| {
-                    position.error("Rotate: the rotation axis must not be zero")
-                })?;
+                let axis = DVec3::new(v[1], v[2], v[3])
+                    .try_normalize()
+                    .ok_or_else(|| position.error("Rotate: the rotation axis must not be zero"))?;
                 self.transform_by(DMat4::from_axis_angle(axis, v[0].to_radians()));
             }
             "LookAt" => {
@@ -484,9 +500,9 @@ impl Loader {
                 let which = match cursor.next() {
                     Some(t) if t.kind == TokenKind::Word => t.text,
                     _ => {
-                        return Err(position.error(
-                            "ActiveTransform: expected StartTime, EndTime or All",
-                        ));
+                        return Err(
+                            position.error("ActiveTransform: expected StartTime, EndTime or All")
+                        );
                     }
                 };
                 if which != "All" && which != "StartTime" && which != "EndTime" {
@@ -503,7 +519,10 @@ impl Loader {
             }
             "TransformTimes" => {
                 cursor.expect_numbers(name, 2)?;
-                self.warn(position, "TransformTimes: animated transforms are not supported");
+                self.warn(
+                    position,
+                    "TransformTimes: animated transforms are not supported",
+                );
             }
             "AttributeBegin" | "TransformBegin" => {
                 let scope = if name == "AttributeBegin" {
@@ -563,6 +582,12 @@ impl Loader {
             "Include" | "Import" => {
                 let file = cursor.expect_string(name, "a file name")?;
                 let path = self.resolve(&file, position);
+                self.included_files += 1;
+                if self.included_files > MAXIMUM_INCLUDED_FILES {
+                    return Err(position.error(format!(
+                        "{name} \"{file}\": more than {MAXIMUM_INCLUDED_FILES} included files"
+                    )));
+                }
                 if self.include_depth >= MAXIMUM_INCLUDE_DEPTH {
                     return Err(position.error(format!(
                         "{name} \"{file}\": more than {MAXIMUM_INCLUDE_DEPTH} nested includes (does a file include itself?)"
@@ -629,8 +654,10 @@ impl Loader {
                 let transform = self.state.ctm;
                 let shapes = definition.shapes.clone();
                 for shape in shapes {
-                    let instanced = super::shapes::transform_shape(shape, transform)
-                        .map_err(|message| position.error(format!("ObjectInstance \"{object}\": {message}")))?;
+                    let instanced =
+                        super::shapes::transform_shape(shape, transform).map_err(|message| {
+                            position.error(format!("ObjectInstance \"{object}\": {message}"))
+                        })?;
                     self.shapes.push(instanced);
                 }
             }
@@ -653,7 +680,8 @@ impl Loader {
                 }
             }
             "Attribute" => {
-                let target = cursor.expect_string(name, "shape, light, material, medium or texture")?;
+                let target =
+                    cursor.expect_string(name, "shape, light, material, medium or texture")?;
                 let parameters = cursor.parameter_list()?;
                 if !parameters.parameters.is_empty() {
                     self.warn(
@@ -666,7 +694,8 @@ impl Loader {
                 let kind = cursor.expect_string(name, "a camera type")?;
                 let parameters = cursor.parameter_list()?;
                 if self.in_world {
-                    return Err(position.error("Camera inside the world block (expected before WorldBegin)"));
+                    return Err(position
+                        .error("Camera inside the world block (expected before WorldBegin)"));
                 }
                 let camera_from_world = self.state.ctm;
                 let world_from_camera = camera_from_world.inverse();
@@ -703,7 +732,8 @@ impl Loader {
             }
             "Texture" => {
                 let texture = cursor.expect_string(name, "a texture name")?;
-                let value_type = cursor.expect_string(name, "the texture's type, \"spectrum\" or \"float\"")?;
+                let value_type =
+                    cursor.expect_string(name, "the texture's type, \"spectrum\" or \"float\"")?;
                 let class = cursor.expect_string(name, "a texture class such as \"imagemap\"")?;
                 let parameters = cursor.parameter_list()?;
                 self.texture_directive(&texture, &value_type, &class, &parameters, position)?;
@@ -713,7 +743,7 @@ impl Loader {
                 let kind = cursor.expect_string(name, "a material type")?;
                 let parameters = cursor.parameter_list()?;
                 let material = self.material(&kind, &parameters, position)?;
-                self.state.material = CurrentMaterial::Anonymous(material);
+                self.state.material = CurrentMaterial::Anonymous(Box::new(material));
                 self.warn_unused(&parameters, &format!("Material \"{kind}\""));
             }
             "MakeNamedMaterial" => {
@@ -730,9 +760,15 @@ impl Loader {
                     .insert(material_name.clone(), material)
                     .is_some()
                 {
-                    self.warn(position, format!("named material \"{material_name}\" redefined"));
+                    self.warn(
+                        position,
+                        format!("named material \"{material_name}\" redefined"),
+                    );
                 }
-                self.warn_unused(&parameters, &format!("MakeNamedMaterial \"{material_name}\""));
+                self.warn_unused(
+                    &parameters,
+                    &format!("MakeNamedMaterial \"{material_name}\""),
+                );
             }
             "NamedMaterial" => {
                 let material_name = cursor.expect_string(name, "a material name")?;
@@ -779,7 +815,10 @@ impl Loader {
                 Scope::Transform => "TransformBegin",
                 Scope::Object => "ObjectBegin",
             };
-            self.warn(&position, format!("{begin} without a matching end at the end of the scene"));
+            self.warn(
+                &position,
+                format!("{begin} without a matching end at the end of the scene"),
+            );
         }
         Ok(())
     }
@@ -787,7 +826,7 @@ impl Loader {
     /// The material a shape gets now: the anonymous one or the named one.
     pub fn current_material(&self) -> Result<MaterialDescription, SceneFileError> {
         match &self.state.material {
-            CurrentMaterial::Anonymous(material) => Ok(material.clone()),
+            CurrentMaterial::Anonymous(material) => Ok(material.as_ref().clone()),
             CurrentMaterial::Named { name, position } => {
                 self.named_materials.get(name).cloned().ok_or_else(|| {
                     position.error(format!(

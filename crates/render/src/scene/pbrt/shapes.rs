@@ -40,7 +40,7 @@ fn check_indices(
     what: &str,
     position: &Position,
 ) -> Result<(), SceneFileError> {
-    if indices.is_empty() || indices.len() % per_face != 0 {
+    if indices.is_empty() || !indices.len().is_multiple_of(per_face) {
         return Err(position.error(format!(
             "Shape \"{what}\": expected a multiple of {per_face} vertex indices, found {}",
             indices.len()
@@ -57,13 +57,32 @@ fn check_indices(
     Ok(())
 }
 
+/// Checks a mesh read from a file: indices in range, one normal and uv per vertex.
+fn check_mesh_data(mesh: &MeshData, what: &str, position: &Position) -> Result<(), SceneFileError> {
+    let count = mesh.positions.len();
+    if let Some(bad) = mesh
+        .triangles
+        .iter()
+        .flatten()
+        .find(|&&i| i as usize >= count)
+    {
+        return Err(position.error(format!(
+            "{what}: vertex index {bad} is outside the {count} vertices"
+        )));
+    }
+    if mesh.normals.as_ref().is_some_and(|n| n.len() != count)
+        || mesh.uvs.as_ref().is_some_and(|uv| uv.len() != count)
+    {
+        return Err(position.error(format!(
+            "{what}: the normals or texture coordinates do not match the {count} vertices"
+        )));
+    }
+    Ok(())
+}
+
 /// Transforms a mesh given in object space and orients its triangles as pbrt
 /// would (see the module documentation).
-fn orient_mesh(
-    mesh: MeshData,
-    transform: &ShapeTransform,
-    reverse_orientation: bool,
-) -> WorldMesh {
+fn orient_mesh(mesh: MeshData, transform: &ShapeTransform, reverse_orientation: bool) -> WorldMesh {
     let positions: Vec<Vec3> = mesh
         .positions
         .iter()
@@ -143,8 +162,8 @@ fn uniform_scale(matrix: &DMat4) -> Option<f64> {
             .transform_vector3(DVec3::X)
             .dot(matrix.transform_vector3(DVec3::Z))
             .abs();
-    let similar = lengths.iter().all(|l| (l - mean).abs() <= 1e-5 * mean)
-        && orthogonal <= 1e-5 * mean * mean;
+    let similar =
+        lengths.iter().all(|l| (l - mean).abs() <= 1e-5 * mean) && orthogonal <= 1e-5 * mean * mean;
     similar.then_some(mean)
 }
 
@@ -239,9 +258,13 @@ impl Loader {
                 if parameters.has("displacement") {
                     parameters.find("displacement");
                     parameters.float("edgelength", 1.0)?;
-                    self.warn(position, "Shape \"plymesh\": displacement is not supported and is ignored");
+                    self.warn(
+                        position,
+                        "Shape \"plymesh\": displacement is not supported and is ignored",
+                    );
                 }
                 let mesh = read_ply(&path)?;
+                check_mesh_data(&mesh, &path.display().to_string(), position)?;
                 let world = orient_mesh(mesh, &transform, reverse);
                 let area = mesh_area(&world);
                 (mesh_geometry(world), area, false)
@@ -260,7 +283,7 @@ impl Loader {
                 if z_min > -radius || z_max < radius || phi_max < 360.0 {
                     self.warn(position, "Shape \"sphere\": partial spheres (zmin, zmax, phimax) are not supported; the whole sphere is used");
                 }
-                if !(radius > 0.0) {
+                if radius.is_nan() || radius <= 0.0 {
                     return Err(position.error(format!(
                         "Shape \"sphere\": \"float radius\" must be positive, found {radius}"
                     )));
@@ -286,7 +309,7 @@ impl Loader {
                 if inner_radius > 0.0 || phi_max < 360.0 {
                     self.warn(position, "Shape \"disk\": annuli and partial disks (innerradius, phimax) are not supported; the whole disk is used");
                 }
-                if !(radius > 0.0) {
+                if radius.is_nan() || radius <= 0.0 {
                     return Err(position.error(format!(
                         "Shape \"disk\": \"float radius\" must be positive, found {radius}"
                     )));
@@ -294,8 +317,11 @@ impl Loader {
                 let object = Affine3A::from_translation(Vec3::new(0.0, 0.0, height))
                     * Affine3A::from_scale(Vec3::new(radius, radius, 1.0));
                 let to_world = transform.affine() * object;
-                let area =
-                    PI * to_world.transform_vector3(Vec3::X).cross(to_world.transform_vector3(Vec3::Y)).length();
+                let area = PI
+                    * to_world
+                        .transform_vector3(Vec3::X)
+                        .cross(to_world.transform_vector3(Vec3::Y))
+                        .length();
                 (ShapeGeometry::Disk { to_world }, area, reverse)
             }
             other => {
@@ -344,7 +370,10 @@ impl Loader {
             match loader.named_media.get(name) {
                 Some(&index) => Some(index),
                 None => {
-                    loader.warn(position, format!("MediumInterface: no medium named \"{name}\"; vacuum is used"));
+                    loader.warn(
+                        position,
+                        format!("MediumInterface: no medium named \"{name}\"; vacuum is used"),
+                    );
                     None
                 }
             }
@@ -385,9 +414,9 @@ impl Loader {
         parameters: &ParameterList,
         position: &Position,
     ) -> Result<MeshData, SceneFileError> {
-        let positions = parameters
-            .tuples::<3>("P", &["point3"])?
-            .ok_or_else(|| position.error("Shape \"trianglemesh\": expected a \"point3 P\" parameter"))?;
+        let positions = parameters.tuples::<3>("P", &["point3"])?.ok_or_else(|| {
+            position.error("Shape \"trianglemesh\": expected a \"point3 P\" parameter")
+        })?;
         let indices = match parameters.integers("indices")? {
             Some(indices) => indices,
             None if positions.len() == 3 => vec![0, 1, 2],
@@ -417,9 +446,9 @@ impl Loader {
         parameters: &ParameterList,
         position: &Position,
     ) -> Result<MeshData, SceneFileError> {
-        let positions = parameters
-            .tuples::<3>("P", &["point3"])?
-            .ok_or_else(|| position.error("Shape \"bilinearmesh\": expected a \"point3 P\" parameter"))?;
+        let positions = parameters.tuples::<3>("P", &["point3"])?.ok_or_else(|| {
+            position.error("Shape \"bilinearmesh\": expected a \"point3 P\" parameter")
+        })?;
         let indices = match parameters.integers("indices")? {
             Some(indices) => indices,
             None if positions.len() == 4 => vec![0, 1, 2, 3],
@@ -443,7 +472,10 @@ impl Loader {
             triangles.push([p00, p11, p01]);
         }
         if non_planar {
-            self.warn(position, "Shape \"bilinearmesh\": non-planar patches are approximated by two triangles each");
+            self.warn(
+                position,
+                "Shape \"bilinearmesh\": non-planar patches are approximated by two triangles each",
+            );
         }
         let mesh = self.mesh_attributes(parameters, position, positions, "bilinearmesh")?;
         Ok(MeshData { triangles, ..mesh })
@@ -574,7 +606,8 @@ mod tests {
     #[test]
     fn uniform_scales_are_recognised() {
         let rotation = DMat4::from_axis_angle(DVec3::new(1.0, 2.0, 3.0).normalize(), 0.7);
-        let similarity = DMat4::from_translation(DVec3::ONE) * rotation * DMat4::from_scale(DVec3::splat(2.0));
+        let similarity =
+            DMat4::from_translation(DVec3::ONE) * rotation * DMat4::from_scale(DVec3::splat(2.0));
         assert!((uniform_scale(&similarity).unwrap() - 2.0).abs() < 1e-9);
         assert!(uniform_scale(&DMat4::from_scale(DVec3::new(1.0, 2.0, 1.0))).is_none());
     }

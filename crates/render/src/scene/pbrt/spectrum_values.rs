@@ -12,7 +12,10 @@ use crate::spectrum::{CIE_LAMBDA_MAX, CIE_LAMBDA_MIN, CIE_Y_INTEGRAL, cie_y};
 
 impl Loader {
     /// The spectrum a spectral parameter (`rgb`, `blackbody`, `spectrum`) holds.
-    pub fn spectrum_of(&self, parameter: &Parameter) -> Result<SpectrumDescription, SceneFileError> {
+    pub fn spectrum_of(
+        &self,
+        parameter: &Parameter,
+    ) -> Result<SpectrumDescription, SceneFileError> {
         let error = |message: String| {
             parameter
                 .position
@@ -47,9 +50,7 @@ impl Loader {
                 "expected one temperature, found {}",
                 describe_count(values)
             ))),
-            ("spectrum", Values::Numbers(v)) => {
-                sampled_from_pairs(v).map_err(|message| error(message))
-            }
+            ("spectrum", Values::Numbers(v)) => sampled_from_pairs(v).map_err(&error),
             ("spectrum", Values::Strings(names)) if names.len() == 1 => {
                 self.spectrum_from_name(&names[0], &parameter.position)
             }
@@ -132,15 +133,20 @@ fn describe_count(values: &Values) -> String {
 
 /// Inline wavelength–value pairs with increasing wavelengths.
 fn sampled_from_pairs(numbers: &[f64]) -> Result<SpectrumDescription, String> {
-    if numbers.len() < 2 || numbers.len() % 2 != 0 {
+    if numbers.len() < 2 || !numbers.len().is_multiple_of(2) {
         return Err(format!(
             "expected wavelength-value pairs, found {} numbers",
             numbers.len()
         ));
     }
     let wavelengths: Vec<f32> = numbers.iter().step_by(2).map(|&v| v as f32).collect();
-    let values: Vec<f32> = numbers.iter().skip(1).step_by(2).map(|&v| v as f32).collect();
-    if wavelengths.windows(2).any(|w| !(w[0] < w[1])) {
+    let values: Vec<f32> = numbers
+        .iter()
+        .skip(1)
+        .step_by(2)
+        .map(|&v| v as f32)
+        .collect();
+    if wavelengths.windows(2).any(|w| w[0] >= w[1]) {
         return Err("the wavelengths of a spectrum must increase".into());
     }
     if values.iter().any(|v| !v.is_finite()) {
@@ -162,7 +168,9 @@ pub fn luminance(
         .map_err(|error| position.error(error.to_string()))?;
     let y = cie_y();
     let sum: f64 = (CIE_LAMBDA_MIN..=CIE_LAMBDA_MAX)
-        .map(|lambda| f64::from(built.evaluate(lambda as f32)) * f64::from(y.evaluate(lambda as f32)))
+        .map(|lambda| {
+            f64::from(built.evaluate(lambda as f32)) * f64::from(y.evaluate(lambda as f32))
+        })
         .sum();
     Ok(sum / f64::from(CIE_Y_INTEGRAL))
 }
@@ -185,9 +193,8 @@ pub fn light_normalisation(
             if y > 0.0 && y.is_finite() {
                 Ok((1.0 / y) as f32)
             } else {
-                Err(position.error(
-                    "a light spectrum has no luminance (it is zero over the visible range)",
-                ))
+                Err(position
+                    .error("a light spectrum has no luminance (it is zero over the visible range)"))
             }
         }
     }

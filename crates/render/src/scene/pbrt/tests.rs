@@ -40,7 +40,9 @@ fn load_source(source: &str) -> LoadedScene {
 }
 
 fn error_of(source: &str) -> String {
-    load_files(&[("scene.pbrt", source)]).unwrap_err().to_string()
+    load_files(&[("scene.pbrt", source)])
+        .unwrap_err()
+        .to_string()
 }
 
 const TRIANGLE: &str =
@@ -118,8 +120,14 @@ fn the_camera_takes_the_inverse_ctm_in_pbrts_left_handed_frame() {
     ));
     // Camera +z (the view direction) is world −z; camera +x (the image's
     // right) is world −x, as pbrt renders it.
-    assert!(close(world_from_camera.transform_vector3(Vec3::Z), -Vec3::Z));
-    assert!(close(world_from_camera.transform_vector3(Vec3::X), -Vec3::X));
+    assert!(close(
+        world_from_camera.transform_vector3(Vec3::Z),
+        -Vec3::Z
+    ));
+    assert!(close(
+        world_from_camera.transform_vector3(Vec3::X),
+        -Vec3::X
+    ));
     assert!(close(world_from_camera.transform_vector3(Vec3::Y), Vec3::Y));
 }
 
@@ -162,12 +170,22 @@ fn coordinate_systems_and_transform_blocks() {
          CoordSysTransform \"nowhere\"\n"
     ));
     let description = &loaded.description;
-    assert!(close(mesh_positions(description, 0)[0], Vec3::new(4.0, 0.0, 0.0)));
+    assert!(close(
+        mesh_positions(description, 0)[0],
+        Vec3::new(4.0, 0.0, 0.0)
+    ));
     // The camera sits at world z = 2 (camera-from-world translates by −2).
-    assert!(close(mesh_positions(description, 1)[0], Vec3::new(0.0, 0.0, 2.0)));
+    assert!(close(
+        mesh_positions(description, 1)[0],
+        Vec3::new(0.0, 0.0, 2.0)
+    ));
     assert!(close(mesh_positions(description, 2)[0], Vec3::ZERO));
     assert_eq!(loaded.warnings.len(), 1, "{:?}", loaded.warnings);
-    assert!(loaded.warnings[0].contains("scene.pbrt:16:"), "{:?}", loaded.warnings);
+    assert!(
+        loaded.warnings[0].contains("scene.pbrt:16:"),
+        "{:?}",
+        loaded.warnings
+    );
     assert!(loaded.warnings[0].contains("nowhere"));
 }
 
@@ -347,7 +365,10 @@ fn lights_spheres_disks_and_media() {
         sphere.geometry,
         ShapeGeometry::Sphere { center, radius } if close(center, Vec3::new(0.0, 3.0, 0.0)) && radius == 1.0
     ));
-    assert_eq!((sphere.interior_medium, sphere.exterior_medium), (Some(0), None));
+    assert_eq!(
+        (sphere.interior_medium, sphere.exterior_medium),
+        (Some(0), None)
+    );
     assert!(matches!(
         description.media[0].coefficients,
         MediumCoefficients::AbsorptionScattering { .. }
@@ -357,7 +378,10 @@ fn lights_spheres_disks_and_media() {
         panic!()
     };
     assert_eq!(to_world.translation, Vec3A::new(0.0, 0.0, 1.0));
-    assert_eq!(to_world.transform_vector3(Vec3::X), Vec3::new(2.0, 0.0, 0.0));
+    assert_eq!(
+        to_world.transform_vector3(Vec3::X),
+        Vec3::new(2.0, 0.0, 0.0)
+    );
     assert!(disk.flip_normals);
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
 }
@@ -370,8 +394,14 @@ fn object_instances_apply_the_instance_transform_after_the_definition() {
     ));
     let description = &loaded.description;
     assert_eq!(description.shapes.len(), 2);
-    assert!(close(mesh_positions(description, 0)[0], Vec3::new(10.0, 0.0, 1.0)));
-    assert!(close(mesh_positions(description, 1)[0], Vec3::new(0.0, 0.0, 1.0)));
+    assert!(close(
+        mesh_positions(description, 0)[0],
+        Vec3::new(10.0, 0.0, 1.0)
+    ));
+    assert!(close(
+        mesh_positions(description, 1)[0],
+        Vec3::new(0.0, 0.0, 1.0)
+    ));
 }
 
 #[test]
@@ -390,16 +420,25 @@ fn include_and_import_resolve_against_the_main_files_directory() {
         ),
         ("geometry/c.pbrt", TRIANGLE),
         // Import's graphics-state changes do not leak.
-        ("geometry/b.pbrt", "Material \"conductor\"\nTranslate 5 0 0\n"),
+        (
+            "geometry/b.pbrt",
+            "Material \"conductor\"\nTranslate 5 0 0\n",
+        ),
     ]);
     let loaded = load(&directory.join("scene.pbrt"), &LoadOptions::default())
         .unwrap_or_else(|e| panic!("{e}"));
     let shapes = &loaded.description.shapes;
     assert_eq!(shapes.len(), 2);
-    assert!(matches!(shapes[0].material, MaterialDescription::Dielectric { .. }));
+    assert!(matches!(
+        shapes[0].material,
+        MaterialDescription::Dielectric { .. }
+    ));
     // Include is textual: the dielectric stays; Import's conductor and
     // translation do not.
-    assert!(matches!(shapes[1].material, MaterialDescription::Dielectric { .. }));
+    assert!(matches!(
+        shapes[1].material,
+        MaterialDescription::Dielectric { .. }
+    ));
     assert!(matches!(
         shapes[1].geometry,
         ShapeGeometry::Sphere { center, .. } if center == Vec3::ZERO
@@ -413,36 +452,63 @@ fn missing_files_name_the_path_looked_for() {
         .to_string();
     assert!(message.contains("scene.pbrt:3:"), "{message}");
     assert!(message.contains("nothere.pbrt"), "{message}");
-    let message = error_of("WorldBegin\nShape \"plymesh\" \"string filename\" \"meshes/bunny.ply.gz\"\n");
+    let message =
+        error_of("WorldBegin\nShape \"plymesh\" \"string filename\" \"meshes/bunny.ply.gz\"\n");
     assert!(message.contains("scene.pbrt:2:"), "{message}");
     assert!(message.contains("meshes/bunny.ply.gz"), "{message}");
     assert!(message.contains("looked for"), "{message}");
     let message = error_of(
         "WorldBegin\nTexture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"wood.png\"\n",
     );
-    assert!(message.contains("wood.png") && message.contains("looked for"), "{message}");
+    assert!(
+        message.contains("wood.png") && message.contains("looked for"),
+        "{message}"
+    );
     let missing = Path::new("/nonexistent/lqmc/scene.pbrt");
-    let message = load(missing, &LoadOptions::default()).unwrap_err().to_string();
-    assert!(message.contains("/nonexistent/lqmc/scene.pbrt"), "{message}");
+    let message = load(missing, &LoadOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("/nonexistent/lqmc/scene.pbrt"),
+        "{message}"
+    );
 }
 
 #[test]
 fn parameter_errors_name_file_line_and_expectation() {
     let message = error_of("WorldBegin\nShape \"sphere\"\n   \"integer radius\" [ 1 ]\n");
-    assert!(message.starts_with(&"scene.pbrt:3:".to_string()) || message.contains("scene.pbrt:3:"), "{message}");
+    assert!(
+        message.starts_with(&"scene.pbrt:3:".to_string()) || message.contains("scene.pbrt:3:"),
+        "{message}"
+    );
     assert!(message.contains("'float'"), "{message}");
     let message = error_of("WorldBegin\nShape \"sphere\" \"float radius\" [ one ]\n");
-    assert!(message.contains("scene.pbrt:2:") && message.contains("expected a number"), "{message}");
+    assert!(
+        message.contains("scene.pbrt:2:") && message.contains("expected a number"),
+        "{message}"
+    );
     let message = error_of("WorldBegin\nShape \"sphere\" \"double radius\" 1\n");
-    assert!(message.contains("unknown parameter type 'double'"), "{message}");
+    assert!(
+        message.contains("unknown parameter type 'double'"),
+        "{message}"
+    );
     let message = error_of("WorldBegin\nShape \"sphere\" \"float radius\" [ 1\n");
     assert!(message.contains("expected ']'"), "{message}");
     let message = error_of("WorldBegin\nTranslate 1 2\n");
-    assert!(message.contains("Translate: expected a number"), "{message}");
+    assert!(
+        message.contains("Translate: expected a number"),
+        "{message}"
+    );
     let message = error_of("WorldBegin\nAttributeEnd\n");
-    assert!(message.contains("AttributeEnd without a matching AttributeBegin"), "{message}");
+    assert!(
+        message.contains("AttributeEnd without a matching AttributeBegin"),
+        "{message}"
+    );
     let message = error_of("WorldBegin\nNamedMaterial \"nope\"\nShape \"sphere\"\n");
-    assert!(message.contains("scene.pbrt:2:") && message.contains("\"nope\""), "{message}");
+    assert!(
+        message.contains("scene.pbrt:2:") && message.contains("\"nope\""),
+        "{message}"
+    );
     let message = error_of(
         "WorldBegin\nShape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 3]\n",
     );
@@ -465,15 +531,36 @@ fn unknown_directives_plugins_and_parameters_are_warnings() {
          {TRIANGLE}"
     ));
     let warnings = loaded.warnings.join("\n");
-    assert!(warnings.contains("scene.pbrt:1: Integrator \"path_guiding_integrator\""), "{warnings}");
+    assert!(
+        warnings.contains("scene.pbrt:1: Integrator \"path_guiding_integrator\""),
+        "{warnings}"
+    );
     assert!(warnings.contains("command line's integrator"), "{warnings}");
     assert!(warnings.contains("\"float guiding\""), "{warnings}");
-    assert!(warnings.contains("scene.pbrt:2: Camera \"realistic\""), "{warnings}");
-    assert!(warnings.contains("scene.pbrt:3: unknown directive 'FancyDirective'"), "{warnings}");
-    assert!(warnings.contains("scene.pbrt:5: Shape \"curve\""), "{warnings}");
-    assert!(warnings.contains("scene.pbrt:6: Material \"hair\""), "{warnings}");
-    assert!(warnings.contains("scene.pbrt:7: LightSource \"goniometric\""), "{warnings}");
-    assert!(warnings.contains("scene.pbrt:8: Shape \"sphere\": parameter \"float unknownthing\""), "{warnings}");
+    assert!(
+        warnings.contains("scene.pbrt:2: Camera \"realistic\""),
+        "{warnings}"
+    );
+    assert!(
+        warnings.contains("scene.pbrt:3: unknown directive 'FancyDirective'"),
+        "{warnings}"
+    );
+    assert!(
+        warnings.contains("scene.pbrt:5: Shape \"curve\""),
+        "{warnings}"
+    );
+    assert!(
+        warnings.contains("scene.pbrt:6: Material \"hair\""),
+        "{warnings}"
+    );
+    assert!(
+        warnings.contains("scene.pbrt:7: LightSource \"goniometric\""),
+        "{warnings}"
+    );
+    assert!(
+        warnings.contains("scene.pbrt:8: Shape \"sphere\": parameter \"float unknownthing\""),
+        "{warnings}"
+    );
     let description = &loaded.description;
     assert_eq!(description.integrator, None);
     assert_eq!(description.max_depth, Some(8));
@@ -526,8 +613,12 @@ fn spectra_inline_named_blackbody_and_from_files() {
         &shapes[2].material,
         MaterialDescription::Dielectric { interior_ior: SpectrumDescription::Named(name), .. } if name == "glass-BK7"
     ));
-    let message = error_of("WorldBegin\nMaterial \"diffuse\" \"spectrum reflectance\" \"missing.spd\"\n");
-    assert!(message.contains("missing.spd") && message.contains("looked for"), "{message}");
+    let message =
+        error_of("WorldBegin\nMaterial \"diffuse\" \"spectrum reflectance\" \"missing.spd\"\n");
+    assert!(
+        message.contains("missing.spd") && message.contains("looked for"),
+        "{message}"
+    );
 }
 
 #[test]
