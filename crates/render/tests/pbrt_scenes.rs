@@ -2,13 +2,16 @@
 //! Cornell box and Veach's MIS scene (`../shared/scenes/bitterli/`) load,
 //! and the Cornell box renders to the image mean of Tungsten's reference.
 //!
-//! The reference `TungstenRender.exr` is 1024 × 1024 (half float, PIZ);
-//! we render at 128 × 128 with the scene's own triangle filter: the image
-//! mean is the mean radiance over the image plane either way (up to the
-//! filter's blur at the image border, which is black outside the box's
-//! frame on neither side). Tolerance: the issue's 2 % per channel; the
-//! standard error of our mean is printed (about 0.1 %) so that the margin
-//! is visibly not noise.
+//! The reference `TungstenRender.exr` (1024 × 1024, half float, PIZ; the
+//! project's EXR reader reads it) is an RGB render. We render at 128 × 128
+//! with the scene's own triangle filter (the image mean is the mean
+//! radiance over the image plane at any resolution) and check, with the
+//! issue's 2 % tolerance: the luminance of the image mean against
+//! Tungsten's, every channel against Mitsuba 3's spectral render of the same
+//! scene (see [`MITSUBA_SPECTRAL_MEAN`] for why blue is not compared with
+//! Tungsten), and red and green in each image half against Tungsten (3 %),
+//! which catches a mirrored camera. Our standard error (about 0.3 % in R
+//! and G, 0.6 % in B) is printed.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -95,11 +98,54 @@ fn veach_mis_loads() {
     // then building reports them as unsupported.
 }
 
+/// Image means of the same Cornell box (Bitterli's `scene.xml`) rendered by
+/// Mitsuba 3.9.1 `scalar_spectral` at 128 × 128, 256 spp, depth 66, tent
+/// filter:
+///
+/// ```python
+/// mi.set_variant("scalar_spectral")
+/// scene = mi.load_file(".../cornell-box/scene.xml", integrator="path",
+///                      resx=128, resy=128, spp=256, max_depth=66)
+/// np.array(mi.render(scene, spp=256))[..., :3].reshape(-1, 3).mean(axis=0)
+/// ```
+///
+/// `scalar_rgb` gives (0.19626, 0.12754, 0.03610), Tungsten's image to
+/// 0.01 %: Tungsten renders in RGB. A spectral renderer's product of the
+/// lifted reflectance and emission spectra is not the product of their RGB
+/// values, which shifts the saturated blue channel by −4 % (Mitsuba) — not a
+/// loader error, so the blue channel is compared with Mitsuba's spectral
+/// render, and Tungsten is compared by luminance and in red and green.
+const MITSUBA_SPECTRAL_MEAN: [f64; 3] = [0.194_852_4, 0.126_627_31, 0.034_737_18];
+
+fn luminance(rgb: [f64; 3]) -> f64 {
+    0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
+}
+
+/// Mean of the columns `[from, to)` of an image given as rows of pixels.
+fn column_mean(pixels: &[[f64; 3]], width: usize, from: usize, to: usize) -> [f64; 3] {
+    let mut sum = [0.0; 3];
+    let mut count = 0.0;
+    for (index, pixel) in pixels.iter().enumerate() {
+        if (from..to).contains(&(index % width)) {
+            for channel in 0..3 {
+                sum[channel] += pixel[channel];
+            }
+            count += 1.0;
+        }
+    }
+    sum.map(|s| s / count)
+}
+
 #[test]
 fn cornell_box_image_mean_matches_tungsten() {
     let reference_path = bitterli("cornell-box").join("TungstenRender.exr");
     let reference = read_image(&reference_path)
         .unwrap_or_else(|error| panic!("{}: {error}", reference_path.display()));
+    let reference_pixels: Vec<[f64; 3]> = reference
+        .pixels()
+        .iter()
+        .map(|p| p.map(f64::from))
+        .collect();
     let reference_mean = reference.mean();
 
     let mut description = load("cornell-box").description;
@@ -117,28 +163,102 @@ fn cornell_box_image_mean_matches_tungsten() {
     };
     let output = render(&scene, &settings, &AtomicBool::new(false), &|_, _| {})
         .expect("the Cornell box renders");
-    let count = (SIDE * SIDE) as f64;
-    for channel in 0..3 {
-        let mut mean = 0.0;
-        let mut variance = 0.0;
-        for y in 0..SIDE {
-            for x in 0..SIDE {
-                let pixel = output.film.pixel(x, y).unwrap();
-                mean += pixel.weighted_mean()[channel];
-                variance += pixel.variance_of_mean()[channel];
+    let mut pixels = Vec::with_capacity(SIDE * SIDE);
+    let mut variance = [0.0; 3];
+    for y in 0..SIDE {
+        for x in 0..SIDE {
+            let pixel = output.film.pixel(x, y).unwrap();
+            pixels.push(pixel.weighted_mean());
+            for (sum, value) in variance.iter_mut().zip(pixel.variance_of_mean()) {
+                *sum += value;
             }
         }
-        mean /= count;
-        let sigma = variance.sqrt() / count;
-        let ratio = mean / reference_mean[channel];
+    }
+    let count = (SIDE * SIDE) as f64;
+    let mean = column_mean(&pixels, SIDE, 0, SIDE);
+    for channel in 0..3 {
+        let sigma = variance[channel].sqrt() / count;
         eprintln!(
-            "channel {channel}: ours {mean:.5} ± {sigma:.5}, Tungsten {:.5}, ratio {ratio:.4}",
-            reference_mean[channel]
+            "channel {channel}: ours {:.5} ± {sigma:.5}, Tungsten {:.5} (ratio {:.4}), Mitsuba spectral {:.5} (ratio {:.4})",
+            mean[channel],
+            reference_mean[channel],
+            mean[channel] / reference_mean[channel],
+            MITSUBA_SPECTRAL_MEAN[channel],
+            mean[channel] / MITSUBA_SPECTRAL_MEAN[channel],
         );
+        let ratio = mean[channel] / MITSUBA_SPECTRAL_MEAN[channel];
         assert!(
             (ratio - 1.0).abs() < 0.02,
-            "channel {channel}: image mean {mean} vs Tungsten's {} (ratio {ratio})",
-            reference_mean[channel]
+            "channel {channel}: image mean {} vs Mitsuba spectral {} (ratio {ratio})",
+            mean[channel],
+            MITSUBA_SPECTRAL_MEAN[channel]
         );
     }
+    let ratio = luminance(mean) / luminance(reference_mean);
+    eprintln!("luminance: ratio to Tungsten {ratio:.4}");
+    assert!(
+        (ratio - 1.0).abs() < 0.02,
+        "luminance ratio to Tungsten {ratio}"
+    );
+    // Red and green per half image: the red wall on the left, the green
+    // one on the right, as in Tungsten's image (a mirrored camera fails).
+    let half = |pixels: &[[f64; 3]], width: usize, left: bool| {
+        if left {
+            column_mean(pixels, width, 0, width / 2)
+        } else {
+            column_mean(pixels, width, width / 2, width)
+        }
+    };
+    for left in [true, false] {
+        let ours = half(&pixels, SIDE, left);
+        let theirs = half(&reference_pixels, reference.width(), left);
+        for channel in 0..2 {
+            let ratio = ours[channel] / theirs[channel];
+            eprintln!(
+                "{} half, channel {channel}: ratio to Tungsten {ratio:.4}",
+                if left { "left" } else { "right" }
+            );
+            assert!(
+                (ratio - 1.0).abs() < 0.03,
+                "{} half, channel {channel}: {} vs Tungsten's {} (ratio {ratio})",
+                if left { "left" } else { "right" },
+                ours[channel],
+                theirs[channel]
+            );
+        }
+    }
+}
+
+/// Truncated and corrupted copies of a real scene give a scene or an error,
+/// never a panic (a small deterministic stand-in for the fuzz target).
+#[test]
+fn truncated_and_corrupted_files_never_panic() {
+    let original = std::fs::read(bitterli("cornell-box").join("scene-v4.pbrt")).unwrap();
+    let directory = std::env::temp_dir().join(format!("lqmc-pbrt-corrupt-{}", std::process::id()));
+    std::fs::create_dir_all(&directory).unwrap();
+    let path = directory.join("scene.pbrt");
+    let mut variants: Vec<Vec<u8>> = (0..original.len())
+        .step_by(97)
+        .map(|end| original[..end].to_vec())
+        .collect();
+    for (index, replacement) in (0..original.len())
+        .step_by(89)
+        .zip([b'"', b'[', b']', b'#', b'x', b'-', b'\n'].iter().cycle())
+    {
+        let mut corrupted = original.clone();
+        corrupted[index] = *replacement;
+        variants.push(corrupted);
+    }
+    let mut loaded = 0;
+    for bytes in &variants {
+        std::fs::write(&path, bytes).unwrap();
+        if let Ok(scene) = load_scene_file(&path, &LoadOptions::default()) {
+            loaded += 1;
+            let mut description = scene.description;
+            description.camera.resolution = [4, 4];
+            let _ = Scene::build(&description);
+        }
+    }
+    assert!(loaded > 0);
+    let _ = std::fs::remove_dir_all(&directory);
 }

@@ -231,7 +231,7 @@ impl Loader {
                     let x = parameters.integer("xsamples", 4)?;
                     let y = parameters.integer("ysamples", 4)?;
                     parameters.bool("jitter", true)?;
-                    (x.max(1) * y.max(1)) as u64
+                    x.clamp(1, 1 << 16) as u64 * y.clamp(1, 1 << 16) as u64
                 } else {
                     let samples = parameters.integer("pixelsamples", 16)?;
                     if samples < 1 {
@@ -261,7 +261,7 @@ impl Loader {
                         format!("PixelFilter: different x and y radii ({x_radius}, {y_radius}) are not supported; the x radius is used"),
                     );
                 }
-                if !(x_radius > 0.0) {
+                if x_radius.is_nan() || x_radius <= 0.0 {
                     return Err(position.error(format!(
                         "PixelFilter: the radius must be positive, found {x_radius}"
                     )));

@@ -12,7 +12,7 @@ use glam::{Affine3A, DMat3, DMat4, DVec3, Vec3};
 #[derive(Debug, Clone, PartialEq)]
 pub enum CurrentMaterial {
     /// From `Material` (or pbrt's default, diffuse with reflectance 0.5).
-    Anonymous(MaterialDescription),
+    Anonymous(Box<MaterialDescription>),
     /// From `NamedMaterial`, resolved when a shape uses it.
     Named { name: String, position: Position },
 }
@@ -44,13 +44,13 @@ pub struct GraphicsState {
     pub outside_medium: Option<String>,
 }
 
-impl GraphicsState {
+impl Default for GraphicsState {
     /// pbrt-v4's initial state: identity CTM, diffuse material of reflectance 0.5.
-    pub fn new() -> Self {
+    fn default() -> Self {
         Self {
             ctm: DMat4::IDENTITY,
             reverse_orientation: false,
-            material: CurrentMaterial::Anonymous(default_material()),
+            material: CurrentMaterial::Anonymous(Box::new(default_material())),
             area_light: None,
             inside_medium: None,
             outside_medium: None,

@@ -42,7 +42,7 @@ impl Loader {
             .spectrum_parameter(parameters, name)?
             .unwrap_or_else(illuminant);
         let scale = parameters.float("scale", 1.0)?;
-        if !(scale >= 0.0) {
+        if scale.is_nan() || scale < 0.0 {
             return Err(position.error(format!(
                 "\"float scale\" must not be negative, found {scale}"
             )));
@@ -75,7 +75,7 @@ impl Loader {
                 let (intensity, mut scale) = self.light_spectrum(parameters, "I", position)?;
                 let cone_angle = parameters.float("coneangle", 30.0)?;
                 let cone_delta = parameters.float("conedelta", 5.0)?;
-                if !(cone_angle > 0.0 && cone_angle <= 180.0) || !(cone_delta >= 0.0) {
+                if !(cone_angle > 0.0 && cone_angle <= 180.0 && cone_delta >= 0.0) {
                     return Err(position.error(format!(
                         "LightSource \"spot\": expected 0 < coneangle ≤ 180 and conedelta ≥ 0, found {cone_angle} and {cone_delta}"
                     )));

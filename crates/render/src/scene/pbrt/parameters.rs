@@ -119,7 +119,9 @@ impl Parameter {
     /// The numbers, checking the count is a multiple of `group` (and not 0).
     fn numbers(&self, group: usize) -> Result<&[f64], SceneFileError> {
         match &self.values {
-            Values::Numbers(numbers) if !numbers.is_empty() && numbers.len() % group == 0 => {
+            Values::Numbers(numbers)
+                if !numbers.is_empty() && numbers.len().is_multiple_of(group) =>
+            {
                 Ok(numbers)
             }
             Values::Numbers(numbers) => Err(self.error(format!(

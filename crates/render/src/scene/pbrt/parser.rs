@@ -20,6 +20,10 @@ use std::sync::Arc;
 /// includes itself).
 const MAXIMUM_INCLUDE_DEPTH: usize = 32;
 
+/// More included files than this in one scene is an error (files that
+/// include themselves several times would otherwise take exponential time).
+const MAXIMUM_INCLUDED_FILES: usize = 10_000;
+
 /// The tokens of one file and a read position.
 pub struct Cursor {
     tokens: Vec<Token>,
@@ -328,6 +332,7 @@ pub struct Loader {
     /// Whether `WorldBegin` has been seen.
     pub in_world: bool,
     include_depth: usize,
+    included_files: usize,
 }
 
 impl Loader {
@@ -339,7 +344,7 @@ impl Loader {
                 .map(Path::to_path_buf)
                 .unwrap_or_default(),
             warnings: Vec::new(),
-            state: GraphicsState::new(),
+            state: GraphicsState::default(),
             stack: Vec::new(),
             named_coordinate_systems: HashMap::new(),
             named_materials: HashMap::new(),
@@ -354,6 +359,7 @@ impl Loader {
             camera: CameraSettings::default(),
             in_world: false,
             include_depth: 0,
+            included_files: 0,
         }
     }
 
@@ -576,6 +582,12 @@ impl Loader {
             "Include" | "Import" => {
                 let file = cursor.expect_string(name, "a file name")?;
                 let path = self.resolve(&file, position);
+                self.included_files += 1;
+                if self.included_files > MAXIMUM_INCLUDED_FILES {
+                    return Err(position.error(format!(
+                        "{name} \"{file}\": more than {MAXIMUM_INCLUDED_FILES} included files"
+                    )));
+                }
                 if self.include_depth >= MAXIMUM_INCLUDE_DEPTH {
                     return Err(position.error(format!(
                         "{name} \"{file}\": more than {MAXIMUM_INCLUDE_DEPTH} nested includes (does a file include itself?)"
@@ -731,7 +743,7 @@ impl Loader {
                 let kind = cursor.expect_string(name, "a material type")?;
                 let parameters = cursor.parameter_list()?;
                 let material = self.material(&kind, &parameters, position)?;
-                self.state.material = CurrentMaterial::Anonymous(material);
+                self.state.material = CurrentMaterial::Anonymous(Box::new(material));
                 self.warn_unused(&parameters, &format!("Material \"{kind}\""));
             }
             "MakeNamedMaterial" => {
@@ -814,7 +826,7 @@ impl Loader {
     /// The material a shape gets now: the anonymous one or the named one.
     pub fn current_material(&self) -> Result<MaterialDescription, SceneFileError> {
         match &self.state.material {
-            CurrentMaterial::Anonymous(material) => Ok(material.clone()),
+            CurrentMaterial::Anonymous(material) => Ok(material.as_ref().clone()),
             CurrentMaterial::Named { name, position } => {
                 self.named_materials.get(name).cloned().ok_or_else(|| {
                     position.error(format!(

@@ -40,7 +40,7 @@ fn check_indices(
     what: &str,
     position: &Position,
 ) -> Result<(), SceneFileError> {
-    if indices.is_empty() || indices.len() % per_face != 0 {
+    if indices.is_empty() || !indices.len().is_multiple_of(per_face) {
         return Err(position.error(format!(
             "Shape \"{what}\": expected a multiple of {per_face} vertex indices, found {}",
             indices.len()
@@ -52,6 +52,29 @@ fn check_indices(
     {
         return Err(position.error(format!(
             "Shape \"{what}\": vertex index {bad} is outside the {vertex_count} vertices"
+        )));
+    }
+    Ok(())
+}
+
+/// Checks a mesh read from a file: indices in range, one normal and uv per vertex.
+fn check_mesh_data(mesh: &MeshData, what: &str, position: &Position) -> Result<(), SceneFileError> {
+    let count = mesh.positions.len();
+    if let Some(bad) = mesh
+        .triangles
+        .iter()
+        .flatten()
+        .find(|&&i| i as usize >= count)
+    {
+        return Err(position.error(format!(
+            "{what}: vertex index {bad} is outside the {count} vertices"
+        )));
+    }
+    if mesh.normals.as_ref().is_some_and(|n| n.len() != count)
+        || mesh.uvs.as_ref().is_some_and(|uv| uv.len() != count)
+    {
+        return Err(position.error(format!(
+            "{what}: the normals or texture coordinates do not match the {count} vertices"
         )));
     }
     Ok(())
@@ -241,6 +264,7 @@ impl Loader {
                     );
                 }
                 let mesh = read_ply(&path)?;
+                check_mesh_data(&mesh, &path.display().to_string(), position)?;
                 let world = orient_mesh(mesh, &transform, reverse);
                 let area = mesh_area(&world);
                 (mesh_geometry(world), area, false)
@@ -259,7 +283,7 @@ impl Loader {
                 if z_min > -radius || z_max < radius || phi_max < 360.0 {
                     self.warn(position, "Shape \"sphere\": partial spheres (zmin, zmax, phimax) are not supported; the whole sphere is used");
                 }
-                if !(radius > 0.0) {
+                if radius.is_nan() || radius <= 0.0 {
                     return Err(position.error(format!(
                         "Shape \"sphere\": \"float radius\" must be positive, found {radius}"
                     )));
@@ -285,7 +309,7 @@ impl Loader {
                 if inner_radius > 0.0 || phi_max < 360.0 {
                     self.warn(position, "Shape \"disk\": annuli and partial disks (innerradius, phimax) are not supported; the whole disk is used");
                 }
-                if !(radius > 0.0) {
+                if radius.is_nan() || radius <= 0.0 {
                     return Err(position.error(format!(
                         "Shape \"disk\": \"float radius\" must be positive, found {radius}"
                     )));

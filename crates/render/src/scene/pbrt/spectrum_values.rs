@@ -50,9 +50,7 @@ impl Loader {
                 "expected one temperature, found {}",
                 describe_count(values)
             ))),
-            ("spectrum", Values::Numbers(v)) => {
-                sampled_from_pairs(v).map_err(|message| error(message))
-            }
+            ("spectrum", Values::Numbers(v)) => sampled_from_pairs(v).map_err(&error),
             ("spectrum", Values::Strings(names)) if names.len() == 1 => {
                 self.spectrum_from_name(&names[0], &parameter.position)
             }
@@ -135,7 +133,7 @@ fn describe_count(values: &Values) -> String {
 
 /// Inline wavelength–value pairs with increasing wavelengths.
 fn sampled_from_pairs(numbers: &[f64]) -> Result<SpectrumDescription, String> {
-    if numbers.len() < 2 || numbers.len() % 2 != 0 {
+    if numbers.len() < 2 || !numbers.len().is_multiple_of(2) {
         return Err(format!(
             "expected wavelength-value pairs, found {} numbers",
             numbers.len()
@@ -148,7 +146,10 @@ fn sampled_from_pairs(numbers: &[f64]) -> Result<SpectrumDescription, String> {
         .step_by(2)
         .map(|&v| v as f32)
         .collect();
-    if wavelengths.windows(2).any(|w| !(w[0] < w[1])) {
+    if wavelengths
+        .windows(2)
+        .any(|w| w[0].partial_cmp(&w[1]) != Some(std::cmp::Ordering::Less))
+    {
         return Err("the wavelengths of a spectrum must increase".into());
     }
     if values.iter().any(|v| !v.is_finite()) {
