@@ -101,6 +101,14 @@ fn assert_converges(
             image_variance += variance;
             if difference.abs() > 4.0 * variance.sqrt() + 1e-5 {
                 failures += 1;
+                if std::env::var_os("LQMC_TEST_VERBOSE").is_some() {
+                    eprintln!(
+                        "{name} pixel {} channel {channel}: lqmc {mean} path {} z {}",
+                        pixel,
+                        reference.pixels()[pixel][channel],
+                        difference / variance.sqrt()
+                    );
+                }
             }
         }
         let count = pixel_count as f64;

@@ -261,8 +261,8 @@ impl PerspectiveCamera {
 
     /// The inverse of [`PerspectiveCamera::generate_ray`] for a fixed lens
     /// sample and time: the raster position whose ray from the lens point
-    /// passes through `point`, if `point` lies in front of the camera and
-    /// inside the image.
+    /// passes through `point`, if `point` lies in front of the camera (the
+    /// raster position may lie outside the image).
     pub fn project(&self, point: Vec3, u_lens: [f32; 2], u_time: f32) -> Option<CameraProjection> {
         let time = self.time(u_time);
         let transform = self.world_from_camera(time);
@@ -283,13 +283,6 @@ impl PerspectiveCamera {
             (ndc.x + 1.0) * 0.5 * self.resolution[0] as f32,
             (1.0 - ndc.y) * 0.5 * self.resolution[1] as f32,
         );
-        let inside = raster.x >= 0.0
-            && raster.y >= 0.0
-            && raster.x < self.resolution[0] as f32
-            && raster.y < self.resolution[1] as f32;
-        if !inside {
-            return None;
-        }
         Some(CameraProjection {
             raster,
             origin: transform.transform_point3(lens),

@@ -11,7 +11,7 @@ use super::explored_dimensions::{DimensionKind, ExploredDimension, explored_dime
 use super::lattice_step::{LatticeMembers, TileGrid, lattice_members};
 use super::path_record::{SplatEvent, SurfaceVertex};
 use super::path_walk::{WalkInput, walk};
-use super::prefix_rebuild::{MemberCamera, MemberSource, rebuild_member};
+use super::prefix_rebuild::{ImagePlane, MemberCamera, MemberSource, rebuild_member};
 use super::seed_path::{SeedPath, trace_seed_path};
 use super::settings::{BreakupChoice, LqmcSettings};
 use super::statistics::{FailureReason, LqmcStatistics};
@@ -21,7 +21,6 @@ use crate::integrators::path::PathSettings;
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::to_linear_srgb;
-use glam::Vec2;
 use qmc::hash::{hash2, hash3, to_unit_f64};
 use qmc::lattice_table::{LQMC_MAX_DIMENSIONS, lqmc_lattice_entry};
 use std::time::Instant;
@@ -78,7 +77,8 @@ pub fn render_pixel_sample(
     counters: &mut TraceCounters,
 ) {
     let film = sampler.get_2d(layout::FILM);
-    let raster = Vec2::new(pixel.0 as f32 + film[0], pixel.1 as f32 + film[1]);
+    let image_plane = ImagePlane::new(context.scene);
+    let raster = image_plane.seed_raster(context.scene, pixel, film);
     let mut seed_path = std::mem::take(&mut scratch.seed_path);
     trace_seed_path(
         context.scene,
@@ -140,7 +140,9 @@ fn handle_event(
         return;
     };
     statistics.events += 1;
-    let rgb = to_linear_srgb(&walked.contribution, &walked.wavelengths);
+    let image_plane = ImagePlane::new(scene);
+    let rgb = to_linear_srgb(&walked.contribution, &walked.wavelengths)
+        .map(|channel| channel * image_plane.area_scale);
     let direct = |splats: &mut SplatBuffer, statistics: &mut LqmcStatistics| {
         statistics.direct_splats += 1;
         let _ = splats.add(camera.raster.to_array(), rgb);
@@ -176,10 +178,7 @@ fn handle_event(
     let Some(breakup) = breakup else {
         return direct(splats, statistics);
     };
-    debug_assert!(
-        matches!(settings.breakup, BreakupChoice::Roughness)
-            || settings.breakup == BreakupChoice::Fixed(breakup)
-    );
+    debug_assert!(matches!(settings.breakup, BreakupChoice::Roughness) || settings.breakup == BreakupChoice::Fixed(breakup));
     explore(
         context,
         seed_path,
@@ -231,7 +230,8 @@ fn explore(
         &mut scratch.dimensions,
     );
     let dimension_count = scratch.dimensions.len();
-    let [width, height] = scene.camera.resolution().map(|size| size as f32);
+    let image_plane = ImagePlane::new(scene);
+    let seed_image_numbers = image_plane.numbers(camera.raster);
 
     // The seed's explored numbers, tiles, jitter and lattice dimensions.
     scratch.seed_numbers.clear();
@@ -243,22 +243,17 @@ fn explore(
             DimensionKind::Lens(axis) => camera.u_lens[axis],
             DimensionKind::Wavelength => camera.u_wavelength,
             DimensionKind::Time => camera.u_time,
-            DimensionKind::Image(0) => camera.raster.x / width,
-            DimensionKind::Image(_) => camera.raster.y / height,
+            DimensionKind::Image(0) => seed_image_numbers.x,
+            DimensionKind::Image(_) => seed_image_numbers.y,
             DimensionKind::Direction { vertex, axis } => {
                 sampler.get(layout::vertex(vertex, layout::SCATTER_DIRECTION + axis))
             }
         };
-        scratch
-            .seed_numbers
-            .push((value as f64).clamp(0.0, 1.0 - f64::EPSILON));
+        scratch.seed_numbers.push((value as f64).clamp(0.0, 1.0 - f64::EPSILON));
         scratch.tiles.push(dimension.tiles);
         let jitter = if settings.jitter_tiles {
-            to_unit_f64(hash3(
-                context.seed ^ JITTER_KEY,
-                sample_index,
-                dimension.kind.key(),
-            )) / dimension.tiles as f64
+            to_unit_f64(hash3(context.seed ^ JITTER_KEY, sample_index, dimension.kind.key()))
+                / dimension.tiles as f64
         } else {
             0.0
         };
@@ -309,23 +304,23 @@ fn explore(
             u_wavelength: camera.u_wavelength,
         };
         scratch.overrides.clear();
+        let mut image_numbers = seed_image_numbers;
         for (dimension, value) in scratch.dimensions.iter().zip(numbers) {
             let value = crate::sampler::to_f32(*value);
             match dimension.kind {
                 DimensionKind::Lens(axis) => member_camera.u_lens[axis] = value,
                 DimensionKind::Wavelength => member_camera.u_wavelength = value,
                 DimensionKind::Time => member_camera.u_time = value,
-                DimensionKind::Image(0) => {
-                    member_camera.raster.x = (value * width).min(width.next_down())
-                }
-                DimensionKind::Image(_) => {
-                    member_camera.raster.y = (value * height).min(height.next_down())
-                }
+                DimensionKind::Image(0) => image_numbers.x = value,
+                DimensionKind::Image(_) => image_numbers.y = value,
                 DimensionKind::Direction { vertex, axis } => scratch.overrides.push((
                     layout::vertex(vertex, layout::SCATTER_DIRECTION + axis),
                     value,
                 )),
             }
+        }
+        if image_numbers != seed_image_numbers {
+            member_camera.raster = image_plane.raster(image_numbers);
         }
         let mut source = MemberSource {
             seed: &mut *sampler,
@@ -335,6 +330,7 @@ fn explore(
         let member = rebuild_member(
             scene,
             settings.reconnection_tolerance,
+            &image_plane,
             &seed_path.vertices,
             event,
             breakup,
@@ -392,7 +388,8 @@ fn explore(
                 statistics.valid_members[class.index()] += 1;
                 scratch.member_splats.push((
                     member_vertex.raster.to_array(),
-                    to_linear_srgb(&walked.contribution, &walked.wavelengths),
+                    to_linear_srgb(&walked.contribution, &walked.wavelengths)
+                        .map(|channel| channel * image_plane.area_scale),
                 ));
                 scratch.member_densities.push(density);
             }
