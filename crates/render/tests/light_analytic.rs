@@ -432,3 +432,36 @@ fn sampled_density_equals_the_reported_density() {
         0.0
     );
 }
+
+#[test]
+fn bad_light_parameters_are_errors() {
+    let mut description = spot_scene(5.0, SpotFalloff::PbrtSmoothstep);
+    if let LightDescription::Spot {
+        falloff_start_degrees,
+        ..
+    } = &mut description.lights[0]
+    {
+        *falloff_start_degrees = 25.0;
+    }
+    let error = Scene::build(&description).unwrap_err().to_string();
+    assert!(error.contains("spot light"), "{error}");
+    // A wide spot without a texture is fine.
+    let mut wide = spot_scene(5.0, SpotFalloff::PbrtSmoothstep);
+    if let LightDescription::Spot { cutoff_degrees, .. } = &mut wide.lights[0] {
+        *cutoff_degrees = 120.0;
+    }
+    assert!(Scene::build(&wide).is_ok());
+    let mut missing = sphere_in(LightDescription::EnvironmentMap {
+        filename: PathBuf::from("/nonexistent/sky.exr"),
+        projection: EnvironmentProjection::MitsubaEquirectangular,
+        to_world: Affine3A::IDENTITY,
+        scale: 1.0,
+    });
+    let error = Scene::build(&missing).unwrap_err().to_string();
+    assert!(error.contains("/nonexistent/sky.exr"), "{error}");
+    missing.lights = vec![LightDescription::Directional {
+        direction: Vec3::ZERO,
+        irradiance: SpectrumDescription::Rgb([1.0; 3]),
+    }];
+    assert!(Scene::build(&missing).is_err());
+}

@@ -312,7 +312,8 @@ fn nested_material(description: &MaterialDescription) -> Result<Material, SceneE
 }
 
 /// A spot light from its description; angles must satisfy
-/// 0 ≤ start ≤ cutoff < 90° (the texture's projection needs tan cutoff).
+/// 0 ≤ start ≤ cutoff ≤ 180°, and cutoff < 90° with a texture (its
+/// projection divides by tan cutoff).
 fn spot_light(
     to_world: Affine3A,
     intensity: &SpectrumDescription,
@@ -321,15 +322,21 @@ fn spot_light(
     falloff: SpotFalloff,
     texture: Option<&TextureDescription>,
 ) -> Result<Light, SceneError> {
+    let cutoff_bound = if texture.is_some() {
+        "below 90° with a texture"
+    } else {
+        "at most 180°"
+    };
     let valid_angles = cutoff_degrees > 0.0
-        && cutoff_degrees < 90.0
+        && cutoff_degrees <= 180.0
+        && (texture.is_none() || cutoff_degrees < 90.0)
         && (0.0..=cutoff_degrees).contains(&falloff_start_degrees);
     if !valid_angles {
         return Err(parameter_error(
             "spot light",
             format!(
                 "need 0 ≤ falloff start ({falloff_start_degrees}°) ≤ cutoff \
-                 ({cutoff_degrees}°) < 90°"
+                 ({cutoff_degrees}°), the cutoff {cutoff_bound}"
             ),
         ));
     }
