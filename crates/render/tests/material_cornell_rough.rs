@@ -53,6 +53,7 @@ fn isotropic(distribution: MicrofacetDistribution, alpha: f32) -> RoughnessDescr
 }
 
 #[test]
+#[allow(clippy::needless_range_loop)] // channels index three parallel sums
 fn rough_cornell_box_matches_mitsuba() {
     let mut description = builtin_scene("cornell-box").expect("the built-in Cornell box");
     description.camera.resolution = [RESOLUTION as u32, RESOLUTION as u32];
