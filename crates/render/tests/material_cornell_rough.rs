@@ -10,6 +10,11 @@
 //! 3072 samples per pixel, the variance of the mean from their spread). Checks as there: image means
 //! within 4 standard deviations of the difference, and at least 99 % of the
 //! pixels with |z| < 4 in all channels.
+//!
+//! Measured (seed 1): image means differ by −0.20 % (R), −0.45 % (G),
+//! −1.2 % (B) (−1.3, −3.0, −3.1 standard deviations), the pattern of the
+//! diffuse Cornell box (our RGB illuminant is slightly below Mitsuba's in the
+//! blue); 4089 of 4096 pixels within |z| < 4.
 
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
@@ -48,6 +53,7 @@ fn isotropic(distribution: MicrofacetDistribution, alpha: f32) -> RoughnessDescr
 }
 
 #[test]
+#[allow(clippy::needless_range_loop)] // channels index three parallel sums
 fn rough_cornell_box_matches_mitsuba() {
     let mut description = builtin_scene("cornell-box").expect("the built-in Cornell box");
     description.camera.resolution = [RESOLUTION as u32, RESOLUTION as u32];

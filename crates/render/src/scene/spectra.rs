@@ -178,7 +178,9 @@ pub const MITSUBA_NAMED_IORS: &[(&str, f32)] = &[
 ];
 
 /// pbrt-v4's named glass index spectra (refractiveindex.info, CC0), as
-/// (nm, η) pairs.
+/// (nm, η) pairs, with the digits of the published tables (more than f32
+/// holds).
+#[allow(clippy::excessive_precision)]
 fn pbrt_glass(name: &str) -> Option<Spectrum> {
     let samples: &[f32] = match name {
         "BK7" => &[
