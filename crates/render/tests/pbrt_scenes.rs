@@ -262,3 +262,55 @@ fn truncated_and_corrupted_files_never_panic() {
     assert!(loaded > 0);
     let _ = std::fs::remove_dir_all(&directory);
 }
+
+/// A scene written here: a diffuse sphere (pbrt's default material,
+/// reflectance 0.5) under a uniform infinite light of radiance 1. A convex
+/// Lambertian surface sees the whole sky and nothing else, so it reflects
+/// exactly 0.5; the sky shows 1. Checks the camera (LookAt, fov), the
+/// infinite light, the default material and the depth convention
+/// (`maxdepth 1`: one scattering event is enough) end to end.
+#[test]
+fn a_diffuse_sphere_under_a_uniform_sky_reflects_half() {
+    let directory = std::env::temp_dir().join(format!("lqmc-pbrt-sky-{}", std::process::id()));
+    std::fs::create_dir_all(&directory).unwrap();
+    let path = directory.join("sky.pbrt");
+    std::fs::write(
+        &path,
+        "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 30\n\
+         Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16\n\
+         Sampler \"sobol\" \"integer pixelsamples\" 256\nPixelFilter \"box\"\n\
+         Integrator \"path\" \"integer maxdepth\" 1\n\
+         WorldBegin\nLightSource \"infinite\" \"rgb L\" [1 1 1]\nShape \"sphere\" \"float radius\" 1\n",
+    )
+    .unwrap();
+    let loaded = load_scene_file(&path, &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    let description = loaded.description;
+    assert_eq!(description.max_depth, Some(2));
+    let scene = Scene::build(&description).expect("the scene builds");
+    let settings = RenderSettings {
+        sampler: SamplerKind::Independent,
+        samples_per_pixel: description.samples_per_pixel.unwrap(),
+        max_depth: description.max_depth.unwrap(),
+        threads: 2,
+        seed: 3,
+        ..RenderSettings::default()
+    };
+    let output = render(&scene, &settings, &AtomicBool::new(false), &|_, _| {}).unwrap();
+    // The sphere (radius 1 at distance 5 under a 30° fov) covers the centre;
+    // the corners see the sky.
+    for (x, y, expected) in [(7, 7, 0.5), (8, 8, 0.5), (0, 0, 1.0), (15, 15, 1.0)] {
+        let pixel = output.film.pixel(x, y).unwrap();
+        let mean = pixel.weighted_mean();
+        let variance = pixel.variance_of_mean();
+        for channel in 0..3 {
+            let tolerance = 4.0 * variance[channel].sqrt() + 0.01 * expected;
+            assert!(
+                (mean[channel] - expected).abs() < tolerance,
+                "pixel ({x}, {y}) channel {channel}: {} (expected {expected} ± {tolerance})",
+                mean[channel]
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&directory);
+}
