@@ -505,7 +505,7 @@ impl<F: Fn(usize) -> Option<[Vec3; 3]>> Collapser<'_, F> {
         let mut max_depth = 1;
         if self.becomes_leaf(0) {
             let reference = self.leaf(0);
-            self.bvh.nodes[0].set_child(0, &self.binary.nodes[0].aabb(), reference);
+            self.bvh.nodes[0].set_child(0, self.binary.nodes[0].aabb(), reference);
             pending.clear();
         }
         while let Some((binary_index, wide_index, depth)) = pending.pop() {
@@ -533,7 +533,7 @@ impl<F: Fn(usize) -> Option<[Vec3; 3]>> Collapser<'_, F> {
                     pending.push((child, index, depth + 1));
                     index as u32
                 };
-                node.set_child(slot, &self.binary.nodes[child].aabb(), reference);
+                node.set_child(slot, self.binary.nodes[child].aabb(), reference);
             }
             self.bvh.nodes[wide_index] = node;
         }
