@@ -688,3 +688,34 @@ fn include_cycles_are_errors() {
         .to_string();
     assert!(message.contains("include cycle"), "{message}");
 }
+
+#[test]
+fn included_files_may_name_files_relative_to_the_main_scene() {
+    // As Mitsuba's participating_media tests do: include/base.xml includes
+    // "include/preamble.xml", found from the main scene's directory.
+    let directory = directory();
+    write(
+        &directory,
+        "media/include/preamble.xml",
+        r#"<scene version="2.0.0"><sensor type="perspective"/></scene>"#,
+    );
+    write(
+        &directory,
+        "media/include/base.xml",
+        r#"<scene version="2.0.0"><include filename="include/preamble.xml"/></scene>"#,
+    );
+    let path = write(
+        &directory,
+        "media/scene.xml",
+        r#"<scene version="2.0.0"><include filename="include/base.xml"/></scene>"#,
+    );
+    let scene = load(&path, &LoadOptions::default()).unwrap();
+    assert!(
+        scene
+            .warnings
+            .iter()
+            .all(|warning| !warning.contains("no <sensor>")),
+        "{:?}",
+        scene.warnings
+    );
+}
