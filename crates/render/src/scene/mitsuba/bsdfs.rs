@@ -126,9 +126,10 @@ impl Loader {
         properties.ignore(&["sample_visible"]);
         let (alpha_u, alpha_v) = if anisotropic && properties.has("alpha_u") {
             let u = self.float_texture_or(properties, "alpha_u", 0.1)?;
-            let v = match properties.has("alpha_v") {
-                true => self.float_texture_or(properties, "alpha_v", 0.1)?,
-                false => u.clone(),
+            let v = if properties.has("alpha_v") {
+                self.float_texture_or(properties, "alpha_v", 0.1)?
+            } else {
+                u.clone()
             };
             (u, v)
         } else {
