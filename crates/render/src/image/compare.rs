@@ -15,12 +15,42 @@
 //! a channel fails when its two-sided p-value is below
 //! 1 − (1 − α)^(1/tests) with α = 0.01 by default. A pixel passes when all
 //! three channels pass. Non-finite values fail.
+//!
+//! The test runs in CIE XYZ, not in RGB, as Mitsuba's does
+//! (`src/render/tests/test_renders.py` converts image, reference and variance
+//! image with `Bitmap.convert(XYZ)`): Mitsuba's moment integrator computes
+//! the variance of the XYZ sample and writes it through the XYZ → sRGB
+//! matrix, so the RGB "variance" of a spectral reference is a linear mix of
+//! XYZ variances with negative weights (often negative itself) and is only a
+//! variance again after the inverse matrix. Tested in RGB, a spectral render
+//! fails wherever the floored RGB variance understates the true one.
+//! (Mitsuba applies Šidák over the pixel count and counts passing channels;
+//! here the correction is over all 3 × pixels tests and pixels are counted.)
 
 use super::{Image, ImageError};
 use crate::statistics::regularized_gamma_q;
 
 /// The variance floor of the z-test (Mitsuba's).
 pub const VARIANCE_FLOOR: f64 = 1e-4;
+
+/// Linear sRGB (Rec. 709 primaries, D65) → CIE XYZ with the 6-decimal
+/// coefficients Mitsuba 3 uses (`srgb_to_xyz` in its `color.h`): the inverse,
+/// to about 10⁻⁶, of the XYZ → sRGB matrix with which Mitsuba wrote its
+/// reference and variance images. The project's 4-decimal
+/// [`crate::spectrum::LINEAR_SRGB_TO_XYZ`] would leave errors of ~10⁻⁴ of the
+/// large, cancelling RGB variance components.
+pub const MITSUBA_LINEAR_SRGB_TO_XYZ: [[f64; 3]; 3] = [
+    [0.412453, 0.357580, 0.180423],
+    [0.212671, 0.715160, 0.072169],
+    [0.019334, 0.119193, 0.950227],
+];
+
+/// A pixel's linear sRGB values in CIE XYZ ([`MITSUBA_LINEAR_SRGB_TO_XYZ`]).
+fn srgb_pixel_to_xyz(rgb: [f32; 3]) -> [f64; 3] {
+    MITSUBA_LINEAR_SRGB_TO_XYZ.map(|row| {
+        row[0] * f64::from(rgb[0]) + row[1] * f64::from(rgb[1]) + row[2] * f64::from(rgb[2])
+    })
+}
 
 /// The default family-wise significance level α of the z-test (Mitsuba's).
 pub const DEFAULT_ALPHA: f64 = 0.01;
@@ -177,9 +207,14 @@ fn z_test(image: &Image, reference: &Image, variance: ReferenceVariance<'_>) -> 
         .zip(variance.variance.pixels())
     {
         let mut pixel_passes = true;
+        let (a, b, v) = (
+            srgb_pixel_to_xyz(*a),
+            srgb_pixel_to_xyz(*b),
+            srgb_pixel_to_xyz(*v),
+        );
         for channel in 0..3 {
-            let difference = (f64::from(a[channel]) - f64::from(b[channel])).abs();
-            let sigma2 = f64::from(v[channel]).max(VARIANCE_FLOOR);
+            let difference = (a[channel] - b[channel]).abs();
+            let sigma2 = v[channel].max(VARIANCE_FLOOR);
             let z = difference * (n / sigma2).sqrt();
             if !z.is_finite() {
                 pixel_passes = false;
@@ -264,6 +299,49 @@ mod tests {
         let z_test = comparison.z_test.unwrap();
         assert_eq!(z_test.passed_pixels, 1);
         assert_eq!(comparison.non_finite_pixels, 1);
+    }
+
+    #[test]
+    fn z_test_runs_in_xyz_where_spectral_variances_are_variances() {
+        // A pixel of Mitsuba's test_constant_ref_spectral_var.exr (background,
+        // constant emitter): the RGB "variance" is negative in red, so an RGB
+        // test floors it to 1e-4 and fails a render whose red is off by its
+        // own noise (0.04 at 64 spp). In XYZ the variances are positive and
+        // above the floor (0.011, 0.0012, 0.30), and the pixel passes.
+        let variance = image(&[[-0.114_687_2, 0.004_162_3, 0.313_992_5]]);
+        let xyz = srgb_pixel_to_xyz(variance.pixels()[0]);
+        assert!(xyz.iter().all(|&v| v > 1e-3), "{xyz:?}");
+        let reference = image(&[[0.999_091_3, 0.999_659_2, 1.003_521]]);
+        // The first background pixel of a 64 spp render of that scene.
+        let tested = image(&[[0.991_374, 1.004_194, 0.928_199_7]]);
+        let z_test = compare_images(
+            &tested,
+            &reference,
+            Some(ReferenceVariance {
+                variance: &variance,
+                samples_per_pixel: 64,
+                alpha: DEFAULT_ALPHA,
+            }),
+        )
+        .unwrap()
+        .z_test
+        .unwrap();
+        assert_eq!(z_test.passed_pixels, 1, "{z_test:?}");
+        // The sRGB → XYZ matrix inverts Mitsuba's XYZ → sRGB (3.240479, ...).
+        let xyz_to_srgb = [
+            [3.240479, -1.537150, -0.498535],
+            [-0.969256, 1.875991, 0.041556],
+            [0.055648, -0.204043, 1.057311],
+        ];
+        for i in 0..3 {
+            for j in 0..3 {
+                let product: f64 = (0..3)
+                    .map(|k| MITSUBA_LINEAR_SRGB_TO_XYZ[i][k] * xyz_to_srgb[k][j])
+                    .sum();
+                let identity = if i == j { 1.0 } else { 0.0 };
+                assert!((product - identity).abs() < 1e-5, "{i} {j} {product}");
+            }
+        }
     }
 
     #[test]

@@ -125,14 +125,15 @@ impl Loader {
         };
         properties.ignore(&["sample_visible"]);
         let (alpha_u, alpha_v) = if anisotropic && properties.has("alpha_u") {
-            let u = self.texture_or(properties, "alpha_u", 0.1)?;
-            let v = match self.texture_parameter(properties, "alpha_v")? {
-                Some(v) => v,
-                None => u.clone(),
+            let u = self.float_texture_or(properties, "alpha_u", 0.1)?;
+            let v = if properties.has("alpha_v") {
+                self.float_texture_or(properties, "alpha_v", 0.1)?
+            } else {
+                u.clone()
             };
             (u, v)
         } else {
-            let alpha = self.texture_or(properties, "alpha", 0.1)?;
+            let alpha = self.float_texture_or(properties, "alpha", 0.1)?;
             (alpha.clone(), alpha)
         };
         Ok(RoughnessDescription {

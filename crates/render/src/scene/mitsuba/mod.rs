@@ -179,6 +179,13 @@ impl Loader {
 /// Loads a Mitsuba XML scene.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<LoadedScene, SceneFileError> {
     let mut reader = Reader::new(&options.parameters);
+    // Mitsuba's loader puts the scene file's directory on its file resolver
+    // (behind later `<path>` entries), so an included file may name files
+    // relative to the main scene: participating_media/include/test-scene-base.xml
+    // includes "include/preamble.xml".
+    if let Some(directory) = path.parent() {
+        reader.search_path.directories.push(directory.to_path_buf());
+    }
     let root = reader.read_file(path, None)?;
     if root.tag != "scene" {
         return Err(root.location.error(format!(

@@ -688,3 +688,89 @@ fn include_cycles_are_errors() {
         .to_string();
     assert!(message.contains("include cycle"), "{message}");
 }
+
+#[test]
+fn included_files_may_name_files_relative_to_the_main_scene() {
+    // As Mitsuba's participating_media tests do: include/base.xml includes
+    // "include/preamble.xml", found from the main scene's directory.
+    let directory = directory();
+    write(
+        &directory,
+        "media/include/preamble.xml",
+        r#"<scene version="2.0.0"><sensor type="perspective"/></scene>"#,
+    );
+    write(
+        &directory,
+        "media/include/base.xml",
+        r#"<scene version="2.0.0"><include filename="include/preamble.xml"/></scene>"#,
+    );
+    let path = write(
+        &directory,
+        "media/scene.xml",
+        r#"<scene version="2.0.0"><include filename="include/base.xml"/></scene>"#,
+    );
+    let scene = load(&path, &LoadOptions::default()).unwrap();
+    assert!(
+        scene
+            .warnings
+            .iter()
+            .all(|warning| !warning.contains("no <sensor>")),
+        "{:?}",
+        scene.warnings
+    );
+}
+
+#[test]
+fn checkerboard_roughness_follows_mitsubas_float_evaluation() {
+    // Mitsuba 3.9.1's checkerboard eval_1 (what roughness reads) gives color1
+    // at uv (0.1, 0.1), its eval (spectra) color0: the float use swaps them.
+    let board = |name: &str, color0: f32, color1: f32| {
+        format!(
+            r#"<texture name="{name}" type="checkerboard">
+                   <float name="color0" value="{color0}"/><float name="color1" value="{color1}"/>
+               </texture>"#
+        )
+    };
+    let directory = directory();
+    let path = write(
+        &directory,
+        "scene.xml",
+        &scene(&format!(
+            r#"<shape type="cube">
+                   <bsdf type="roughconductor">{}{}</bsdf>
+               </shape>
+               <shape type="cube">
+                   <bsdf type="diffuse">{}</bsdf>
+               </shape>
+               <sensor type="perspective"/>"#,
+            board("alpha_u", 0.05, 0.3),
+            board("alpha_v", 0.3, 0.05),
+            board("reflectance", 0.05, 0.3),
+        )),
+    );
+    let scene = load(&path, &LoadOptions::default()).unwrap();
+    let constant = |value: f32| TextureDescription::Constant(SpectrumDescription::Constant(value));
+    let MaterialDescription::Conductor {
+        roughness: Some(roughness),
+        ..
+    } = &scene.description.shapes[0].material
+    else {
+        panic!("{:?}", scene.description.shapes[0].material)
+    };
+    let TextureDescription::Checkerboard { even, odd, .. } = &roughness.alpha_u else {
+        panic!("{:?}", roughness.alpha_u)
+    };
+    assert_eq!((&**even, &**odd), (&constant(0.3), &constant(0.05)));
+    let TextureDescription::Checkerboard { even, .. } = &roughness.alpha_v else {
+        panic!("{:?}", roughness.alpha_v)
+    };
+    assert_eq!(**even, constant(0.05));
+    let MaterialDescription::Diffuse { reflectance, .. } = &scene.description.shapes[1].material
+    else {
+        panic!()
+    };
+    let TextureDescription::Checkerboard { even, .. } = reflectance else {
+        panic!("{reflectance:?}")
+    };
+    assert_eq!(**even, constant(0.05));
+}

@@ -122,6 +122,34 @@ impl Loader {
         }
     }
 
+    /// A texture parameter that Mitsuba reads as a float (`eval_1`: the
+    /// roughness of the rough BSDFs), with a constant default.
+    ///
+    /// Mitsuba 3's `checkerboard` is inconsistent between its evaluations:
+    /// `eval` (spectrum) gives `color0` in the square at the origin but
+    /// `eval_1` (float) gives `color1` there (Mitsuba 3.9.1, scalar_rgb and
+    /// scalar_spectral: color0 = 0.05, color1 = 0.3 at uv (0.1, 0.1) give
+    /// `eval` 0.05 and `eval_1` 0.3). Its reference images follow `eval_1`
+    /// for textured roughness (bsdf_spheres/test_textured_roughconductor), so
+    /// a checkerboard read here has its two textures swapped.
+    pub(super) fn float_texture_or(
+        &mut self,
+        properties: &Properties,
+        name: &str,
+        default: f32,
+    ) -> Result<TextureDescription, SceneFileError> {
+        Ok(match self.texture_or(properties, name, default)? {
+            TextureDescription::Checkerboard { even, odd, to_uv } => {
+                TextureDescription::Checkerboard {
+                    even: odd,
+                    odd: even,
+                    to_uv,
+                }
+            }
+            other => other,
+        })
+    }
+
     /// A texture parameter with a constant default.
     pub(super) fn texture_or(
         &mut self,
