@@ -151,6 +151,11 @@ pub struct LqmcArgs {
     /// closest-point search time.
     #[arg(long)]
     pub stats: bool,
+    /// LQMC: write the sample density per class to this EXR (splatted
+    /// members per pixel and sample: normal, caustic, depth of field as R,
+    /// G, B; next-event paths in the layer `nee`), the paper's Fig. 11.
+    #[arg(long, value_name = "FILE.exr")]
+    pub density: Option<PathBuf>,
 }
 
 /// The LQMC class called `name`.
@@ -158,7 +163,11 @@ fn parse_class(name: &str) -> Result<render::integrators::lqmc::PathClass, CliEr
     render::integrators::lqmc::PathClass::ALL
         .into_iter()
         .find(|class| class.name() == name)
-        .ok_or_else(|| usage(format!("unknown LQMC class `{name}` (expected normal, caustic, dof or nee)")))
+        .ok_or_else(|| {
+            usage(format!(
+                "unknown LQMC class `{name}` (expected normal, caustic, dof or nee)"
+            ))
+        })
 }
 
 /// Parses `CLASS=VALUE`.
@@ -190,7 +199,9 @@ fn lqmc_settings(args: &LqmcArgs) -> Result<render::integrators::lqmc::LqmcSetti
             BreakupChoice::Roughness
         } else {
             BreakupChoice::Fixed(breakup.parse().map_err(|_| {
-                usage(format!("--breakup: expected a vertex number or `cdf`, got `{breakup}`"))
+                usage(format!(
+                    "--breakup: expected a vertex number or `cdf`, got `{breakup}`"
+                ))
             })?)
         };
     }
@@ -334,6 +345,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         },
         threads: args.threads,
         lqmc: lqmc_settings(&args.lqmc)?,
+        lqmc_density: args.lqmc.density.is_some(),
         ..RenderSettings::default()
     };
 
@@ -392,6 +404,16 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         .write(&args.output, splat_scale, &metadata)
         .map_err(|error| CliError::Failure(error.to_string()))?;
     let mut written = vec![args.output.display().to_string()];
+    if let (Some(path), Some([classes, next_event])) = (&args.lqmc.density, &output.lqmc_density) {
+        render::image::write_exr(
+            path,
+            &classes.image(splat_scale),
+            &[("nee", &next_event.image(splat_scale))],
+            &metadata,
+        )
+        .map_err(|error| CliError::Failure(error.to_string()))?;
+        written.push(path.display().to_string());
+    }
     if extension.as_deref() != Some("png") {
         let png = args.output.with_extension("png");
         write_png(

@@ -61,7 +61,12 @@ fn render_once(
 
 /// Renders LQMC `REPLICATIONS` times and compares with a path-traced
 /// reference; returns LQMC's summed statistics.
-fn assert_converges(name: &str, lqmc: LqmcSettings, lqmc_spp: u64, reference_spp: u64) -> LqmcStatistics {
+fn assert_converges(
+    name: &str,
+    lqmc: LqmcSettings,
+    lqmc_spp: u64,
+    reference_spp: u64,
+) -> LqmcStatistics {
     let scene = scene(name);
     let (reference, reference_variance, _) =
         render_once(&scene, IntegratorKind::Path, lqmc, reference_spp, 1000);
@@ -132,7 +137,10 @@ fn fixed(breakup: usize) -> LqmcSettings {
 #[test]
 fn cornell_box_fixed_breakup_one() {
     let statistics = assert_converges("cornell-box", fixed(1), 4, 256);
-    assert!(statistics.explorations.iter().sum::<u64>() > 1000, "{statistics:?}");
+    assert!(
+        statistics.explorations.iter().sum::<u64>() > 1000,
+        "{statistics:?}"
+    );
 }
 
 #[test]
@@ -150,19 +158,28 @@ fn dof_spheres_fixed_breakup_zero() {
 #[test]
 fn dof_spheres_roughness_breakup() {
     let statistics = assert_converges("dof-spheres", LqmcSettings::default(), 4, 256);
-    assert!(statistics.breakups[0] > 100 && statistics.breakups[1] > 100, "{statistics:?}");
+    assert!(
+        statistics.breakups[0] > 100 && statistics.breakups[1] > 100,
+        "{statistics:?}"
+    );
 }
 
 #[test]
 fn office_roughness_breakup() {
     let statistics = assert_converges("office", LqmcSettings::default(), 4, 256);
-    assert!(statistics.breakups[2] + statistics.breakups[3] > 100, "{statistics:?}");
+    assert!(
+        statistics.breakups[2] + statistics.breakups[3] > 100,
+        "{statistics:?}"
+    );
 }
 
 #[test]
 fn glass_sphere_box_caustic() {
     let statistics = assert_converges("glass-sphere-box", LqmcSettings::default(), 4, 256);
-    assert!(statistics.explorations[1] > 10, "caustic explorations: {statistics:?}");
+    assert!(
+        statistics.explorations[1] > 10,
+        "caustic explorations: {statistics:?}"
+    );
 }
 
 /// Members that fail contribute nothing and are counted; the image stays

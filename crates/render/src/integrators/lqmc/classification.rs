@@ -56,7 +56,11 @@ impl PathClass {
 /// scattering, 1 otherwise (diffuse). This is the one place to switch to the
 /// BSDF's own roughness (α of rough materials) once materials provide it.
 pub fn vertex_roughness(vertex: &SurfaceVertex) -> f32 {
-    if vertex.sampled.is_specular() { 0.0 } else { 1.0 }
+    if vertex.sampled.is_specular() {
+        0.0
+    } else {
+        1.0
+    }
 }
 
 /// A path of an event: the camera vertex, the surface vertices and the

@@ -65,8 +65,9 @@ pub fn lattice_members(
     for j in 0..count {
         for d in 0..dimensions {
             let lattice_dimension = grid.lattice_dimension[d];
-            let in_tile =
-                fraction(lattice.sample(j as u64, lattice_dimension) + closest.shift[lattice_dimension]);
+            let in_tile = fraction(
+                lattice.sample(j as u64, lattice_dimension) + closest.shift[lattice_dimension],
+            );
             let tiles = grid.tiles[d] as f64;
             let value = fraction(grid.jitter[d] + (tile_index[d] + in_tile) / tiles);
             members.numbers.push(value);
@@ -101,7 +102,11 @@ mod tests {
         for row in members.numbers.chunks(3) {
             for d in 0..3 {
                 // Same tile as the seed on the jittered grid (mod 1).
-                let tile = |x: f64| ((x - jitter[d]) * tiles[d] as f64).floor().rem_euclid(tiles[d] as f64);
+                let tile = |x: f64| {
+                    ((x - jitter[d]) * tiles[d] as f64)
+                        .floor()
+                        .rem_euclid(tiles[d] as f64)
+                };
                 assert_eq!(tile(row[d]), tile(seed[d]));
             }
         }

@@ -88,8 +88,8 @@ pub fn walk(
             .ok_or(FailureReason::OutsideImage)?;
         let to_point = first.hit.point - projection.origin;
         let distance_squared = to_point.length_squared() as f64;
-        let cosine = (first.raw_hit.geometric_normal.dot(to_point).abs() as f64)
-            / distance_squared.sqrt();
+        let cosine =
+            (first.raw_hit.geometric_normal.dot(to_point).abs() as f64) / distance_squared.sqrt();
         let axis = projection.axis_cosine as f64;
         suffix_density *= cosine / (axis * axis * axis * distance_squared);
     }
@@ -216,10 +216,7 @@ pub fn walk(
             }
             (sample.value, sample.pdf)
         } else {
-            (
-                bsdf.evaluate(wo, wi, &wavelengths),
-                bsdf.pdf(wo, wi),
-            )
+            (bsdf.evaluate(wo, wi, &wavelengths), bsdf.pdf(wo, wi))
         };
         if !(pdf > 0.0) || value.is_black() {
             return Err(FailureReason::Evaluation);

@@ -91,8 +91,15 @@ pub fn trace_seed_path(
         let flags = bsdf.flags();
         let reference = offset_ray_origin(hit.point, hit.geometric_normal, wo);
         if flags.is_non_specular()
-            && let Some(connection) =
-                sample_light(scene, &hit, reference, depth, &wavelengths, sampler, counters)
+            && let Some(connection) = sample_light(
+                scene,
+                &hit,
+                reference,
+                depth,
+                &wavelengths,
+                sampler,
+                counters,
+            )
         {
             path.events.push(SplatEvent {
                 vertex_count: path.vertices.len(),

@@ -52,7 +52,11 @@ impl ExploredEffects {
     /// Parses a comma-separated list such as `aperture,wavelength,time`.
     pub fn parse(list: &str) -> Result<Self, String> {
         let mut effects = Self::none();
-        for name in list.split(',').map(str::trim).filter(|name| !name.is_empty()) {
+        for name in list
+            .split(',')
+            .map(str::trim)
+            .filter(|name| !name.is_empty())
+        {
             match name {
                 "aperture" => effects.aperture = true,
                 "wavelength" => effects.wavelength = true,

@@ -44,7 +44,10 @@ impl FailureReason {
 
     /// Index in [`FailureReason::ALL`].
     pub fn index(self) -> usize {
-        Self::ALL.iter().position(|reason| *reason == self).unwrap_or(0)
+        Self::ALL
+            .iter()
+            .position(|reason| *reason == self)
+            .unwrap_or(0)
     }
 
     /// A short name.
