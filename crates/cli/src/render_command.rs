@@ -154,6 +154,11 @@ pub struct LqmcArgs {
     /// closest-point search time.
     #[arg(long)]
     pub stats: bool,
+    /// LQMC: write the sample density per class to this EXR (splatted
+    /// members per pixel and sample: normal, caustic, depth of field as R,
+    /// G, B; next-event paths in the layer `nee`), the paper's Fig. 11.
+    #[arg(long, value_name = "FILE.exr")]
+    pub density: Option<PathBuf>,
 }
 
 /// The LQMC class called `name`.
@@ -346,6 +351,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         },
         threads: args.threads,
         lqmc: lqmc_settings(&args.lqmc)?,
+        lqmc_density: args.lqmc.density.is_some(),
         ..RenderSettings::default()
     };
 
@@ -404,6 +410,16 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         .write(&args.output, splat_scale, &metadata)
         .map_err(|error| CliError::Failure(error.to_string()))?;
     let mut written = vec![args.output.display().to_string()];
+    if let (Some(path), Some([classes, next_event])) = (&args.lqmc.density, &output.lqmc_density) {
+        render::image::write_exr(
+            path,
+            &classes.image(splat_scale),
+            &[("nee", &next_event.image(splat_scale))],
+            &metadata,
+        )
+        .map_err(|error| CliError::Failure(error.to_string()))?;
+        written.push(path.display().to_string());
+    }
     if extension.as_deref() != Some("png") {
         let png = args.output.with_extension("png");
         write_png(

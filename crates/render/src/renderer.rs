@@ -40,6 +40,8 @@ pub struct RenderSettings {
     pub tile_size: usize,
     /// Settings of the LQMC integrator (used with [`IntegratorKind::Lqmc`]).
     pub lqmc: LqmcSettings,
+    /// Gather LQMC's sample density per class ([`RenderOutput::lqmc_density`]).
+    pub lqmc_density: bool,
 }
 
 impl Default for RenderSettings {
@@ -55,6 +57,7 @@ impl Default for RenderSettings {
             threads: 0,
             tile_size: 16,
             lqmc: LqmcSettings::default(),
+            lqmc_density: false,
         }
     }
 }
@@ -95,6 +98,10 @@ pub struct RenderOutput {
     pub film: Film,
     /// Measurements of the render.
     pub statistics: RenderStatistics,
+    /// LQMC's sample density per class, when asked for: splatted members
+    /// per pixel (box filter, before the splat scale) of normal, caustic and
+    /// depth-of-field paths as red, green and blue, and of next-event paths.
+    pub lqmc_density: Option<[Film; 2]>,
 }
 
 /// Renders `scene`. `stop` is polled between tiles (set it from a Ctrl-C
@@ -154,6 +161,15 @@ fn render_in_pool(
                 .is_some_and(|budget| start.elapsed() >= budget)
     };
     let mut statistics = RenderStatistics::default();
+    let mut density = if settings.lqmc_density && settings.integrator == IntegratorKind::Lqmc {
+        let box_filter = crate::film::Filter::Box(crate::film::BoxFilter::new([0.5, 0.5])?);
+        Some([
+            Film::new([width as usize, height as usize], box_filter)?,
+            Film::new([width as usize, height as usize], box_filter)?,
+        ])
+    } else {
+        None
+    };
     let mut first_sample = 0;
     while first_sample < settings.samples_per_pixel && !out_of_time() {
         let end_sample = (first_sample + pass_size).min(settings.samples_per_pixel);
@@ -182,6 +198,7 @@ fn render_in_pool(
                             counters,
                             samples: count,
                             lqmc: LqmcStatistics::default(),
+                            density: None,
                         }
                     }
                     IntegratorKind::Lqmc => {
@@ -191,7 +208,14 @@ fn render_in_pool(
                             path_settings,
                             seed: settings.seed,
                         };
-                        render_tile_lqmc(&context, &film, *bounds, samples, sampler.as_mut())
+                        render_tile_lqmc(
+                            &context,
+                            &film,
+                            *bounds,
+                            samples,
+                            sampler.as_mut(),
+                            settings.lqmc_density,
+                        )
                     }
                 })
             })
@@ -209,6 +233,10 @@ fn render_in_pool(
                     statistics.rays += result.counters.rays();
                     statistics.samples += result.samples;
                     statistics.lqmc.add(&result.lqmc);
+                    if let (Some(films), Some(splats)) = (&mut density, &result.density) {
+                        films[0].merge_splats(&splats.rgb);
+                        films[1].merge_splats(&splats.next_event);
+                    }
                 }
                 None => complete = false,
             }
@@ -222,7 +250,11 @@ fn render_in_pool(
     statistics.stopped_early = statistics.completed_samples_per_pixel < settings.samples_per_pixel;
     statistics.nonfinite_samples = film.nonfinite_samples();
     statistics.elapsed = start.elapsed();
-    Ok(RenderOutput { film, statistics })
+    Ok(RenderOutput {
+        film,
+        statistics,
+        lqmc_density: density,
+    })
 }
 
 /// What rendering one tile for one pass produced.
@@ -232,6 +264,7 @@ struct TileResult {
     counters: TraceCounters,
     samples: u64,
     lqmc: LqmcStatistics,
+    density: Option<lqmc::ClassDensity>,
 }
 
 /// Renders samples `samples` of every pixel of a tile with LQMC: every
@@ -243,6 +276,7 @@ fn render_tile_lqmc(
     bounds: PixelBounds,
     samples: std::ops::Range<u64>,
     sampler: &mut dyn PixelSampler,
+    gather_density: bool,
 ) -> TileResult {
     let tile = film
         .new_tile(bounds)
@@ -251,6 +285,7 @@ fn render_tile_lqmc(
     let mut counters = TraceCounters::default();
     let mut statistics = LqmcStatistics::default();
     let mut scratch = lqmc::LqmcScratch::default();
+    scratch.density = gather_density.then(lqmc::ClassDensity::default);
     let mut count = 0;
     for y in bounds.min[1]..bounds.max[1] {
         for x in bounds.min[0]..bounds.max[0] {
@@ -276,6 +311,7 @@ fn render_tile_lqmc(
         counters,
         samples: count,
         lqmc: statistics,
+        density: scratch.density.take(),
     }
 }
 

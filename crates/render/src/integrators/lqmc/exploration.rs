@@ -44,9 +44,23 @@ pub struct LqmcContext<'a> {
     pub seed: u64,
 }
 
+/// The sample density per class (the paper's Fig. 11): one splat of value
+/// one per splatted member, in the channel of its class (`rgb`: normal,
+/// caustic, depth of field) or, for next-event paths, in all channels of
+/// `next_event`.
+#[derive(Debug, Default, Clone)]
+pub struct ClassDensity {
+    /// Normal, caustic and depth-of-field members as red, green, blue.
+    pub rgb: SplatBuffer,
+    /// Next-event members (grey).
+    pub next_event: SplatBuffer,
+}
+
 /// Buffers reused from one pixel sample to the next.
 #[derive(Debug, Default)]
 pub struct LqmcScratch {
+    /// The sample density per class, gathered when set.
+    pub density: Option<ClassDensity>,
     seed_path: SeedPath,
     member_vertices: Vec<SurfaceVertex>,
     dimensions: Vec<ExploredDimension>,
@@ -178,7 +192,10 @@ fn handle_event(
     let Some(breakup) = breakup else {
         return direct(splats, statistics);
     };
-    debug_assert!(matches!(settings.breakup, BreakupChoice::Roughness) || settings.breakup == BreakupChoice::Fixed(breakup));
+    debug_assert!(
+        matches!(settings.breakup, BreakupChoice::Roughness)
+            || settings.breakup == BreakupChoice::Fixed(breakup)
+    );
     explore(
         context,
         seed_path,
@@ -249,11 +266,16 @@ fn explore(
                 sampler.get(layout::vertex(vertex, layout::SCATTER_DIRECTION + axis))
             }
         };
-        scratch.seed_numbers.push((value as f64).clamp(0.0, 1.0 - f64::EPSILON));
+        scratch
+            .seed_numbers
+            .push((value as f64).clamp(0.0, 1.0 - f64::EPSILON));
         scratch.tiles.push(dimension.tiles);
         let jitter = if settings.jitter_tiles {
-            to_unit_f64(hash3(context.seed ^ JITTER_KEY, sample_index, dimension.kind.key()))
-                / dimension.tiles as f64
+            to_unit_f64(hash3(
+                context.seed ^ JITTER_KEY,
+                sample_index,
+                dimension.kind.key(),
+            )) / dimension.tiles as f64
         } else {
             0.0
         };
@@ -406,6 +428,17 @@ fn explore(
     for ((raster, rgb), weight) in scratch.member_splats.iter().zip(&scratch.weights) {
         let weight = *weight as f32;
         let _ = splats.add(*raster, rgb.map(|channel| channel * weight));
+    }
+    if let Some(density) = &mut scratch.density {
+        let (buffer, value) = match class {
+            PathClass::Normal => (&mut density.rgb, [1.0, 0.0, 0.0]),
+            PathClass::Caustic => (&mut density.rgb, [0.0, 1.0, 0.0]),
+            PathClass::DepthOfField => (&mut density.rgb, [0.0, 0.0, 1.0]),
+            PathClass::NextEvent => (&mut density.next_event, [1.0; 3]),
+        };
+        for (raster, _) in &scratch.member_splats {
+            let _ = buffer.add(*raster, value);
+        }
     }
 }
 

@@ -30,6 +30,6 @@ pub mod settings;
 pub mod statistics;
 
 pub use classification::PathClass;
-pub use exploration::{LqmcContext, LqmcScratch, render_pixel_sample};
+pub use exploration::{ClassDensity, LqmcContext, LqmcScratch, render_pixel_sample};
 pub use settings::{BreakupChoice, ClassParameters, ExploredEffects, LqmcSettings};
 pub use statistics::{FailureReason, LqmcStatistics};
