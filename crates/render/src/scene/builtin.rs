@@ -3,8 +3,9 @@
 
 use super::description::{
     FilterDescription, LightDescription, MaterialDescription, MediumCoefficients,
-    MediumDescription, PhaseDescription, SceneDescription, ShapeDescription, ShapeGeometry,
-    SpectrumDescription, polygon_mesh,
+    MediumDescription, MicrofacetDistribution, PhaseDescription, RoughnessDescription,
+    SceneDescription, ShapeDescription, ShapeGeometry, SpectrumDescription, TextureDescription,
+    polygon_mesh,
 };
 use crate::camera::{FovAxis, PerspectiveSettings, look_at};
 use glam::{Affine3A, Quat, Vec3};
@@ -543,12 +544,16 @@ fn translucent_spheres() -> SceneDescription {
                 center: Vec3::new(x, 0.5, z),
                 radius: 0.5,
             },
-            // Smooth for now; when rough dielectrics are merged this becomes
-            // `roughness: Some(..)` with α = 0.1 (GGX), the translucent look.
+            // Rough glass (GGX, α = 0.1): the translucent look.
             MaterialDescription::Dielectric {
                 interior_ior: SpectrumDescription::Constant(1.5),
                 exterior_ior: 1.0,
-                roughness: None,
+                roughness: Some(RoughnessDescription {
+                    distribution: MicrofacetDistribution::Ggx,
+                    alpha_u: TextureDescription::Constant(SpectrumDescription::Constant(0.1)),
+                    alpha_v: TextureDescription::Constant(SpectrumDescription::Constant(0.1)),
+                    remap: false,
+                }),
             },
         );
         sphere.interior_medium = Some(index);
