@@ -26,7 +26,7 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Render a scene to EXR (or PFM) and PNG.
-    Render(render_command::RenderArgs),
+    Render(Box<render_command::RenderArgs>),
     /// List the built-in scenes.
     Scenes,
     /// Compare an image with a reference: RMSE, relative MSE, mean absolute

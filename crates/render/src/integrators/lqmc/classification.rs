@@ -83,7 +83,7 @@ impl EventPath<'_> {
             return 1.0;
         }
         let vertex = &self.vertices[index - 1];
-        if index - 1 >= self.event.scattering_count() {
+        if index > self.event.scattering_count() {
             1.0
         } else {
             vertex_roughness(vertex)

@@ -38,6 +38,7 @@ fn fraction(x: f64) -> f64 {
 
 /// Fills `members` with the explored numbers of the exploration of `seed`
 /// (the seed's explored numbers, in `[0, 1)`).
+#[allow(clippy::needless_range_loop)] // d indexes four parallel arrays
 pub fn lattice_members(
     entry: &LqmcLatticeEntry,
     grid: &TileGrid<'_>,
@@ -49,11 +50,11 @@ pub fn lattice_members(
     query.clear();
     query.resize(dimensions, 0.0);
     let mut tile_index = [0.0f64; qmc::lattice_table::LQMC_MAX_DIMENSIONS];
-    for d in 0..dimensions {
+    for (d, tile_slot) in tile_index.iter_mut().enumerate().take(dimensions) {
         let tiles = grid.tiles[d] as f64;
         let scaled = (seed[d] - grid.jitter[d]) * tiles;
         let tile = scaled.floor();
-        tile_index[d] = tile;
+        *tile_slot = tile;
         query[grid.lattice_dimension[d]] = fraction(scaled - tile).min(1.0 - f64::EPSILON);
     }
     let closest = entry.closest_point_search().closest_point(query)?;
@@ -93,7 +94,7 @@ mod tests {
         };
         let seed = [0.37, 0.81, 0.999];
         let mut members = LatticeMembers::default();
-        lattice_members(&entry, &grid, &seed, &mut Vec::new(), &mut members).unwrap();
+        lattice_members(entry, &grid, &seed, &mut Vec::new(), &mut members).unwrap();
         assert_eq!(members.numbers.len(), 23 * 3);
         let own = &members.numbers[members.seed_member * 3..members.seed_member * 3 + 3];
         for d in 0..3 {

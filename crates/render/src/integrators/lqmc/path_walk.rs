@@ -218,7 +218,7 @@ pub fn walk(
         } else {
             (bsdf.evaluate(wo, wi, &wavelengths), bsdf.pdf(wo, wi))
         };
-        if !(pdf > 0.0) || value.is_black() {
+        if pdf.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || value.is_black() {
             return Err(FailureReason::Evaluation);
         }
         let cosine = wi.dot(bsdf.frame.normal()).abs();

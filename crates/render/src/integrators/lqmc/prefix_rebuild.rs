@@ -176,14 +176,13 @@ pub fn rebuild_member(
     let mut wavelengths = SampledWavelengths::sample_visible(camera.u_wavelength);
     let mut ray =
         crate::geometry::Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time);
-    for m in 0..breakup {
+    for (m, seed_vertex) in seed_vertices.iter().enumerate().take(breakup) {
         counters.closest_hit_rays += 1;
         let raw_hit = scene
             .geometry
             .intersect(&ray, f32::INFINITY)
             .ok_or(FailureReason::Escaped)?;
         let hit = oriented_hit(scene, &raw_hit);
-        let seed_vertex = &seed_vertices[m];
         vertices.push(SurfaceVertex {
             raw_hit,
             hit,
