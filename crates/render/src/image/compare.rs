@@ -333,11 +333,9 @@ mod tests {
             [-0.969256, 1.875991, 0.041556],
             [0.055648, -0.204043, 1.057311],
         ];
-        for i in 0..3 {
+        for (i, row) in MITSUBA_LINEAR_SRGB_TO_XYZ.iter().enumerate() {
             for j in 0..3 {
-                let product: f64 = (0..3)
-                    .map(|k| MITSUBA_LINEAR_SRGB_TO_XYZ[i][k] * xyz_to_srgb[k][j])
-                    .sum();
+                let product: f64 = (0..3).map(|k| row[k] * xyz_to_srgb[k][j]).sum();
                 let identity = if i == j { 1.0 } else { 0.0 };
                 assert!((product - identity).abs() < 1e-5, "{i} {j} {product}");
             }
