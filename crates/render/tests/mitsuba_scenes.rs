@@ -51,33 +51,114 @@ use Status::{NotYetSupported, Render};
 /// Every Mitsuba test scene, by path under `mitsuba-data/tests/scenes/`.
 /// Flip a scene to `Render` when the features it needs are merged.
 const SCENES: &[(&str, Status)] = &[
-    ("bsdf_spheres/test_arealight_path.xml", NotYetSupported("plastic, rough dielectric/plastic/conductor")),
-    ("bsdf_spheres/test_bumpmap_path.xml", NotYetSupported("environment map light")),
-    ("bsdf_spheres/test_constant_path.xml", NotYetSupported("plastic, rough dielectric/plastic/conductor")),
-    ("bsdf_spheres/test_envmap_path.xml", NotYetSupported("environment map light; plastic, rough materials")),
-    ("bsdf_spheres/test_normalmap_identity_roughconductor_path.xml", NotYetSupported("environment map light, rough conductor")),
-    ("bsdf_spheres/test_normalmap_path.xml", NotYetSupported("environment map light")),
-    ("bsdf_spheres/test_normalmap_roughconductor_path.xml", NotYetSupported("environment map light, rough conductor")),
-    ("bsdf_spheres/test_pointlight_path.xml", NotYetSupported("plastic, rough dielectric/plastic/conductor")),
-    ("bsdf_spheres/test_roughdielectric_path.xml", NotYetSupported("environment map light, rough dielectric")),
-    ("bsdf_spheres/test_roughplastic_linear_path.xml", NotYetSupported("environment map light, rough plastic")),
-    ("bsdf_spheres/test_roughplastic_nonlinear_path.xml", NotYetSupported("environment map light, rough plastic")),
-    ("bsdf_spheres/test_textured_diffuse_path.xml", NotYetSupported("environment map light")),
-    ("bsdf_spheres/test_textured_roughconductor_path.xml", NotYetSupported("environment map light, rough conductor (a-C)")),
-    ("bsdf_spheres/test_texturedprincipled1_path.xml", NotYetSupported("principled BSDF (loaded as diffuse), environment map light")),
-    ("bsdf_spheres/test_texturedprincipled2_path.xml", NotYetSupported("principled BSDF (loaded as diffuse), environment map light")),
-    ("bsdf_spheres/test_texturedprincipledthin_path.xml", NotYetSupported("principledthin BSDF (loaded as diffuse), environment map light")),
-    ("floating_sphere/test_directional_direct.xml", NotYetSupported("directional light")),
-    ("participating_media/test_homo_area_light_volpath.xml", NotYetSupported("media, volumetric path tracer")),
-    ("participating_media/test_homo_dielectric_envmap_volpath.xml", NotYetSupported("media, environment map light")),
-    ("participating_media/test_homo_emitter_inside_medium_volpath.xml", NotYetSupported("media")),
-    ("participating_media/test_homo_null_envmap_volpath.xml", NotYetSupported("media, environment map light")),
-    ("participating_media/test_homo_obj_inside_medium_volpath.xml", NotYetSupported("media")),
-    ("participating_media/test_homo_roughdielectric_spot_volpath.xml", NotYetSupported("media, spot light, rough dielectric")),
-    ("participating_media/test_homo_spectral_sigmat_volpathmis.xml", NotYetSupported("media, environment map light")),
-    ("participating_media/test_surf_area_light_volpath.xml", NotYetSupported("plastic, rough plastic, environment map light")),
-    ("spot_light/test_spot_direct.xml", NotYetSupported("spot light")),
-    ("various_emitters/test_various_emitters_ptracer.xml", NotYetSupported("spot lights, textured area emitters, projector")),
+    (
+        "bsdf_spheres/test_arealight_path.xml",
+        NotYetSupported("plastic, rough dielectric/plastic/conductor"),
+    ),
+    (
+        "bsdf_spheres/test_bumpmap_path.xml",
+        NotYetSupported("environment map light"),
+    ),
+    (
+        "bsdf_spheres/test_constant_path.xml",
+        NotYetSupported("plastic, rough dielectric/plastic/conductor"),
+    ),
+    (
+        "bsdf_spheres/test_envmap_path.xml",
+        NotYetSupported("environment map light; plastic, rough materials"),
+    ),
+    (
+        "bsdf_spheres/test_normalmap_identity_roughconductor_path.xml",
+        NotYetSupported("environment map light, rough conductor"),
+    ),
+    (
+        "bsdf_spheres/test_normalmap_path.xml",
+        NotYetSupported("environment map light"),
+    ),
+    (
+        "bsdf_spheres/test_normalmap_roughconductor_path.xml",
+        NotYetSupported("environment map light, rough conductor"),
+    ),
+    (
+        "bsdf_spheres/test_pointlight_path.xml",
+        NotYetSupported("plastic, rough dielectric/plastic/conductor"),
+    ),
+    (
+        "bsdf_spheres/test_roughdielectric_path.xml",
+        NotYetSupported("environment map light, rough dielectric"),
+    ),
+    (
+        "bsdf_spheres/test_roughplastic_linear_path.xml",
+        NotYetSupported("environment map light, rough plastic"),
+    ),
+    (
+        "bsdf_spheres/test_roughplastic_nonlinear_path.xml",
+        NotYetSupported("environment map light, rough plastic"),
+    ),
+    (
+        "bsdf_spheres/test_textured_diffuse_path.xml",
+        NotYetSupported("environment map light"),
+    ),
+    (
+        "bsdf_spheres/test_textured_roughconductor_path.xml",
+        NotYetSupported("environment map light, rough conductor (a-C)"),
+    ),
+    (
+        "bsdf_spheres/test_texturedprincipled1_path.xml",
+        NotYetSupported("principled BSDF (loaded as diffuse), environment map light"),
+    ),
+    (
+        "bsdf_spheres/test_texturedprincipled2_path.xml",
+        NotYetSupported("principled BSDF (loaded as diffuse), environment map light"),
+    ),
+    (
+        "bsdf_spheres/test_texturedprincipledthin_path.xml",
+        NotYetSupported("principledthin BSDF (loaded as diffuse), environment map light"),
+    ),
+    (
+        "floating_sphere/test_directional_direct.xml",
+        NotYetSupported("directional light"),
+    ),
+    (
+        "participating_media/test_homo_area_light_volpath.xml",
+        NotYetSupported("media, volumetric path tracer"),
+    ),
+    (
+        "participating_media/test_homo_dielectric_envmap_volpath.xml",
+        NotYetSupported("media, environment map light"),
+    ),
+    (
+        "participating_media/test_homo_emitter_inside_medium_volpath.xml",
+        NotYetSupported("media"),
+    ),
+    (
+        "participating_media/test_homo_null_envmap_volpath.xml",
+        NotYetSupported("media, environment map light"),
+    ),
+    (
+        "participating_media/test_homo_obj_inside_medium_volpath.xml",
+        NotYetSupported("media"),
+    ),
+    (
+        "participating_media/test_homo_roughdielectric_spot_volpath.xml",
+        NotYetSupported("media, spot light, rough dielectric"),
+    ),
+    (
+        "participating_media/test_homo_spectral_sigmat_volpathmis.xml",
+        NotYetSupported("media, environment map light"),
+    ),
+    (
+        "participating_media/test_surf_area_light_volpath.xml",
+        NotYetSupported("plastic, rough plastic, environment map light"),
+    ),
+    (
+        "spot_light/test_spot_direct.xml",
+        NotYetSupported("spot light"),
+    ),
+    (
+        "various_emitters/test_various_emitters_ptracer.xml",
+        NotYetSupported("spot lights, textured area emitters, projector"),
+    ),
 ];
 
 /// Mitsuba's reference sample count.
@@ -117,7 +198,11 @@ fn render_scene(scene: &Scene, samples_per_pixel: u64, max_depth: u32) -> Render
 }
 
 /// Per pixel: our mean and the variance of our mean.
-fn means_and_variances(output: &RenderOutput, width: usize, height: usize) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+fn means_and_variances(
+    output: &RenderOutput,
+    width: usize,
+    height: usize,
+) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
     let mut means = Vec::with_capacity(width * height);
     let mut variances = Vec::with_capacity(width * height);
     for y in 0..height {
@@ -184,7 +269,11 @@ fn every_mitsuba_test_scene_is_listed() {
             let file = file.unwrap().path();
             let name = file.file_name().unwrap().to_string_lossy().into_owned();
             if name.starts_with("test_") && name.ends_with(".xml") {
-                let relative = file.strip_prefix(&root).unwrap().to_string_lossy().into_owned();
+                let relative = file
+                    .strip_prefix(&root)
+                    .unwrap()
+                    .to_string_lossy()
+                    .into_owned();
                 found.push(relative);
             }
         }
@@ -239,7 +328,11 @@ fn supported_mitsuba_test_scenes_match_their_references() {
         let scene = Scene::build(&loaded.description)
             .unwrap_or_else(|error| panic!("{name} does not build: {error}"));
         let [width, height] = loaded.description.camera.resolution.map(|v| v as usize);
-        let output = render_scene(&scene, samples_per_pixel, scene.max_depth.unwrap_or(u32::MAX));
+        let output = render_scene(
+            &scene,
+            samples_per_pixel,
+            scene.max_depth.unwrap_or(u32::MAX),
+        );
         let (ours, our_variance) = means_and_variances(&output, width, height);
         let stem = Path::new(name)
             .file_stem()

@@ -78,7 +78,6 @@ pub fn read_obj(path: &Path) -> Result<MeshData, SceneFileError> {
         single_index: true,
         ignore_points: true,
         ignore_lines: true,
-        ..Default::default()
     };
     // Materials are the scene file's business: an OBJ's `mtllib` is ignored.
     let (models, _) = tobj::load_obj_buf(&mut BufReader::new(file), &options, |_| {
@@ -108,7 +107,11 @@ pub fn read_obj(path: &Path) -> Result<MeshData, SceneFileError> {
             all_normals = false;
         }
         if data.texcoords.len() == 2 * count {
-            uvs.extend(data.texcoords.chunks_exact(2).map(|t| Vec2::new(t[0], t[1])));
+            uvs.extend(
+                data.texcoords
+                    .chunks_exact(2)
+                    .map(|t| Vec2::new(t[0], t[1])),
+            );
         } else {
             all_uvs = false;
         }
@@ -322,7 +325,10 @@ mod tests {
 
     #[test]
     fn out_of_range_index_is_an_error() {
-        let path = temporary("bad.ply", ASCII_PLY.replace("4 0 1 2 3", "3 0 1 9").as_bytes());
+        let path = temporary(
+            "bad.ply",
+            ASCII_PLY.replace("4 0 1 2 3", "3 0 1 9").as_bytes(),
+        );
         let error = read_ply(&path).unwrap_err().to_string();
         assert!(error.contains("out of range"), "{error}");
     }

@@ -117,9 +117,10 @@ impl Loader {
             None | Some("beckmann") => MicrofacetDistribution::Beckmann,
             Some("ggx") => MicrofacetDistribution::Ggx,
             Some(other) => {
-                return Err(properties.element.location.error(format!(
-                    "distribution '{other}': expected beckmann or ggx"
-                )));
+                return Err(properties
+                    .element
+                    .location
+                    .error(format!("distribution '{other}': expected beckmann or ggx")));
             }
         };
         properties.ignore(&["sample_visible"]);
@@ -143,7 +144,10 @@ impl Loader {
     }
 
     /// The one nested BSDF of an adapter (`twosided`, `bumpmap`, ...).
-    fn nested_bsdfs(&mut self, properties: &Properties) -> Result<Vec<MaterialDescription>, SceneFileError> {
+    fn nested_bsdfs(
+        &mut self,
+        properties: &Properties,
+    ) -> Result<Vec<MaterialDescription>, SceneFileError> {
         let mut nested = Vec::new();
         for object in &properties.objects {
             match object.tag.as_str() {
@@ -171,7 +175,10 @@ impl Loader {
         Ok(nested)
     }
 
-    fn one_nested(&mut self, properties: &Properties) -> Result<MaterialDescription, SceneFileError> {
+    fn one_nested(
+        &mut self,
+        properties: &Properties,
+    ) -> Result<MaterialDescription, SceneFileError> {
         let mut nested = self.nested_bsdfs(properties)?;
         match nested.len() {
             1 => Ok(nested.remove(0)),
@@ -183,7 +190,10 @@ impl Loader {
     }
 
     /// Reads a `<bsdf>` plugin (or the `<ref>` of one) and registers its id.
-    pub(super) fn bsdf(&mut self, element: &Element) -> Result<MaterialDescription, SceneFileError> {
+    pub(super) fn bsdf(
+        &mut self,
+        element: &Element,
+    ) -> Result<MaterialDescription, SceneFileError> {
         if element.tag == "ref" {
             return match self.referenced(element)? {
                 NamedObject::Bsdf(material) => Ok(material),
@@ -276,7 +286,11 @@ impl Loader {
                 };
                 self.unsupported_factor(&properties, "specular_reflectance");
                 MaterialDescription::Plastic {
-                    diffuse_reflectance: self.texture_or(&properties, "diffuse_reflectance", 0.5)?,
+                    diffuse_reflectance: self.texture_or(
+                        &properties,
+                        "diffuse_reflectance",
+                        0.5,
+                    )?,
                     interior_ior: interior / exterior,
                     exterior_ior: 1.0,
                     roughness,
@@ -325,7 +339,9 @@ impl Loader {
                     }
                 }
                 let height = height.ok_or_else(|| {
-                    element.location.error("bsdf 'bumpmap' needs a nested height <texture>")
+                    element
+                        .location
+                        .error("bsdf 'bumpmap' needs a nested height <texture>")
                 })?;
                 let nested = self.one_nested_ignoring_textures(&properties)?;
                 MaterialDescription::BumpMap {
@@ -335,11 +351,13 @@ impl Loader {
                 }
             }
             "normalmap" => {
-                let normals = self.texture_parameter(&properties, "normalmap")?.ok_or_else(|| {
-                    element
-                        .location
-                        .error("bsdf 'normalmap' needs a <texture name=\"normalmap\">")
-                })?;
+                let normals = self
+                    .texture_parameter(&properties, "normalmap")?
+                    .ok_or_else(|| {
+                        element
+                            .location
+                            .error("bsdf 'normalmap' needs a <texture name=\"normalmap\">")
+                    })?;
                 let nested = self.one_nested(&properties)?;
                 MaterialDescription::NormalMap {
                     normals,
@@ -358,17 +376,31 @@ impl Loader {
             "principled" | "principledthin" => {
                 let base = self
                     .texture_parameter(&properties, "base_color")?
-                    .unwrap_or(TextureDescription::Constant(SpectrumDescription::Constant(0.5)));
+                    .unwrap_or(TextureDescription::Constant(SpectrumDescription::Constant(
+                        0.5,
+                    )));
                 self.warn(
                     element,
                     format!("bsdf '{kind}' is not supported: replaced by a diffuse bsdf of its base_color"),
                 );
                 // Its other parameters are knowingly dropped.
                 properties.ignore(&[
-                    "roughness", "metallic", "specular", "anisotropic", "sheen", "sheen_tint",
-                    "clearcoat", "clearcoat_gloss", "spec_tint", "spec_trans", "eta",
-                    "flatness", "diff_trans", "main_specular_sampling_rate",
-                    "clearcoat_sampling_rate", "diffuse_reflectance_sampling_rate",
+                    "roughness",
+                    "metallic",
+                    "specular",
+                    "anisotropic",
+                    "sheen",
+                    "sheen_tint",
+                    "clearcoat",
+                    "clearcoat_gloss",
+                    "spec_tint",
+                    "spec_trans",
+                    "eta",
+                    "flatness",
+                    "diff_trans",
+                    "main_specular_sampling_rate",
+                    "clearcoat_sampling_rate",
+                    "diffuse_reflectance_sampling_rate",
                 ]);
                 MaterialDescription::Diffuse {
                     reflectance: base,
@@ -378,12 +410,16 @@ impl Loader {
             other => {
                 self.warn(
                     element,
-                    format!("unknown bsdf type '{other}': replaced by a diffuse bsdf of reflectance 0.5"),
+                    format!(
+                        "unknown bsdf type '{other}': replaced by a diffuse bsdf of reflectance 0.5"
+                    ),
                 );
                 return self.finish_bsdf_silently(
                     element,
                     MaterialDescription::Diffuse {
-                        reflectance: TextureDescription::Constant(SpectrumDescription::Constant(0.5)),
+                        reflectance: TextureDescription::Constant(SpectrumDescription::Constant(
+                            0.5,
+                        )),
                         two_sided: false,
                     },
                 );

@@ -111,9 +111,9 @@ impl Loader {
                 radiance: self.emitted(&properties, "radiance")?,
             },
             "envmap" => {
-                let name = properties.optional_string("filename")?.ok_or_else(|| {
-                    element.location.error("envmap needs a 'filename' string")
-                })?;
+                let name = properties
+                    .optional_string("filename")?
+                    .ok_or_else(|| element.location.error("envmap needs a 'filename' string"))?;
                 let filename = self.resolve(element, name, "environment map")?;
                 LightDescription::EnvironmentMap {
                     filename,

@@ -7,9 +7,9 @@
 //! is a warning; its `max_depth` is still used.
 
 use super::super::loader::SceneFileError;
+use super::Loader;
 use super::values::Properties;
 use super::xml::Element;
-use super::Loader;
 
 /// The integrator types whose images this renderer's path tracer matches
 /// in expectation.
@@ -32,7 +32,10 @@ impl Loader {
             return match nested.first() {
                 Some(inner) => self.integrator(inner),
                 None => {
-                    self.warn(element, format!("integrator '{kind}' has no nested integrator"));
+                    self.warn(
+                        element,
+                        format!("integrator '{kind}' has no nested integrator"),
+                    );
                     Ok(())
                 }
             };

@@ -18,9 +18,10 @@ impl Loader {
         if element.tag == "ref" {
             return match self.referenced(element)? {
                 NamedObject::Medium(index) => Ok(Some(index)),
-                other => Err(element
-                    .location
-                    .error(format!("expected a reference to a medium, got a {}", other.kind()))),
+                other => Err(element.location.error(format!(
+                    "expected a reference to a medium, got a {}",
+                    other.kind()
+                ))),
             };
         }
         let properties = Properties::new(element);
@@ -43,15 +44,18 @@ impl Loader {
             .unwrap_or(SpectrumDescription::Constant(0.75));
         let scale = properties.float("scale", 1.0)?;
         if !(scale.is_finite() && scale >= 0.0) {
-            return Err(element
-                .location
-                .error(format!("medium scale {scale} must be finite and non-negative")));
+            return Err(element.location.error(format!(
+                "medium scale {scale} must be finite and non-negative"
+            )));
         }
         properties.ignore(&["sample_emitters"]);
         let mut phase = PhaseDescription::Isotropic;
         for object in &properties.objects {
             if object.tag != "phase" {
-                self.warn(object, format!("<{}> inside <medium> is ignored", object.tag));
+                self.warn(
+                    object,
+                    format!("<{}> inside <medium> is ignored", object.tag),
+                );
                 continue;
             }
             let phase_properties = Properties::new(object);

@@ -42,6 +42,7 @@ use xml::{Element, Reader, SearchPath};
 
 /// An object a `<ref id="..."/>` can name.
 #[derive(Debug, Clone)]
+#[allow(clippy::large_enum_variant)] // a few per scene; boxing buys nothing
 enum NamedObject {
     Bsdf(MaterialDescription),
     Texture(TextureDescription),
@@ -117,7 +118,12 @@ impl Loader {
     }
 
     /// Finds a file named by `element`'s scene file.
-    fn resolve(&self, element: &Element, name: &str, what: &str) -> Result<PathBuf, SceneFileError> {
+    fn resolve(
+        &self,
+        element: &Element,
+        name: &str,
+        what: &str,
+    ) -> Result<PathBuf, SceneFileError> {
         self.search_path
             .resolve(name, element.location.directory(), &element.location, what)
     }

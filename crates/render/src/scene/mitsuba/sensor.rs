@@ -49,7 +49,12 @@ impl Loader {
         let width = dimension("width", 768)?;
         let height = dimension("height", 576)?;
         self.description.camera.resolution = [width, height];
-        for crop in ["crop_offset_x", "crop_offset_y", "crop_width", "crop_height"] {
+        for crop in [
+            "crop_offset_x",
+            "crop_offset_y",
+            "crop_width",
+            "crop_height",
+        ] {
             if let Some(parameter) = properties.get(crop) {
                 self.warn(
                     parameter,
@@ -168,7 +173,9 @@ impl Loader {
         let (fov, axis) = match properties.optional_float("fov")? {
             Some(fov) => (fov, properties.optional_string("fov_axis")?.unwrap_or("x")),
             None => {
-                let focal = properties.optional_string("focal_length")?.unwrap_or("50mm");
+                let focal = properties
+                    .optional_string("focal_length")?
+                    .unwrap_or("50mm");
                 let millimetres = parse_number(focal.trim().trim_end_matches("mm"))
                     .ok()
                     .filter(|f| *f > 0.0)
@@ -211,7 +218,13 @@ impl Loader {
             camera.lens_radius = properties.float("aperture_radius", 0.03)?;
             camera.focus_distance = properties.float("focus_distance", 1.0)?;
         }
-        properties.ignore(&["near_clip", "far_clip", "principal_point_offset_x", "principal_point_offset_y", "srf"]);
+        properties.ignore(&[
+            "near_clip",
+            "far_clip",
+            "principal_point_offset_x",
+            "principal_point_offset_y",
+            "srf",
+        ]);
         self.finish(&properties);
         Ok(())
     }

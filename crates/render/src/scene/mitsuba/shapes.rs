@@ -72,11 +72,10 @@ impl Loader {
             Some(mesh) => mesh.clone(),
             None => {
                 let read = if kind == "obj" { read_obj } else { read_ply };
-                let mesh = std::sync::Arc::new(read(&path).map_err(|error| {
-                    element
-                        .location
-                        .error(format!("shape '{kind}': {error}"))
-                })?);
+                let mesh =
+                    std::sync::Arc::new(read(&path).map_err(|error| {
+                        element.location.error(format!("shape '{kind}': {error}"))
+                    })?);
                 self.meshes.insert(path.clone(), mesh.clone());
                 mesh
             }
@@ -129,7 +128,9 @@ impl Loader {
         if scales.iter().any(|s| (s - mean).abs() > 1e-4 * mean) {
             self.warn(
                 element,
-                format!("sphere: to_world scales unevenly ({scales:?}); using the mean scale {mean}"),
+                format!(
+                    "sphere: to_world scales unevenly ({scales:?}); using the mean scale {mean}"
+                ),
             );
         }
         Ok(ShapeGeometry::Sphere {

@@ -49,7 +49,9 @@ fn loaded(body: &str) -> LoadedScene {
 }
 
 fn error(body: &str) -> String {
-    load_text(body).expect_err("the scene must not load").to_string()
+    load_text(body)
+        .expect_err("the scene must not load")
+        .to_string()
 }
 
 const TRIANGLE_OBJ: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n";
@@ -97,11 +99,18 @@ fn mitsuba_defaults_without_parameters() {
     // 50 mm on 35 mm film: 46.8° diagonally, converted to x for 768 × 576.
     let diagonal_half = (43.266_615f32 / 100.0).atan();
     let expected = 2.0 * (diagonal_half.tan() * 0.8).atan().to_degrees();
-    assert!((camera.fov_degrees - expected).abs() < 1e-3, "{}", camera.fov_degrees);
+    assert!(
+        (camera.fov_degrees - expected).abs() < 1e-3,
+        "{}",
+        camera.fov_degrees
+    );
     assert_eq!(camera.lens_radius, 0.03);
     assert!(matches!(
         scene.description.filter,
-        FilterDescription::Gaussian { sigma: 0.5, radius: 2.0 }
+        FilterDescription::Gaussian {
+            sigma: 0.5,
+            radius: 2.0
+        }
     ));
 }
 
@@ -439,7 +448,10 @@ fn integrators_and_depth() {
     assert_eq!(max_depth, Some(u32::MAX));
     let (max_depth, integrator, _) =
         depth(r#"<integrator type="moment"><integrator type="direct"/></integrator>"#);
-    assert_eq!((max_depth, integrator.as_deref()), (Some(2), Some("direct")));
+    assert_eq!(
+        (max_depth, integrator.as_deref()),
+        (Some(2), Some("direct"))
+    );
     let (max_depth, integrator, warnings) = depth(
         r#"<integrator type="path_guiding_integrator"><integer name="max_depth" value="30"/></integrator>"#,
     );
@@ -483,9 +495,8 @@ fn parameters_defaults_and_command_line() {
 
 #[test]
 fn undefined_parameter_is_an_error_with_line() {
-    let message = error(
-        "<sensor type=\"perspective\">\n<float name=\"fov\" value=\"$fov\"/>\n</sensor>",
-    );
+    let message =
+        error("<sensor type=\"perspective\">\n<float name=\"fov\" value=\"$fov\"/>\n</sensor>");
     assert!(message.contains("scene.xml:3:"), "{message}");
     assert!(message.contains("$fov"), "{message}");
 }
@@ -527,16 +538,17 @@ fn includes_relative_to_the_including_file_and_search_paths() {
 
 #[test]
 fn missing_files_name_the_paths_looked_at() {
-    let message = error(
-        r#"<shape type="obj"><string name="filename" value="nowhere.obj"/></shape>"#,
-    );
+    let message =
+        error(r#"<shape type="obj"><string name="filename" value="nowhere.obj"/></shape>"#);
     assert!(message.contains("scene.xml:2:"), "{message}");
-    assert!(message.contains("nowhere.obj") && message.contains("looked for"), "{message}");
+    assert!(
+        message.contains("nowhere.obj") && message.contains("looked for"),
+        "{message}"
+    );
     let message = error(r#"<include filename="missing.xml"/>"#);
     assert!(message.contains("missing.xml"), "{message}");
-    let message = error(
-        r#"<emitter type="envmap"><string name="filename" value="sky.exr"/></emitter>"#,
-    );
+    let message =
+        error(r#"<emitter type="envmap"><string name="filename" value="sky.exr"/></emitter>"#);
     assert!(message.contains("sky.exr"), "{message}");
 }
 
@@ -566,15 +578,47 @@ fn unknown_elements_and_plugins_are_warnings() {
 #[test]
 fn malformed_input_is_an_error_with_file_and_line() {
     for (body, line, expected) in [
-        ("<shape type=\"cube\">\n<float name=\"x\" value=\"1\"", 4, "malformed XML"),
-        ("\n<shape type=\"sphere\"><float name=\"radius\" value=\"big\"/></shape>", 3, "big"),
-        ("\n\n<shape type=\"cube\"><ref id=\"nothing\"/></shape>", 4, "nothing"),
-        ("<bsdf type=\"dielectric\">\n<string name=\"int_ior\" value=\"jelly\"/></bsdf>", 3, "jelly"),
-        ("<bsdf type=\"conductor\"><string name=\"material\" value=\"Xx\"/></bsdf>", 2, "Xx"),
-        ("<shape type=\"cube\"><transform name=\"to_world\"><scale value=\"0\"/></transform></shape>", 2, "zero"),
-        ("<shape type=\"cube\"><rgb name=\"to_world\" value=\"1\"/></shape>", 2, "<transform>"),
+        (
+            "<shape type=\"cube\">\n<float name=\"x\" value=\"1\"",
+            4,
+            "malformed XML",
+        ),
+        (
+            "\n<shape type=\"sphere\"><float name=\"radius\" value=\"big\"/></shape>",
+            3,
+            "big",
+        ),
+        (
+            "\n\n<shape type=\"cube\"><ref id=\"nothing\"/></shape>",
+            4,
+            "nothing",
+        ),
+        (
+            "<bsdf type=\"dielectric\">\n<string name=\"int_ior\" value=\"jelly\"/></bsdf>",
+            3,
+            "jelly",
+        ),
+        (
+            "<bsdf type=\"conductor\"><string name=\"material\" value=\"Xx\"/></bsdf>",
+            2,
+            "Xx",
+        ),
+        (
+            "<shape type=\"cube\"><transform name=\"to_world\"><scale value=\"0\"/></transform></shape>",
+            2,
+            "zero",
+        ),
+        (
+            "<shape type=\"cube\"><rgb name=\"to_world\" value=\"1\"/></shape>",
+            2,
+            "<transform>",
+        ),
         ("<emitter type=\"area\"/>", 2, "nested"),
-        ("<bsdf type=\"diffuse\" id=\"a\"/><bsdf type=\"diffuse\" id=\"a\"/>", 2, "twice"),
+        (
+            "<bsdf type=\"diffuse\" id=\"a\"/><bsdf type=\"diffuse\" id=\"a\"/>",
+            2,
+            "twice",
+        ),
     ] {
         let message = error(body);
         assert!(
@@ -588,11 +632,18 @@ fn malformed_input_is_an_error_with_file_and_line() {
 fn wrong_root_and_version() {
     let directory = directory();
     let path = write(&directory, "a.xml", "<bsdf type=\"diffuse\"/>");
-    let message = load(&path, &LoadOptions::default()).unwrap_err().to_string();
+    let message = load(&path, &LoadOptions::default())
+        .unwrap_err()
+        .to_string();
     assert!(message.contains("expected <scene>"), "{message}");
     let path = write(&directory, "b.xml", "<scene version=\"9.0\"/>");
-    let message = load(&path, &LoadOptions::default()).unwrap_err().to_string();
-    assert!(message.contains("b.xml:1:") && message.contains("9.0"), "{message}");
+    let message = load(&path, &LoadOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("b.xml:1:") && message.contains("9.0"),
+        "{message}"
+    );
 }
 
 #[test]
@@ -632,7 +683,9 @@ fn include_cycles_are_errors() {
         "b.xml",
         r#"<scene version="3.0.0"><include filename="a.xml"/></scene>"#,
     );
-    let message = load(&path, &LoadOptions::default()).unwrap_err().to_string();
+    let message = load(&path, &LoadOptions::default())
+        .unwrap_err()
+        .to_string();
     assert!(message.contains("include cycle"), "{message}");
 }
 
@@ -659,7 +712,10 @@ fn references_to_objects_defined_later() {
         Some(SpectrumDescription::Rgb([4.0; 3]))
     );
     assert_eq!(description.shapes[1].emission, None);
-    assert_eq!(description.shapes[0].material, description.shapes[1].material);
+    assert_eq!(
+        description.shapes[0].material,
+        description.shapes[1].material
+    );
     assert_eq!(description.media.len(), 1, "the medium is read once");
     assert!(description.lights.is_empty());
 }

@@ -66,16 +66,12 @@ impl Loader {
                 }
             }
             "checkerboard" => {
-                let even = self
-                    .texture_parameter(&properties, "color0")?
-                    .unwrap_or(TextureDescription::Constant(SpectrumDescription::Constant(
-                        0.4,
-                    )));
-                let odd = self
-                    .texture_parameter(&properties, "color1")?
-                    .unwrap_or(TextureDescription::Constant(SpectrumDescription::Constant(
-                        0.2,
-                    )));
+                let even = self.texture_parameter(&properties, "color0")?.unwrap_or(
+                    TextureDescription::Constant(SpectrumDescription::Constant(0.4)),
+                );
+                let odd = self.texture_parameter(&properties, "color1")?.unwrap_or(
+                    TextureDescription::Constant(SpectrumDescription::Constant(0.2)),
+                );
                 // Mitsuba's squares are ½ wide in its transformed uv; the
                 // description's are 1 wide (see `texture::checkerboard`).
                 TextureDescription::Checkerboard {

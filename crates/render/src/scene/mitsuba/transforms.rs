@@ -209,7 +209,11 @@ mod tests {
             element("rotate", &[("angle", "10")], vec![]),
             element("matrix", &[("value", "1 2 3")], vec![]),
             element("shear", &[], vec![]),
-            element("lookat", &[("origin", "0,0,0"), ("target", "0,0,0")], vec![]),
+            element(
+                "lookat",
+                &[("origin", "0,0,0"), ("target", "0,0,0")],
+                vec![],
+            ),
         ] {
             let error = parse_transform(&element("transform", &[], vec![bad]))
                 .unwrap_err()

@@ -118,7 +118,10 @@ impl<'a> Properties<'a> {
         element.attribute("value").ok_or_else(|| {
             self.error(
                 element,
-                format!("<{} name=\"{name}\"> needs a 'value' attribute", element.tag),
+                format!(
+                    "<{} name=\"{name}\"> needs a 'value' attribute",
+                    element.tag
+                ),
             )
         })
     }
@@ -370,7 +373,9 @@ pub fn parse_spectrum(
         "rgb" => {
             let text = element.required("value")?;
             if text.trim().starts_with('#') {
-                return parse_srgb(text).map(SpectrumDescription::Rgb).map_err(error);
+                return parse_srgb(text)
+                    .map(SpectrumDescription::Rgb)
+                    .map_err(error);
             }
             match parse_numbers(text).map_err(error)?.as_slice() {
                 [v] => Ok(SpectrumDescription::Rgb([*v; 3])),
@@ -491,12 +496,9 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(error.starts_with("s.xml:7:"), "{error}");
-        let error = parse_spectrum(
-            &element("spectrum", &[("value", "500:1, 400:2")]),
-            &no_file,
-        )
-        .unwrap_err()
-        .to_string();
+        let error = parse_spectrum(&element("spectrum", &[("value", "500:1, 400:2")]), &no_file)
+            .unwrap_err()
+            .to_string();
         assert!(error.contains("increase"), "{error}");
     }
 

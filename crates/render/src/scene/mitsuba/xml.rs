@@ -118,10 +118,7 @@ impl SearchPath {
         if let Some(found) = candidates.iter().find(|candidate| candidate.is_file()) {
             return Ok(found.clone());
         }
-        let looked: Vec<String> = candidates
-            .iter()
-            .map(|c| c.display().to_string())
-            .collect();
+        let looked: Vec<String> = candidates.iter().map(|c| c.display().to_string()).collect();
         Err(location.error(format!(
             "{what} '{name}' not found (looked for {})",
             looked.join(", ")
@@ -262,9 +259,10 @@ impl Reader {
             }
             None => {
                 if root.tag_name().name() == "scene" {
-                    self.warnings.push(root_location.warning(
-                        "<scene> has no version attribute; reading it as version 3",
-                    ));
+                    self.warnings.push(
+                        root_location
+                            .warning("<scene> has no version attribute; reading it as version 3"),
+                    );
                 }
                 false
             }
