@@ -78,7 +78,6 @@ pub fn read_obj(path: &Path) -> Result<MeshData, SceneFileError> {
         single_index: true,
         ignore_points: true,
         ignore_lines: true,
-        ..Default::default()
     };
     // Materials are the scene file's business: an OBJ's `mtllib` is ignored.
     let (models, _) = tobj::load_obj_buf(&mut BufReader::new(file), &options, |_| {

@@ -154,7 +154,7 @@ impl Loader {
             match object.tag.as_str() {
                 "bsdf" => nested.push(self.bsdf(object)?),
                 "ref" => match self.referenced(object)? {
-                    NamedObject::Bsdf(material) => nested.push(material.clone()),
+                    NamedObject::Bsdf(material) => nested.push(material),
                     other => {
                         return Err(object.location.error(format!(
                             "a {} '{}' can only refer to BSDFs here, not to a {}",
@@ -197,7 +197,7 @@ impl Loader {
     ) -> Result<MaterialDescription, SceneFileError> {
         if element.tag == "ref" {
             return match self.referenced(element)? {
-                NamedObject::Bsdf(material) => Ok(material.clone()),
+                NamedObject::Bsdf(material) => Ok(material),
                 other => Err(element.location.error(format!(
                     "expected a reference to a bsdf, '{}' is a {}",
                     element.attribute("id").unwrap_or(""),
@@ -326,7 +326,7 @@ impl Loader {
                     let texture = match child.tag.as_str() {
                         "texture" => Some(self.texture(child)?),
                         "ref" => match self.referenced(child)? {
-                            NamedObject::Texture(texture) => Some(texture.clone()),
+                            NamedObject::Texture(texture) => Some(texture),
                             _ => None,
                         },
                         _ => None,
@@ -440,7 +440,7 @@ impl Loader {
                 "bsdf" => nested.push(self.bsdf(object)?),
                 "ref" => {
                     if let NamedObject::Bsdf(material) = self.referenced(object)? {
-                        nested.push(material.clone());
+                        nested.push(material);
                     }
                 }
                 _ => {}

@@ -51,11 +51,12 @@ impl Loader {
                     "textured area emitters are not supported: this emitter is left out",
                 );
                 self.finish(&properties);
+                self.register(element, NamedObject::AreaEmitter(None))?;
                 return Ok(None);
             }
         };
         self.finish(&properties);
-        self.register(element, NamedObject::Other("emitter".into()))?;
+        self.register(element, NamedObject::AreaEmitter(Some(radiance.clone())))?;
         Ok(Some(radiance))
     }
 
@@ -122,10 +123,15 @@ impl Loader {
                     scale: properties.float("scale", 1.0)?,
                 }
             }
+            "area" if element.attribute("id").is_some() => {
+                // Defined for a shape's `<ref>` (Mitsuba's Cornell box does this).
+                let _ = self.area_emitter(element)?;
+                return Ok(());
+            }
             "area" => {
-                return Err(element
-                    .location
-                    .error("an 'area' emitter must be nested in the <shape> it covers"));
+                return Err(element.location.error(
+                    "an 'area' emitter must be nested in the <shape> it covers, or have an id that a shape refers to",
+                ));
             }
             other => {
                 self.warn(

@@ -17,7 +17,7 @@ impl Loader {
     pub(super) fn medium(&mut self, element: &Element) -> Result<Option<usize>, SceneFileError> {
         if element.tag == "ref" {
             return match self.referenced(element)? {
-                NamedObject::Medium(index) => Ok(Some(*index)),
+                NamedObject::Medium(index) => Ok(Some(index)),
                 other => Err(element.location.error(format!(
                     "expected a reference to a medium, got a {}",
                     other.kind()
@@ -33,6 +33,7 @@ impl Loader {
                     properties.plugin_type()
                 ),
             );
+            self.register(element, NamedObject::Other("unsupported medium".into()))?;
             return Ok(None);
         }
         let sigma_t = self

@@ -35,18 +35,21 @@ use super::description::{
 };
 use super::loader::{LoadOptions, LoadedScene, SceneFileError};
 use crate::camera::PerspectiveSettings;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use values::Properties;
 use xml::{Element, Reader, SearchPath};
 
 /// An object a `<ref id="..."/>` can name.
 #[derive(Debug, Clone)]
+#[allow(clippy::large_enum_variant)] // a few per scene; boxing buys nothing
 enum NamedObject {
     Bsdf(MaterialDescription),
     Texture(TextureDescription),
     /// An index into the description's media.
     Medium(usize),
+    /// An `area` emitter's radiance (`None`: one that cannot be represented).
+    AreaEmitter(Option<super::description::SpectrumDescription>),
     /// Something else with an id (a shape, an emitter): not referable here.
     Other(String),
 }
@@ -57,6 +60,7 @@ impl NamedObject {
             NamedObject::Bsdf(_) => "bsdf",
             NamedObject::Texture(_) => "texture",
             NamedObject::Medium(_) => "medium",
+            NamedObject::AreaEmitter(_) => "area emitter",
             NamedObject::Other(tag) => tag,
         }
     }
@@ -67,6 +71,14 @@ struct Loader {
     search_path: SearchPath,
     warnings: Vec<String>,
     objects: HashMap<String, NamedObject>,
+    /// The scene's top-level elements with an id, for references to
+    /// objects defined later in the file (Mitsuba allows them).
+    declared: HashMap<String, Element>,
+    /// Ids of top-level elements read early for such a reference (skipped
+    /// when the walk reaches them).
+    read_early: HashSet<String>,
+    /// Mesh files read so far (scenes often place one mesh many times).
+    meshes: HashMap<PathBuf, std::sync::Arc<super::mesh_files::MeshData>>,
     description: SceneDescription,
     have_sensor: bool,
 }
@@ -135,28 +147,43 @@ impl Loader {
         Ok(())
     }
 
-    /// The object a `<ref>` names.
-    fn referenced(&self, element: &Element) -> Result<&NamedObject, SceneFileError> {
+    /// The object a `<ref>` names; one defined later at the top level of
+    /// the scene is read now.
+    fn referenced(&mut self, element: &Element) -> Result<NamedObject, SceneFileError> {
         let id = element.required("id")?;
-        self.objects.get(id).ok_or_else(|| {
+        if !self.objects.contains_key(id)
+            && let Some(declared) = self.declared.remove(id)
+        {
+            match declared.tag.as_str() {
+                "emitter" => {
+                    let _ = self.area_emitter(&declared)?;
+                }
+                _ => self.scene_child(&declared)?,
+            }
+            self.read_early.insert(id.to_string());
+        }
+        self.objects.get(id).cloned().ok_or_else(|| {
             element.location.error(format!(
-                "<ref id=\"{id}\">: no object with this id is defined before it"
+                "<ref id=\"{id}\">: no bsdf, texture, medium or area emitter has this id"
             ))
         })
     }
 
     /// Handles one child of `<scene>`.
     fn scene_child(&mut self, element: &Element) -> Result<(), SceneFileError> {
+        if let Some(id) = element.attribute("id") {
+            if self.read_early.remove(id) {
+                // Read already, for a reference that came before it.
+                return Ok(());
+            }
+            self.declared.remove(id);
+        }
         match element.tag.as_str() {
             "integrator" => self.integrator(element),
             "sensor" => self.sensor(element),
             "shape" => self.shape(element),
             "emitter" => self.emitter(element),
-            "bsdf" => {
-                let material = self.bsdf(element)?;
-                let _ = material;
-                Ok(())
-            }
+            "bsdf" => self.bsdf(element).map(|_| ()),
             "texture" => {
                 let _ = self.texture(element)?;
                 Ok(())
@@ -179,13 +206,6 @@ impl Loader {
 /// Loads a Mitsuba XML scene.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<LoadedScene, SceneFileError> {
     let mut reader = Reader::new(&options.parameters);
-    // Mitsuba's loader puts the scene file's directory on its file resolver
-    // (behind later `<path>` entries), so an included file may name files
-    // relative to the main scene: participating_media/include/test-scene-base.xml
-    // includes "include/preamble.xml".
-    if let Some(directory) = path.parent() {
-        reader.search_path.directories.push(directory.to_path_buf());
-    }
     let root = reader.read_file(path, None)?;
     if root.tag != "scene" {
         return Err(root.location.error(format!(
@@ -201,6 +221,13 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<LoadedScene, SceneFile
         search_path: reader.search_path,
         warnings: reader.warnings,
         objects: HashMap::new(),
+        declared: root
+            .children
+            .iter()
+            .filter_map(|child| Some((child.attribute("id")?.to_string(), child.clone())))
+            .collect(),
+        read_early: HashSet::new(),
+        meshes: HashMap::new(),
         description: default_description(name),
         have_sensor: false,
     };

@@ -150,7 +150,7 @@ impl Loader {
                 }
                 "medium" => self.description.camera_medium = self.medium(object)?,
                 "ref" => match self.referenced(object)? {
-                    NamedObject::Medium(index) => self.description.camera_medium = Some(*index),
+                    NamedObject::Medium(index) => self.description.camera_medium = Some(index),
                     other => {
                         return Err(object.location.error(format!(
                             "a sensor can only refer to a medium, not to a {}",

@@ -39,7 +39,7 @@ impl Loader {
         };
         if let Some(element) = properties.get(name) {
             return match self.referenced(element)? {
-                NamedObject::Medium(index) => Ok(Some(*index)),
+                NamedObject::Medium(index) => Ok(Some(index)),
                 other => Err(element.location.error(format!(
                     "'{name}' refers to a {}, expected a medium",
                     other.kind()
@@ -68,9 +68,18 @@ impl Loader {
                 .error(format!("shape '{kind}' needs a 'filename' string"))
         })?;
         let path = self.resolve(element, name, "mesh")?;
-        let read = if kind == "obj" { read_obj } else { read_ply };
-        let mesh = read(&path)
-            .map_err(|error| element.location.error(format!("shape '{kind}': {error}")))?;
+        let mesh = match self.meshes.get(&path) {
+            Some(mesh) => mesh.clone(),
+            None => {
+                let read = if kind == "obj" { read_obj } else { read_ply };
+                let mesh =
+                    std::sync::Arc::new(read(&path).map_err(|error| {
+                        element.location.error(format!("shape '{kind}': {error}"))
+                    })?);
+                self.meshes.insert(path.clone(), mesh.clone());
+                mesh
+            }
+        };
         let face_normals = properties.boolean("face_normals", false)?;
         let flip_tex_coords = kind == "obj" && properties.boolean("flip_tex_coords", true)?;
         let normal_matrix = to_world.matrix3.inverse().transpose();
@@ -82,25 +91,25 @@ impl Loader {
         let normals = if face_normals {
             None
         } else {
-            mesh.normals.map(|normals| {
+            mesh.normals.as_ref().map(|normals| {
                 normals
                     .iter()
                     .map(|&n| Vec3::from(normal_matrix * glam::Vec3A::from(n)).normalize_or_zero())
                     .collect()
             })
         };
-        let uvs = mesh.uvs.map(|uvs| {
+        let uvs = mesh.uvs.as_ref().map(|uvs| {
             if flip_tex_coords {
                 uvs.iter().map(|uv| Vec2::new(uv.x, 1.0 - uv.y)).collect()
             } else {
-                uvs
+                uvs.clone()
             }
         });
         Ok(ShapeGeometry::Mesh {
             positions,
             normals,
             uvs,
-            triangles: mesh.triangles,
+            triangles: mesh.triangles.clone(),
         })
     }
 
@@ -159,11 +168,12 @@ impl Loader {
         for object in &properties.objects {
             match object.tag.as_str() {
                 "bsdf" => material = Some(self.bsdf(object)?),
-                "ref" => match self.referenced(object)?.clone() {
+                "ref" => match self.referenced(object)? {
                     NamedObject::Bsdf(referenced) => material = Some(referenced),
+                    NamedObject::AreaEmitter(radiance) => emission = radiance,
                     other => {
                         return Err(object.location.error(format!(
-                            "a shape's unnamed <ref> must name a bsdf, '{}' is a {}",
+                            "a shape's unnamed <ref> must name a bsdf or an area emitter, '{}' is a {}",
                             object.attribute("id").unwrap_or(""),
                             other.kind()
                         )));

@@ -774,3 +774,34 @@ fn checkerboard_roughness_follows_mitsubas_float_evaluation() {
     };
     assert_eq!(**even, constant(0.05));
 }
+
+#[test]
+fn references_to_objects_defined_later() {
+    // Mitsuba's Cornell box refers to an area emitter defined after the shape.
+    let scene = loaded(
+        r#"<shape type="rectangle">
+               <ref id="white"/>
+               <ref id="lamp"/>
+               <ref name="interior" id="fog"/>
+           </shape>
+           <shape type="cube"><ref id="white"/></shape>
+           <bsdf type="diffuse" id="white"><rgb name="reflectance" value="0.9"/></bsdf>
+           <emitter type="area" id="lamp"><rgb name="radiance" value="4"/></emitter>
+           <medium type="homogeneous" id="fog"/>
+           <sensor type="perspective"/>"#,
+    );
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let description = &scene.description;
+    assert_eq!(description.shapes.len(), 2);
+    assert_eq!(
+        description.shapes[0].emission,
+        Some(SpectrumDescription::Rgb([4.0; 3]))
+    );
+    assert_eq!(description.shapes[1].emission, None);
+    assert_eq!(
+        description.shapes[0].material,
+        description.shapes[1].material
+    );
+    assert_eq!(description.media.len(), 1, "the medium is read once");
+    assert!(description.lights.is_empty());
+}

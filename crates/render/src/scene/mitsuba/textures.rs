@@ -1,4 +1,4 @@
-//! Mitsuba's textures (`bitmap`, `checkerboard`) and texture-valued
+//! Mitsuba's textures (`bitmap`, `checkerboard`, `rawconstant`) and texture-valued
 //! parameters, which may also be a constant (`<rgb>`, `<float>`, ...) or a
 //! `<ref>` to a texture defined earlier.
 
@@ -80,6 +80,19 @@ impl Loader {
                     to_uv: Affine2::from_scale(Vec2::splat(2.0)) * to_uv,
                 }
             }
+            "rawconstant" => {
+                // A value used as is (no colour conversion): normal maps' constant.
+                let value = match properties.optional_vector("value")? {
+                    Some(vector) => SpectrumDescription::Rgb(vector.to_array()),
+                    None => {
+                        let read = |element: &Element, file: &str| self.read_text(element, file);
+                        properties
+                            .optional_spectrum("value", &read)?
+                            .unwrap_or(SpectrumDescription::Constant(1.0))
+                    }
+                };
+                TextureDescription::Constant(value)
+            }
             other => {
                 self.warn(
                     element,
@@ -110,7 +123,7 @@ impl Loader {
         match element.tag.as_str() {
             "texture" => self.texture(element).map(Some),
             "ref" => match self.referenced(element)? {
-                NamedObject::Texture(texture) => Ok(Some(texture.clone())),
+                NamedObject::Texture(texture) => Ok(Some(texture)),
                 other => Err(element.location.error(format!(
                     "parameter '{name}' refers to a {}, expected a texture",
                     other.kind()

@@ -80,14 +80,19 @@ impl Element {
 /// The directories searched for files named by the scene.
 #[derive(Debug, Clone, Default)]
 pub struct SearchPath {
-    /// Most recently added first (as Mitsuba's file resolver prepends).
+    /// `<path>` directories, most recently added first (as Mitsuba's file
+    /// resolver prepends them).
     pub directories: Vec<PathBuf>,
+    /// The directory of the scene file given to the loader, searched last
+    /// (Mitsuba resolves names in included files against it: its test
+    /// scenes' `include/` fragments name `include/preamble.xml`).
+    pub scene_directory: Option<PathBuf>,
 }
 
 impl SearchPath {
     /// Finds `name`: absolute as is; else relative to `directory` (the file
-    /// that names it), then to each search directory. On failure the error
-    /// lists every place looked.
+    /// that names it), then to each `<path>` directory, then to the scene
+    /// file's directory. On failure the error lists every place looked.
     pub fn resolve(
         &self,
         name: &str,
@@ -96,13 +101,20 @@ impl SearchPath {
         what: &str,
     ) -> Result<PathBuf, SceneFileError> {
         let path = Path::new(name);
-        let candidates: Vec<PathBuf> = if path.is_absolute() {
-            vec![path.to_path_buf()]
+        let mut candidates: Vec<PathBuf> = Vec::new();
+        if path.is_absolute() {
+            candidates.push(path.to_path_buf());
         } else {
-            std::iter::once(directory.join(path))
-                .chain(self.directories.iter().map(|d| d.join(path)))
-                .collect()
-        };
+            for base in std::iter::once(directory)
+                .chain(self.directories.iter().map(PathBuf::as_path))
+                .chain(self.scene_directory.as_deref())
+            {
+                let candidate = base.join(path);
+                if !candidates.contains(&candidate) {
+                    candidates.push(candidate);
+                }
+            }
+        }
         if let Some(found) = candidates.iter().find(|candidate| candidate.is_file()) {
             return Ok(found.clone());
         }
@@ -222,6 +234,10 @@ impl Reader {
             }
         })?;
         let file = Arc::new(path.to_path_buf());
+        if location.is_none() {
+            self.search_path.scene_directory =
+                Some(path.parent().unwrap_or(Path::new("")).to_path_buf());
+        }
         let root = document.root_element();
         let root_location = Location {
             file: file.clone(),
