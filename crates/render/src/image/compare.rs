@@ -302,6 +302,7 @@ mod tests {
     }
 
     #[test]
+    #[allow(clippy::needless_range_loop)] // a matrix product, indexed as written
     fn z_test_runs_in_xyz_where_spectral_variances_are_variances() {
         // A pixel of Mitsuba's test_constant_ref_spectral_var.exr (background,
         // constant emitter): the RGB "variance" is negative in red, so an RGB
