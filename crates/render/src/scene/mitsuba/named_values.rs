@@ -2,47 +2,16 @@
 //! `dielectric` family (`int_ior="bk7"`) and the conductor `material`
 //! names of its `conductor` family.
 //!
-//! The index table is the one Mitsuba 3's documentation lists for the
-//! `dielectric` plugin (values at 589 nm). It is private to this loader for
-//! now; `render::scene::spectra::named_ior` (being added by another helper)
-//! should replace it when merged.
+//! The index table is `render::scene::spectra::named_ior` (Mitsuba 3's
+//! `dielectric` documentation, values at 589 nm).
 
 use super::super::description::SpectrumDescription;
 
-/// Mitsuba 3's named indices of refraction (its `dielectric` documentation).
-const NAMED_IORS: &[(&str, f32)] = &[
-    ("vacuum", 1.0),
-    ("helium", 1.00004),
-    ("hydrogen", 1.00013),
-    ("air", 1.000277),
-    ("carbon dioxide", 1.00045),
-    ("water", 1.3330),
-    ("acetone", 1.36),
-    ("ethanol", 1.361),
-    ("carbon tetrachloride", 1.461),
-    ("glycerol", 1.4729),
-    ("benzene", 1.501),
-    ("silicone oil", 1.52045),
-    ("bromine", 1.661),
-    ("water ice", 1.31),
-    ("fused quartz", 1.458),
-    ("pyrex", 1.470),
-    ("acrylic glass", 1.49),
-    ("polypropylene", 1.49),
-    ("bk7", 1.5046),
-    ("sodium chloride", 1.544),
-    ("amber", 1.55),
-    ("pet", 1.5750),
-    ("diamond", 2.419),
-];
-
-/// The index of refraction Mitsuba 3 gives `name`, if it knows it.
+/// The index of refraction Mitsuba 3 gives `name`, if it knows it (the
+/// shared table of `render::scene::spectra::named_ior`), ignoring case and
+/// surrounding space.
 pub fn named_ior(name: &str) -> Option<f32> {
-    let name = name.trim().to_ascii_lowercase();
-    NAMED_IORS
-        .iter()
-        .find(|(known, _)| *known == name)
-        .map(|(_, value)| *value)
+    super::super::spectra::named_ior(&name.trim().to_ascii_lowercase())
 }
 
 /// The conductor names of Mitsuba 3's `conductor` documentation (measured

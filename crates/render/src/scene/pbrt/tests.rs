@@ -638,7 +638,6 @@ fn a_screen_window_and_a_wide_film() {
 /// `plymesh`. Reading PLY files is `mesh_files::read_ply`'s job (the
 /// Mitsuba loader's branch); this test runs once that is merged.
 #[test]
-#[ignore = "needs mesh_files::read_ply from the Mitsuba loader's branch"]
 fn ply_meshes_plain_and_gzipped() {
     use std::io::Write;
     let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
