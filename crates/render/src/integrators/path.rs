@@ -241,26 +241,14 @@ fn sample_light(
     sampler: &mut dyn SampleSource,
     counters: &mut TraceCounters,
 ) -> SampledSpectrum {
-    let u_select = sampler.get(layout::vertex(depth as usize, layout::LIGHT_SELECTION));
-    let u_position = sampler.get_2d(layout::vertex(depth as usize, layout::LIGHT_POSITION));
-    let Some((light_index, selection_probability, u_primitive)) =
-        scene.light_sampler.sample(u_select)
+    let Some(VertexLightSample {
+        selection_probability,
+        sample,
+        ..
+    }) = sample_vertex_light(scene, reference, depth, wavelengths, sampler)
     else {
         return SampledSpectrum::zero();
     };
-    let light = &scene.lights[light_index];
-    let Some(sample) = light.sample_incident(
-        &scene.geometry,
-        reference,
-        u_primitive,
-        u_position,
-        wavelengths,
-    ) else {
-        return SampledSpectrum::zero();
-    };
-    if sample.radiance.is_black() {
-        return SampledSpectrum::zero();
-    }
     let value =
         bsdf.evaluate(wo, sample.wi, wavelengths) * sample.wi.dot(bsdf.frame.normal()).abs();
     if value.is_black() {
@@ -288,4 +276,48 @@ fn sample_light(
             .weight(light_pdf, bsdf.pdf(wo, sample.wi))
     };
     value * sample.radiance * (weight / light_pdf)
+}
+
+/// A light chosen for next-event estimation at a path vertex and the point
+/// sampled on it, with the numbers that made both (LQMC keeps them).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct VertexLightSample {
+    pub light_index: usize,
+    pub selection_probability: f32,
+    pub u_primitive: f32,
+    pub u_position: [f32; 2],
+    pub sample: crate::light::LightSample,
+}
+
+/// Chooses a light and samples it as seen from `reference`, with the light
+/// dimensions of vertex `depth`; `None` when nothing is chosen or the
+/// sampled radiance is black. Every integrator's next-event estimation
+/// starts here.
+pub(crate) fn sample_vertex_light(
+    scene: &Scene,
+    reference: Vec3,
+    depth: u32,
+    wavelengths: &SampledWavelengths,
+    sampler: &mut dyn SampleSource,
+) -> Option<VertexLightSample> {
+    let u_select = sampler.get(layout::vertex(depth as usize, layout::LIGHT_SELECTION));
+    let u_position = sampler.get_2d(layout::vertex(depth as usize, layout::LIGHT_POSITION));
+    let (light_index, selection_probability, u_primitive) = scene.light_sampler.sample(u_select)?;
+    let sample = scene.lights[light_index].sample_incident(
+        &scene.geometry,
+        reference,
+        u_primitive,
+        u_position,
+        wavelengths,
+    )?;
+    if sample.radiance.is_black() {
+        return None;
+    }
+    Some(VertexLightSample {
+        light_index,
+        selection_probability,
+        u_primitive,
+        u_position,
+        sample,
+    })
 }

@@ -446,26 +446,14 @@ fn sample_light(
     sampler: &mut dyn SampleSource,
     counters: &mut TraceCounters,
 ) -> SampledSpectrum {
-    let u_select = sampler.get(layout::vertex(depth as usize, layout::LIGHT_SELECTION));
-    let u_position = sampler.get_2d(layout::vertex(depth as usize, layout::LIGHT_POSITION));
-    let Some((light_index, selection_probability, u_primitive)) =
-        scene.light_sampler.sample(u_select)
+    let Some(super::path::VertexLightSample {
+        selection_probability,
+        sample,
+        ..
+    }) = super::path::sample_vertex_light(scene, reference, depth, wavelengths, sampler)
     else {
         return SampledSpectrum::zero();
     };
-    let light = &scene.lights[light_index];
-    let Some(sample) = light.sample_incident(
-        &scene.geometry,
-        reference,
-        u_primitive,
-        u_position,
-        wavelengths,
-    ) else {
-        return SampledSpectrum::zero();
-    };
-    if sample.radiance.is_black() {
-        return SampledSpectrum::zero();
-    }
     let (value, scatter_pdf) = scatter(sample.wi);
     if value.is_black() {
         return SampledSpectrum::zero();

@@ -144,20 +144,20 @@ fn sample_light(
     sampler: &mut dyn SampleSource,
     counters: &mut TraceCounters,
 ) -> Option<LightConnection> {
-    let u_select = sampler.get(layout::vertex(depth as usize, layout::LIGHT_SELECTION));
-    let u_position = sampler.get_2d(layout::vertex(depth as usize, layout::LIGHT_POSITION));
-    let (light_index, selection_probability, u_primitive) = scene.light_sampler.sample(u_select)?;
-    let light = &scene.lights[light_index];
-    let sample = light.sample_incident(
-        &scene.geometry,
-        reference,
+    let crate::integrators::path::VertexLightSample {
+        light_index,
+        selection_probability,
         u_primitive,
         u_position,
+        sample,
+    } = crate::integrators::path::sample_vertex_light(
+        scene,
+        reference,
+        depth,
         wavelengths,
+        sampler,
     )?;
-    if sample.radiance.is_black() {
-        return None;
-    }
+    let light = &scene.lights[light_index];
     counters.shadow_rays += 1;
     let visible = if sample.is_infinite {
         let ray = spawn_ray(hit, sample.wi);
