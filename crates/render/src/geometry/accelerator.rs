@@ -16,6 +16,21 @@ pub struct PrimitiveReference {
     pub primitive_index: u32,
 }
 
+/// The closest primitive a ray hits, without the surface record of
+/// [`Geometry::intersect`]: what Embree's `rtcIntersect1` reports (distance,
+/// geometry and primitive id, barycentrics). Cheaper when only visibility or a
+/// distance is needed, and the like-for-like query for throughput comparisons.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PrimitiveHit {
+    /// Ray parameter of the hit.
+    pub t: f32,
+    /// Which shape and primitive was hit.
+    pub reference: PrimitiveReference,
+    /// Barycentric weights of the triangle's vertices 0, 1, 2 (zero for
+    /// analytic shapes).
+    pub barycentric: [f32; 3],
+}
+
 /// What the traversal needs to test an analytic primitive (triangles live in
 /// the BVH's packets), stored in BVH slot order.
 #[derive(Clone, Copy, Debug)]
@@ -92,9 +107,10 @@ impl Geometry {
             let bvh = WideBvh::build(&aabbs, |i| {
                 let reference = primitives[i].reference;
                 match &shapes[reference.shape_index as usize] {
-                    Shape::Mesh(mesh) => {
-                        Some(mesh.triangle_vertices(reference.primitive_index as usize))
-                    }
+                    Shape::Mesh(mesh) => Some((
+                        mesh.triangle_vertices(reference.primitive_index as usize),
+                        reference,
+                    )),
                     _ => None,
                 }
             });
@@ -160,14 +176,30 @@ impl Geometry {
     /// The closest hit of `ray` with `0 < t < t_max`, or `None`. The direction
     /// should be unit length (see the module documentation).
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceHit> {
+        self.closest_primitive(ray, t_max)
+            .map(|hit| self.surface_hit(ray, hit))
+    }
+
+    /// The closest primitive hit by `ray` with `0 < t < t_max` (the same hit
+    /// as [`Geometry::intersect`]), its distance and barycentrics only.
+    pub fn intersect_primitive(&self, ray: &Ray, t_max: f32) -> Option<PrimitiveHit> {
+        self.closest_primitive(ray, t_max).map(|hit| PrimitiveHit {
+            t: hit.t,
+            reference: hit.reference,
+            barycentric: hit.barycentric,
+        })
+    }
+
+    #[inline(always)]
+    fn closest_primitive(&self, ray: &Ray, t_max: f32) -> Option<ClosestPrimitive> {
         let bvh = self.bvh.as_ref()?;
         if !Self::traceable(ray, t_max) {
             return None;
         }
         bvh.closest_hit(ray, t_max, |slot, t_max| {
             self.test_analytic(slot, ray, t_max)
+                .map(|t| (t, self.primitives[slot as usize].reference))
         })
-        .map(|hit| self.surface_hit(ray, hit))
     }
 
     /// Whether anything is hit with `0 < t < t_max` (any-hit query for shadow
@@ -202,7 +234,7 @@ impl Geometry {
     }
 
     fn surface_hit(&self, ray: &Ray, closest: ClosestPrimitive) -> SurfaceHit {
-        let reference = self.primitives[closest.slot as usize].reference;
+        let reference = closest.reference;
         let mut hit = match &self.shapes[reference.shape_index as usize] {
             Shape::Mesh(mesh) => mesh.surface_hit(
                 reference.primitive_index as usize,

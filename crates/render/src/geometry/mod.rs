@@ -39,7 +39,7 @@ mod triangle;
 mod triangle_packet;
 mod wide_bvh;
 
-pub use accelerator::{Geometry, PrimitiveReference};
+pub use accelerator::{Geometry, PrimitiveHit, PrimitiveReference};
 pub use bounds::Bounds3;
 pub use disk::Disk;
 pub use error::GeometryError;

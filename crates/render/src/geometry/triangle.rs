@@ -52,15 +52,17 @@ impl WatertightRay {
         let mut ky = (kx + 1) % 3;
         // Swapping kx and ky when the dominant component is negative keeps the
         // winding (and so the sign of the determinant) consistent.
-        if direction[kz] < 0.0 {
+        // Array indexing: `Vec3`'s `Index` is a bounds-checked `match`.
+        let d = direction.to_array();
+        if d[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
         Self {
             origin,
             axes: [kx, ky, kz],
-            shear_x: direction[kx] / direction[kz],
-            shear_y: direction[ky] / direction[kz],
-            shear_z: 1.0 / direction[kz],
+            shear_x: d[kx] / d[kz],
+            shear_y: d[ky] / d[kz],
+            shear_z: 1.0 / d[kz],
         }
     }
 

@@ -10,6 +10,7 @@
 
 use glam::Vec3;
 
+use super::PrimitiveReference;
 use super::simd::F32x4;
 use super::triangle::WatertightRay;
 
@@ -18,31 +19,52 @@ pub(crate) const PACKET_LANES: usize = 4;
 
 /// Up to four triangles of one BVH leaf. Unused lanes hold NaN vertices, for
 /// which every comparison of the test is false, so they never report a hit.
+///
+/// 192 bytes, aligned to 64: exactly three cache lines. Each lane's shape and
+/// triangle index are stored beside its vertices (as Embree's leaves store
+/// geometry and primitive ids), so a closest-hit query that only needs ids,
+/// distance and barycentrics touches no other memory after the traversal.
 #[derive(Clone, Copy, Debug)]
-#[repr(C, align(16))]
+#[repr(C, align(64))]
 pub(crate) struct TrianglePacket {
     /// `vertices[k][axis][lane]`: coordinate `axis` of vertex `k` of the lane's triangle.
     vertices: [[[f32; PACKET_LANES]; 3]; 3],
     /// Each lane's primitive slot (index into the accelerator's leaf-ordered
     /// primitive list); `u32::MAX` for unused lanes.
     slots: [u32; PACKET_LANES],
+    /// Each lane's shape index (`u32::MAX` for unused lanes).
+    shape_indices: [u32; PACKET_LANES],
+    /// Each lane's triangle index within its mesh (`u32::MAX` for unused lanes).
+    primitive_indices: [u32; PACKET_LANES],
+}
+
+/// One triangle given to [`TrianglePacket::new`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PacketTriangle {
+    pub(crate) vertices: [Vec3; 3],
+    pub(crate) slot: u32,
+    pub(crate) reference: PrimitiveReference,
 }
 
 impl TrianglePacket {
-    /// A packet of one to four `(vertices, slot)` triangles.
-    pub(crate) fn new(triangles: &[([Vec3; 3], u32)]) -> Self {
+    /// A packet of one to four triangles.
+    pub(crate) fn new(triangles: &[PacketTriangle]) -> Self {
         assert!((1..=PACKET_LANES).contains(&triangles.len()));
         let mut packet = Self {
             vertices: [[[f32::NAN; PACKET_LANES]; 3]; 3],
             slots: [u32::MAX; PACKET_LANES],
+            shape_indices: [u32::MAX; PACKET_LANES],
+            primitive_indices: [u32::MAX; PACKET_LANES],
         };
-        for (lane, (vertices, slot)) in triangles.iter().enumerate() {
-            for (k, vertex) in vertices.iter().enumerate() {
+        for (lane, triangle) in triangles.iter().enumerate() {
+            for (k, vertex) in triangle.vertices.iter().enumerate() {
                 for axis in 0..3 {
                     packet.vertices[k][axis][lane] = vertex[axis];
                 }
             }
-            packet.slots[lane] = *slot;
+            packet.slots[lane] = triangle.slot;
+            packet.shape_indices[lane] = triangle.reference.shape_index;
+            packet.primitive_indices[lane] = triangle.reference.primitive_index;
         }
         packet
     }
@@ -51,6 +73,15 @@ impl TrianglePacket {
     #[inline(always)]
     pub(crate) fn slot(&self, lane: usize) -> u32 {
         self.slots[lane]
+    }
+
+    /// The shape and triangle index of `lane`.
+    #[inline(always)]
+    pub(crate) fn reference(&self, lane: usize) -> PrimitiveReference {
+        PrimitiveReference {
+            shape_index: self.shape_indices[lane],
+            primitive_index: self.primitive_indices[lane],
+        }
     }
 
     /// The three vertices of `lane`'s triangle.
@@ -93,10 +124,10 @@ struct LaneResults {
     hits: u32,
     /// Lanes with an edge function exactly zero, to be decided by the scalar test.
     undecided: u32,
-    u: [f32; PACKET_LANES],
-    v: [f32; PACKET_LANES],
-    w: [f32; PACKET_LANES],
-    determinant: [f32; PACKET_LANES],
+    u: F32x4,
+    v: F32x4,
+    w: F32x4,
+    determinant: F32x4,
     /// The scaled ray parameter with the determinant's sign removed.
     scaled_t: F32x4,
     determinant_abs: F32x4,
@@ -109,7 +140,10 @@ impl PacketRay {
         let [kx, ky, kz] = scalar.axes;
         Self {
             scalar,
-            origin: [kx, ky, kz].map(|axis| F32x4::splat(scalar.origin[axis])),
+            origin: {
+                let origin = scalar.origin.to_array();
+                [kx, ky, kz].map(|axis| F32x4::splat(origin[axis]))
+            },
             shear_x: F32x4::splat(scalar.shear_x),
             shear_y: F32x4::splat(scalar.shear_y),
             shear_z: F32x4::splat(scalar.shear_z),
@@ -152,10 +186,10 @@ impl PacketRay {
         LaneResults {
             hits,
             undecided: undecided.bits(),
-            u: u.to_array(),
-            v: v.to_array(),
-            w: w.to_array(),
-            determinant: determinant.to_array(),
+            u,
+            v,
+            w,
+            determinant,
             scaled_t,
             determinant_abs,
         }
@@ -192,14 +226,16 @@ impl PacketRay {
                 }
                 bits &= bits - 1;
             }
-            let reciprocal = 1.0 / lanes.determinant[best_lane];
+            // Only the winning lane's weights are needed: arrays are made
+            // here, not in `test`, so packets without a hit skip the stores.
+            let reciprocal = 1.0 / lanes.determinant.to_array()[best_lane];
             best = Some(PacketHit {
                 lane: best_lane,
                 t: t[best_lane],
                 barycentric: [
-                    lanes.u[best_lane] * reciprocal,
-                    lanes.v[best_lane] * reciprocal,
-                    lanes.w[best_lane] * reciprocal,
+                    lanes.u.to_array()[best_lane] * reciprocal,
+                    lanes.v.to_array()[best_lane] * reciprocal,
+                    lanes.w.to_array()[best_lane] * reciprocal,
                 ],
             });
         }
@@ -239,6 +275,12 @@ impl PacketRay {
 mod tests {
     use super::*;
 
+    #[test]
+    fn packet_is_three_cache_lines() {
+        assert_eq!(std::mem::size_of::<TrianglePacket>(), 192);
+        assert_eq!(std::mem::align_of::<TrianglePacket>(), 64);
+    }
+
     /// SplitMix64 in [0, 1).
     fn uniform(state: &mut u64) -> f32 {
         *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
@@ -261,18 +303,20 @@ mod tests {
         let mut hits = 0;
         for round in 0..20_000 {
             let count = 1 + round % PACKET_LANES;
-            let triangles: Vec<([Vec3; 3], u32)> = (0..count)
-                .map(|lane| {
-                    (
-                        [point(&mut state), point(&mut state), point(&mut state)],
-                        lane as u32 * 7,
-                    )
+            let triangles: Vec<PacketTriangle> = (0..count)
+                .map(|lane| PacketTriangle {
+                    vertices: [point(&mut state), point(&mut state), point(&mut state)],
+                    slot: lane as u32 * 7,
+                    reference: PrimitiveReference {
+                        shape_index: lane as u32 * 3,
+                        primitive_index: lane as u32 * 5,
+                    },
                 })
                 .collect();
             let packet = TrianglePacket::new(&triangles);
             let origin = 3.0 * point(&mut state);
             let target = if round % 5 == 0 {
-                triangles[0].0[round % 3]
+                triangles[0].vertices[round % 3]
             } else {
                 0.5 * point(&mut state)
             };
@@ -285,7 +329,8 @@ mod tests {
             let scalar = WatertightRay::new(origin, direction);
             let ray = PacketRay::new(scalar);
             let mut expected: Option<PacketHit> = None;
-            for (lane, (vertices, _)) in triangles.iter().enumerate() {
+            for (lane, triangle) in triangles.iter().enumerate() {
+                let vertices = triangle.vertices;
                 let limit = expected.map_or(t_max, |hit| hit.t);
                 if let Some(hit) = scalar.intersect(vertices[0], vertices[1], vertices[2], limit) {
                     expected = Some(PacketHit {
@@ -300,6 +345,11 @@ mod tests {
             assert_eq!(ray.any_hit(&packet, t_max), expected.is_some());
             if let Some(hit) = actual {
                 assert_eq!(packet.slot(hit.lane), hit.lane as u32 * 7);
+                assert_eq!(packet.reference(hit.lane).shape_index, hit.lane as u32 * 3);
+                assert_eq!(
+                    packet.reference(hit.lane).primitive_index,
+                    hit.lane as u32 * 5
+                );
                 hits += 1;
             }
         }

@@ -28,10 +28,12 @@ use obvhs::bvh2::Bvh2;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 use obvhs::ploc::PlocBuilder;
 
-use super::Ray;
+use std::mem::MaybeUninit;
+
 use super::simd::F32x4;
 use super::triangle::WatertightRay;
-use super::triangle_packet::{PACKET_LANES, PacketRay, TrianglePacket};
+use super::triangle_packet::{PACKET_LANES, PacketRay, PacketTriangle, TrianglePacket};
+use super::{PrimitiveReference, Ray};
 
 /// Children per node.
 const WIDTH: usize = 4;
@@ -108,6 +110,9 @@ struct GeneralLeaf {
 pub(crate) struct ClosestPrimitive {
     /// The primitive's slot (position in [`WideBvh::slot_primitives`]).
     pub(crate) slot: u32,
+    /// The primitive's shape and primitive index: stored in the triangle
+    /// packets, returned by the callback for analytic primitives.
+    pub(crate) reference: PrimitiveReference,
     /// Ray parameter.
     pub(crate) t: f32,
     /// Barycentric weights for triangles (zero for analytic primitives).
@@ -188,8 +193,11 @@ trait TraversalStack {
     fn pop(&mut self) -> Option<StackEntry>;
 }
 
+/// A fixed-size stack on the caller's stack frame. Its entries start
+/// uninitialised: zeroing 768 bytes per ray cost about 60 instructions (a
+/// `memset` call per query, measured with callgrind).
 struct InlineStack {
-    entries: [StackEntry; INLINE_STACK],
+    entries: [MaybeUninit<StackEntry>; INLINE_STACK],
     len: usize,
 }
 
@@ -197,10 +205,7 @@ impl InlineStack {
     #[inline(always)]
     fn new() -> Self {
         Self {
-            entries: [StackEntry {
-                reference: 0,
-                distance: 0.0,
-            }; INLINE_STACK],
+            entries: [const { MaybeUninit::uninit() }; INLINE_STACK],
             len: 0,
         }
     }
@@ -209,8 +214,9 @@ impl InlineStack {
 impl TraversalStack for InlineStack {
     #[inline(always)]
     fn push(&mut self, entry: StackEntry) {
-        // The build checks that the tree fits (see `WideBvh::deep`).
-        self.entries[self.len] = entry;
+        // The build checks that the tree fits (see `WideBvh::deep`); the
+        // index is bounds-checked all the same.
+        self.entries[self.len] = MaybeUninit::new(entry);
         self.len += 1;
     }
     #[inline(always)]
@@ -219,7 +225,8 @@ impl TraversalStack for InlineStack {
             return None;
         }
         self.len -= 1;
-        Some(self.entries[self.len])
+        // SAFETY: every entry below `len` was written by `push`.
+        Some(unsafe { self.entries[self.len].assume_init() })
     }
 }
 
@@ -240,9 +247,13 @@ struct LeafContents {
 
 impl WideBvh {
     /// Builds the BVH over primitives with boxes `aabbs`; `triangle(i)` gives
-    /// primitive `i`'s vertices if it is a triangle (`None`: analytic, tested
-    /// through the traversal callbacks). `aabbs` must not be empty.
-    pub(crate) fn build(aabbs: &[Aabb], triangle: impl Fn(usize) -> Option<[Vec3; 3]>) -> Self {
+    /// primitive `i`'s vertices and its shape and triangle index if it is a
+    /// triangle (`None`: analytic, tested through the traversal callbacks).
+    /// `aabbs` must not be empty.
+    pub(crate) fn build(
+        aabbs: &[Aabb],
+        triangle: impl Fn(usize) -> Option<([Vec3; 3], PrimitiveReference)>,
+    ) -> Self {
         assert!(!aabbs.is_empty());
         let parameters = obvhs::BvhBuildParams::medium_build();
         let mut binary = PlocBuilder::with_capacity(aabbs.len()).build(
@@ -295,13 +306,14 @@ impl WideBvh {
     }
 
     /// The closest primitive hit by `ray` with `0 < t < t_max`.
-    /// `analytic(slot, t_max)` tests an analytic primitive and returns its `t`.
+    /// `analytic(slot, t_max)` tests an analytic primitive and returns its `t`
+    /// and its reference.
     /// `ray`'s origin must be finite and its direction finite and non-zero.
     pub(crate) fn closest_hit(
         &self,
         ray: &Ray,
         t_max: f32,
-        analytic: impl FnMut(u32, f32) -> Option<f32>,
+        analytic: impl FnMut(u32, f32) -> Option<(f32, PrimitiveReference)>,
     ) -> Option<ClosestPrimitive> {
         if self.deep {
             self.closest_hit_with(ray, t_max, analytic, Vec::new())
@@ -330,7 +342,7 @@ impl WideBvh {
         &self,
         ray: &Ray,
         mut t_max: f32,
-        mut analytic: impl FnMut(u32, f32) -> Option<f32>,
+        mut analytic: impl FnMut(u32, f32) -> Option<(f32, PrimitiveReference)>,
         mut stack: impl TraversalStack,
     ) -> Option<ClosestPrimitive> {
         let node_ray = NodeRay::new(ray);
@@ -384,16 +396,18 @@ impl WideBvh {
                         t_max = hit.t;
                         closest = Some(ClosestPrimitive {
                             slot: packet.slot(hit.lane),
+                            reference: packet.reference(hit.lane),
                             t: hit.t,
                             barycentric: hit.barycentric,
                         });
                     }
                 }
                 for &slot in &self.analytic_slots[contents.analytic] {
-                    if let Some(t) = analytic(slot, t_max) {
+                    if let Some((t, reference)) = analytic(slot, t_max) {
                         t_max = t;
                         closest = Some(ClosestPrimitive {
                             slot,
+                            reference,
                             t,
                             barycentric: [0.0; 3],
                         });
@@ -493,7 +507,7 @@ struct Collapser<'a, F> {
     bvh: WideBvh,
 }
 
-impl<F: Fn(usize) -> Option<[Vec3; 3]>> Collapser<'_, F> {
+impl<F: Fn(usize) -> Option<([Vec3; 3], PrimitiveReference)>> Collapser<'_, F> {
     fn becomes_leaf(&self, index: usize) -> bool {
         self.binary.nodes[index].is_leaf() || self.counts[index] <= MAX_LEAF_PRIMITIVES
     }
@@ -562,7 +576,7 @@ impl<F: Fn(usize) -> Option<[Vec3; 3]>> Collapser<'_, F> {
         let packet_start = bvh.packets.len();
         let analytic_start = bvh.analytic_slots.len();
         let mut triangles = Vec::with_capacity(PACKET_LANES);
-        let flush = |triangles: &mut Vec<([Vec3; 3], u32)>, packets: &mut Vec<TrianglePacket>| {
+        let flush = |triangles: &mut Vec<PacketTriangle>, packets: &mut Vec<TrianglePacket>| {
             if !triangles.is_empty() {
                 packets.push(TrianglePacket::new(triangles));
                 triangles.clear();
@@ -572,8 +586,12 @@ impl<F: Fn(usize) -> Option<[Vec3; 3]>> Collapser<'_, F> {
             let slot = bvh.slot_primitives.len() as u32;
             bvh.slot_primitives.push(primitive);
             match (self.triangle)(primitive as usize) {
-                Some(vertices) => {
-                    triangles.push((vertices, slot));
+                Some((vertices, reference)) => {
+                    triangles.push(PacketTriangle {
+                        vertices,
+                        slot,
+                        reference,
+                    });
                     if triangles.len() == PACKET_LANES {
                         flush(&mut triangles, &mut bvh.packets);
                     }
@@ -637,7 +655,15 @@ mod tests {
             .iter()
             .map(|t| Bounds3::from_points(*t).to_aabb())
             .collect();
-        let mut bvh = WideBvh::build(&aabbs, |i| Some(triangles[i]));
+        let mut bvh = WideBvh::build(&aabbs, |i| {
+            Some((
+                triangles[i],
+                PrimitiveReference {
+                    shape_index: 7,
+                    primitive_index: i as u32,
+                },
+            ))
+        });
         assert!(!bvh.deep);
         let mut slots = bvh.slot_primitives().to_vec();
         slots.sort_unstable();
@@ -670,6 +696,8 @@ mod tests {
                 assert_eq!(found.map(|hit| hit.t), expected, "{ray:?}");
                 if let Some(hit) = found {
                     let primitive = bvh.slot_primitives()[hit.slot as usize] as usize;
+                    assert_eq!(hit.reference.primitive_index as usize, primitive);
+                    assert_eq!(hit.reference.shape_index, 7);
                     let [p0, p1, p2] = triangles[primitive];
                     assert_eq!(
                         scalar.intersect(p0, p1, p2, f32::INFINITY).unwrap().t,
@@ -690,13 +718,21 @@ mod tests {
         let aabbs = [Bounds3::new(Vec3::splat(-1.0), Vec3::splat(1.0)).to_aabb()];
         let bvh = WideBvh::build(&aabbs, |_| None);
         let ray = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
+        let reference = PrimitiveReference {
+            shape_index: 3,
+            primitive_index: 0,
+        };
         let hit = bvh.closest_hit(&ray, f32::INFINITY, |slot, t_max| {
             assert_eq!(slot, 0);
-            (4.0 < t_max).then_some(4.0)
+            (4.0 < t_max).then_some((4.0, reference))
         });
-        assert_eq!(hit.map(|h| (h.slot, h.t)), Some((0, 4.0)));
+        assert_eq!(
+            hit.map(|h| (h.slot, h.t, h.reference)),
+            Some((0, 4.0, reference))
+        );
         assert!(
-            bvh.closest_hit(&ray, 3.0, |_, t_max| (4.0 < t_max).then_some(4.0))
+            bvh.closest_hit(&ray, 3.0, |_, t_max| (4.0 < t_max)
+                .then_some((4.0, reference)))
                 .is_none()
         );
         assert!(bvh.any_hit(&ray, f32::INFINITY, |_, _| true));
