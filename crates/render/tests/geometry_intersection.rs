@@ -386,6 +386,26 @@ fn bvh_closest_hit_matches_brute_force() {
         let fast = geometry.intersect(&ray, t_max);
         let slow = geometry.intersect_brute_force(&ray, t_max);
         assert_eq!(geometry.occluded(&ray, t_max), slow.is_some());
+        // The lightweight query finds the same hit as the full one: distance,
+        // shape and primitive, and (for triangles) barycentrics that
+        // interpolate the surface point.
+        let primitive = geometry.intersect_primitive(&ray, t_max);
+        assert_eq!(primitive.map(|hit| hit.t), fast.map(|hit| hit.t));
+        if let (Some(primitive), Some(fast)) = (primitive, fast) {
+            let reference = primitive.reference;
+            assert_eq!(
+                (reference.shape_index, reference.primitive_index),
+                (fast.shape_index, fast.primitive_index)
+            );
+            if let Shape::Mesh(mesh) = &geometry.shapes()[reference.shape_index as usize] {
+                let vertices = mesh.triangle_vertices(reference.primitive_index as usize);
+                let [b0, b1, b2] = primitive.barycentric;
+                let point = b0 * vertices[0] + b1 * vertices[1] + b2 * vertices[2];
+                assert_eq!(point, fast.point);
+            } else {
+                assert_eq!(primitive.barycentric, [0.0; 3]);
+            }
+        }
         match (fast, slow) {
             (None, None) => {}
             (Some(fast), Some(slow)) => {

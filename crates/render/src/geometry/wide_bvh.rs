@@ -255,6 +255,10 @@ impl WideBvh {
         triangle: impl Fn(usize) -> Option<([Vec3; 3], PrimitiveReference)>,
     ) -> Self {
         assert!(!aabbs.is_empty());
+        // Search distance 24 instead of 14 or a reinsertion ratio of 0.2
+        // instead of 0.05 changed the instructions per ray by under 1%
+        // (callgrind, sphere_in_box of `examples/ray_throughput.rs`) at
+        // 1.5 to 2 times the build time, so the medium preset stays.
         let parameters = obvhs::BvhBuildParams::medium_build();
         let mut binary = PlocBuilder::with_capacity(aabbs.len()).build(
             parameters.ploc_search_distance,
@@ -361,7 +365,24 @@ impl WideBvh {
                         current = node.children[first];
                         continue;
                     }
-                    // Two to four children: order them far to near, push all
+                    let second = bits.trailing_zeros() as usize;
+                    if bits & (bits - 1) == 0 {
+                        // Two children (the most common case): push the far
+                        // one, descend into the near one (the second on a tie,
+                        // as the general ordering below does).
+                        let (near, far) = if distances[first] < distances[second] {
+                            (first, second)
+                        } else {
+                            (second, first)
+                        };
+                        stack.push(StackEntry {
+                            reference: node.children[far],
+                            distance: distances[far],
+                        });
+                        current = node.children[near];
+                        continue;
+                    }
+                    // Three or four children: order them far to near, push all
                     // but the nearest, descend into the nearest.
                     let mut order = [StackEntry {
                         reference: node.children[first],
