@@ -116,7 +116,8 @@ pub trait PixelSampler: SampleSource + Send + Sync {
 /// The samplers a user can choose.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum SamplerKind {
-    /// Independent uniform random numbers from a seekable PCG stream.
+    /// Independent uniform random numbers: SplitMix64 outputs addressed by
+    /// pixel sample and dimension.
     Independent,
     /// Faure-permuted Halton with per-pixel enumeration (the LQMC paper's).
     Halton,

@@ -72,7 +72,7 @@ fn parse_table(text: &str, columns: usize) -> (i32, Vec<Vec<f32>>) {
 }
 
 /// The three colour-matching functions, parsed once.
-fn cmf_tables() -> &'static [DenselySampledSpectrum; 3] {
+pub(super) fn cmf_tables() -> &'static [DenselySampledSpectrum; 3] {
     static TABLES: OnceLock<[DenselySampledSpectrum; 3]> = OnceLock::new();
     TABLES.get_or_init(|| {
         let (lambda_min, columns) = parse_table(CMF_TEXT, 4);

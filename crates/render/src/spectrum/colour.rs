@@ -1,9 +1,9 @@
 //! From spectra to colours: the Monte Carlo estimate of CIE XYZ from a sampled
 //! spectrum, XYZ ↔ linear sRGB, luminance, and the sRGB transfer function.
 
-use super::cie::{CIE_Y_INTEGRAL, cie_x, cie_y, cie_z};
+use super::cie::{CIE_Y_INTEGRAL, cie_y, cmf_tables};
 use super::sampled_spectrum::SampledSpectrum;
-use super::wavelengths::SampledWavelengths;
+use super::wavelengths::{SPECTRUM_SAMPLE_COUNT, SampledWavelengths};
 
 /// CIE XYZ → linear sRGB (D65 white), IEC 61966-2-1:1999 §5.2 (4 decimals).
 pub const XYZ_TO_LINEAR_SRGB: [[f32; 3]; 3] = [
@@ -78,14 +78,18 @@ pub fn srgb_decode(encoded: f32) -> f32 {
 /// expectation is the exact XYZ Σ_λ S(λ) x̄(λ) / CIE_Y_INTEGRAL in pbrt-v4's
 /// normalisation, where the constant spectrum 1 has Y = 1.
 pub fn to_xyz(spectrum: &SampledSpectrum, wavelengths: &SampledWavelengths) -> [f32; 3] {
-    let pdf = wavelengths.pdf();
-    let weighted = spectrum.safe_div(&pdf);
-    let average = |matching: SampledSpectrum| (matching * weighted).average() / CIE_Y_INTEGRAL;
-    [
-        average(cie_x().sample(wavelengths)),
-        average(cie_y().sample(wavelengths)),
-        average(cie_z().sample(wavelengths)),
-    ]
+    // One pass over the wavelengths reading the three tables (this runs once
+    // per camera path).
+    let weighted = spectrum.safe_div(&wavelengths.pdf());
+    let [x_bar, y_bar, z_bar] = cmf_tables();
+    let mut sums = [0.0f32; 3];
+    for (&lambda, &weight) in wavelengths.lambdas().iter().zip(weighted.values()) {
+        sums[0] += x_bar.evaluate(lambda) * weight;
+        sums[1] += y_bar.evaluate(lambda) * weight;
+        sums[2] += z_bar.evaluate(lambda) * weight;
+    }
+    let scale = |sum: f32| sum / SPECTRUM_SAMPLE_COUNT as f32 / CIE_Y_INTEGRAL;
+    [scale(sums[0]), scale(sums[1]), scale(sums[2])]
 }
 
 /// Monte Carlo estimate of the luminance Y alone (see [`to_xyz`]).

@@ -3,7 +3,7 @@
 
 use super::error::{SpectrumError, require_finite};
 use super::sampled_spectrum::SampledSpectrum;
-use super::wavelengths::SampledWavelengths;
+use super::wavelengths::{SPECTRUM_SAMPLE_COUNT, SampledWavelengths};
 
 /// Values at λ = `lambda_min`, `lambda_min` + 1, … nm. Evaluation rounds λ to the
 /// nearest integer nm (as pbrt-v4 does) and returns 0 outside the table.
@@ -61,6 +61,7 @@ impl DenselySampledSpectrum {
     }
 
     /// The value at `lambda` nm (nearest tabulated wavelength; 0 outside).
+    #[inline]
     pub fn evaluate(&self, lambda: f32) -> f32 {
         // Rounding by truncation of λ + 0.5 (λ > 0 here) avoids a libm call
         // for `round` on CPUs without SSE4.1, the default target.
@@ -77,8 +78,14 @@ impl DenselySampledSpectrum {
     }
 
     /// The values at the sampled wavelengths.
+    #[inline]
     pub fn sample(&self, wavelengths: &SampledWavelengths) -> SampledSpectrum {
-        SampledSpectrum::new(wavelengths.lambdas().map(|lambda| self.evaluate(lambda)))
+        // An indexed loop: `array::map` did not inline in the path tracer.
+        let mut values = [0.0; SPECTRUM_SAMPLE_COUNT];
+        for (value, &lambda) in values.iter_mut().zip(wavelengths.lambdas()) {
+            *value = self.evaluate(lambda);
+        }
+        SampledSpectrum::new(values)
     }
 
     /// The largest tabulated value.

@@ -67,6 +67,13 @@ pub enum SpectrumError {
         /// The requested resolution.
         resolution: usize,
     },
+    /// Stored RGB-to-spectrum table data (see
+    /// [`super::RgbToSpectrumTable::from_bytes`]) was malformed.
+    #[error("malformed RGB-to-spectrum table data: {reason}")]
+    MalformedTableData {
+        /// What was wrong.
+        reason: String,
+    },
 }
 
 /// Returns `Ok(value)` if finite, otherwise [`SpectrumError::NotFinite`].

@@ -45,6 +45,7 @@ pub use piecewise_linear::PiecewiseLinearSpectrum;
 pub use rgb_spectra::{RgbAlbedoSpectrum, RgbIlluminantSpectrum, RgbUnboundedSpectrum};
 pub use rgb_to_spectrum_table::{
     DEFAULT_RGB_TABLE_RESOLUTION, MAX_NORMALISED_COEFFICIENT, RgbToSpectrumTable,
+    STORED_SRGB_TABLE_BYTES, TABLE_MAGIC,
 };
 pub use sampled_spectrum::SampledSpectrum;
 pub use sigmoid::{RgbSigmoidPolynomial, algebraic_sigmoid};

@@ -25,12 +25,26 @@
 //! corners come close) cannot be matched; their coefficients are kept bounded by
 //! [`MAX_NORMALISED_COEFFICIENT`] so that interpolation stays well behaved.
 //!
-//! The sRGB table is computed on first use ([`RgbToSpectrumTable::srgb`]): at
-//! [`DEFAULT_RGB_TABLE_RESOLUTION`] = 32 that costs about 0.6 s of CPU time
-//! (≈ 0.3 s on two cores) with optimised code, and the round trip
-//! RGB → spectrum → RGB is within 3.3·10⁻³ (mean 8.7·10⁻⁴) over [0, 1]³.
-//! Resolution 64 (pbrt-v4's) halves the largest error and divides the mean by
-//! five but costs eight times as long; call [`RgbToSpectrumTable::generate`] for it.
+//! # The stored sRGB table
+//! Fitting the table at [`DEFAULT_RGB_TABLE_RESOLUTION`] = 32 costs about
+//! 3.3·10⁹ instructions (0.6 s of CPU time with optimised code), which every
+//! process and test binary used to pay at start-up. So the fitter's output is
+//! stored in `crates/render/data/spectra/srgb_to_spectrum_table_32.bin`
+//! ([`STORED_SRGB_TABLE_BYTES`] = 1 179 668 bytes, the format of
+//! [`RgbToSpectrumTable::to_bytes`]) and [`RgbToSpectrumTable::srgb`] decodes
+//! it (about a millisecond). It is exactly what [`RgbToSpectrumTable::generate`]
+//! produces (a test refits a sample of columns, and the round-trip test the
+//! whole table, and compares bit for bit). After changing the fitter,
+//! regenerate it with
+//!
+//! ```text
+//! cargo run --release -p render --example rgb_to_spectrum_table
+//! ```
+//!
+//! The round trip RGB → spectrum → RGB is within 3.3·10⁻³ (mean 8.7·10⁻⁴)
+//! over [0, 1]³. Resolution 64 (pbrt-v4's) halves the largest error and
+//! divides the mean by five but costs eight times as long to fit; call
+//! [`RgbToSpectrumTable::generate`] for it.
 
 use std::sync::OnceLock;
 
@@ -87,12 +101,83 @@ fn brightness_nodes(resolution: usize) -> Vec<f64> {
 }
 
 impl RgbToSpectrumTable {
-    /// The linear sRGB table at [`DEFAULT_RGB_TABLE_RESOLUTION`], fitted on first
-    /// use and shared afterwards.
+    /// The linear sRGB table at [`DEFAULT_RGB_TABLE_RESOLUTION`], decoded on
+    /// first use from the stored output of the fitter (see the module docs)
+    /// and shared afterwards.
     pub fn srgb() -> &'static RgbToSpectrumTable {
         static TABLE: OnceLock<RgbToSpectrumTable> = OnceLock::new();
         TABLE.get_or_init(|| {
-            Self::generate(DEFAULT_RGB_TABLE_RESOLUTION).expect("default resolution is valid")
+            let table = Self::from_bytes(STORED_SRGB_TABLE)
+                .expect("the stored sRGB table is well formed (a unit test checks it)");
+            debug_assert_eq!(table.resolution, DEFAULT_RGB_TABLE_RESOLUTION);
+            table
+        })
+    }
+
+    /// The table as bytes: [`TABLE_MAGIC`], the resolution R as a
+    /// little-endian `u32`, then the 3 R³ nodes' coefficients (c₀, c₁, c₂ in
+    /// nm, little-endian `f32`) in the order of [`Self::node`]'s index
+    /// `((m · R + zi) · R + yi) · R + xi`. The brightness nodes are not stored
+    /// (they follow from R).
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let mut bytes = Vec::with_capacity(stored_table_size(self.resolution));
+        bytes.extend_from_slice(TABLE_MAGIC);
+        bytes.extend_from_slice(&(self.resolution as u32).to_le_bytes());
+        for coefficients in &self.coefficients {
+            for value in coefficients {
+                bytes.extend_from_slice(&value.to_le_bytes());
+            }
+        }
+        bytes
+    }
+
+    /// Reads a table written by [`Self::to_bytes`]; fails with what is wrong
+    /// (magic, resolution, length, non-finite coefficients).
+    pub fn from_bytes(bytes: &[u8]) -> Result<Self, SpectrumError> {
+        let malformed = |reason: String| SpectrumError::MalformedTableData { reason };
+        let header = TABLE_MAGIC.len() + 4;
+        if bytes.len() < header || &bytes[..TABLE_MAGIC.len()] != TABLE_MAGIC {
+            return Err(malformed("it does not start with the table magic".into()));
+        }
+        let resolution_bytes: [u8; 4] = bytes[TABLE_MAGIC.len()..header]
+            .try_into()
+            .expect("four bytes");
+        let resolution = u32::from_le_bytes(resolution_bytes) as usize;
+        if !(2..=1024).contains(&resolution) {
+            return Err(malformed(format!(
+                "resolution {resolution} is not in 2..=1024"
+            )));
+        }
+        let expected = stored_table_size(resolution);
+        if bytes.len() != expected {
+            return Err(malformed(format!(
+                "{} bytes where resolution {resolution} needs {expected}",
+                bytes.len()
+            )));
+        }
+        let coefficients: Vec<[f32; 3]> = bytes[header..]
+            .chunks_exact(12)
+            .map(|node| {
+                std::array::from_fn(|i| {
+                    f32::from_le_bytes(node[4 * i..4 * i + 4].try_into().expect("four bytes"))
+                })
+            })
+            .collect();
+        if let Some(index) = coefficients
+            .iter()
+            .position(|node| node.iter().any(|value| !value.is_finite()))
+        {
+            return Err(malformed(format!(
+                "node {index} has a non-finite coefficient"
+            )));
+        }
+        Ok(Self {
+            resolution,
+            brightness_nodes: brightness_nodes(resolution)
+                .iter()
+                .map(|&z| z as f32)
+                .collect(),
+            coefficients,
         })
     }
 
@@ -132,12 +217,9 @@ impl RgbToSpectrumTable {
         });
         let mut coefficients = vec![[0.0_f32; 3]; 3 * resolution * resolution * resolution];
         for (column, solutions) in columns.iter().enumerate() {
-            let max_index = column / (resolution * resolution);
-            let yi = (column / resolution) % resolution;
-            let xi = column % resolution;
             for (zi, solution) in solutions.iter().enumerate() {
-                let index = ((max_index * resolution + zi) * resolution + yi) * resolution + xi;
-                coefficients[index] = normalised_to_nm(*solution);
+                coefficients[column_node_index(column, zi, resolution)] =
+                    normalised_to_nm(*solution);
             }
         }
         Ok(Self {
@@ -214,6 +296,30 @@ impl RgbToSpectrumTable {
         }
         RgbSigmoidPolynomial::new(result[0], result[1], result[2])
     }
+}
+
+/// The bytes [`RgbToSpectrumTable::to_bytes`] starts with.
+pub const TABLE_MAGIC: &[u8; 16] = b"lqmc rgb2spec v1";
+
+/// The stored output of the fitter for linear sRGB at
+/// [`DEFAULT_RGB_TABLE_RESOLUTION`] (see the module docs).
+const STORED_SRGB_TABLE: &[u8] = include_bytes!("../../data/spectra/srgb_to_spectrum_table_32.bin");
+
+/// Size in bytes of the stored sRGB table.
+pub const STORED_SRGB_TABLE_BYTES: usize = stored_table_size(DEFAULT_RGB_TABLE_RESOLUTION);
+
+/// Size in bytes of [`RgbToSpectrumTable::to_bytes`] at `resolution`.
+const fn stored_table_size(resolution: usize) -> usize {
+    TABLE_MAGIC.len() + 4 + 3 * resolution * resolution * resolution * 3 * 4
+}
+
+/// Index in the coefficient array of node `zi` of fitting column `column`
+/// = (m · R + yi) · R + xi.
+fn column_node_index(column: usize, zi: usize, resolution: usize) -> usize {
+    let max_index = column / (resolution * resolution);
+    let yi = (column / resolution) % resolution;
+    let xi = column % resolution;
+    ((max_index * resolution + zi) * resolution + yi) * resolution + xi
 }
 
 /// Converts coefficients of x(t), t = (λ − a) / w, to coefficients of x(λ):
@@ -519,6 +625,61 @@ mod tests {
         for (value, expected) in back.iter().zip(rgb) {
             assert!((value - expected).abs() < 1e-5, "{back:?}");
         }
+    }
+
+    #[test]
+    fn stored_table_is_what_the_fitter_produces() {
+        let table = RgbToSpectrumTable::srgb();
+        let resolution = table.resolution();
+        assert_eq!(resolution, DEFAULT_RGB_TABLE_RESOLUTION);
+        assert_eq!(STORED_SRGB_TABLE.len(), STORED_SRGB_TABLE_BYTES);
+        let fitter = SigmoidFitter::srgb();
+        let nodes = brightness_nodes(resolution);
+        let column_count = 3 * resolution * resolution;
+        // 13 columns spread over the three maximum channels and all (x, y),
+        // among them the corners x = y = 0 (saturated primaries) and x = y = 1.
+        let mut columns: Vec<usize> = (0..11).map(|i| i * 283 % column_count).collect();
+        columns.extend([resolution * resolution - 1, column_count - 1]);
+        for column in columns {
+            for (zi, solution) in fitter
+                .fit_column(column, resolution, &nodes)
+                .into_iter()
+                .enumerate()
+            {
+                let stored = table.coefficients[column_node_index(column, zi, resolution)];
+                assert_eq!(
+                    stored,
+                    normalised_to_nm(solution),
+                    "column {column}, node {zi}: regenerate the table (see the module docs)"
+                );
+            }
+        }
+        let expected_nodes: Vec<f32> = nodes.iter().map(|&z| z as f32).collect();
+        assert_eq!(table.brightness_nodes(), expected_nodes.as_slice());
+    }
+
+    #[test]
+    fn bytes_round_trip_and_bad_data_is_rejected() {
+        let table = RgbToSpectrumTable::generate(3).unwrap();
+        let bytes = table.to_bytes();
+        assert_eq!(bytes.len(), stored_table_size(3));
+        assert_eq!(RgbToSpectrumTable::from_bytes(&bytes).unwrap(), table);
+        let truncated = RgbToSpectrumTable::from_bytes(&bytes[..bytes.len() - 1]);
+        assert!(matches!(
+            truncated,
+            Err(SpectrumError::MalformedTableData { .. })
+        ));
+        let mut wrong_magic = bytes.clone();
+        wrong_magic[0] ^= 1;
+        assert!(RgbToSpectrumTable::from_bytes(&wrong_magic).is_err());
+        let mut not_finite = bytes.clone();
+        let last = not_finite.len() - 4;
+        not_finite[last..].copy_from_slice(&f32::NAN.to_le_bytes());
+        let message = RgbToSpectrumTable::from_bytes(&not_finite)
+            .unwrap_err()
+            .to_string();
+        assert!(message.contains("non-finite"), "{message}");
+        assert!(RgbToSpectrumTable::from_bytes(b"short").is_err());
     }
 
     #[test]
