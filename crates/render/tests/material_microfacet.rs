@@ -703,7 +703,12 @@ fn principled_sampling_matches_its_pdf() {
 fn principled_densities_integrate_to_the_success_rate() {
     for (index, (label, bsdf, wos)) in principled_cases().into_iter().enumerate() {
         for (j, wo) in wos.into_iter().enumerate() {
-            assert_pdf_integrates_to_success_rate(label, &bsdf, wo, 400 + 10 * index as u64 + j as u64);
+            assert_pdf_integrates_to_success_rate(
+                label,
+                &bsdf,
+                wo,
+                400 + 10 * index as u64 + j as u64,
+            );
         }
     }
 }
@@ -727,7 +732,11 @@ fn principled_samples_carry_evaluate_and_pdf() {
                     "{label}"
                 );
                 assert!(sample.pdf > 0.0 && sample.value.max_component().is_finite());
-                assert_eq!(sample.is_transmission(), sample.wi.z * wo.z < 0.0, "{label}");
+                assert_eq!(
+                    sample.is_transmission(),
+                    sample.wi.z * wo.z < 0.0,
+                    "{label}"
+                );
                 successes += 1;
             }
         }
@@ -772,13 +781,25 @@ fn principled_white_furnace() {
     });
     let thin_diffuse = principled_thin(|p| p.diff_trans = 2.0);
     for (label, bsdf, wos) in [
-        ("metal", &metal, vec![direction(30.0, 0.0), direction(75.0, 0.0)]),
+        (
+            "metal",
+            &metal,
+            vec![direction(30.0, 0.0), direction(75.0, 0.0)],
+        ),
         (
             "glass",
             &glass,
-            vec![direction(30.0, 0.0), -direction(30.0, 0.0), direction(80.0, 0.0)],
+            vec![
+                direction(30.0, 0.0),
+                -direction(30.0, 0.0),
+                direction(80.0, 0.0),
+            ],
         ),
-        ("dielectric coat", &dielectric_coat, vec![direction(60.0, 0.0)]),
+        (
+            "dielectric coat",
+            &dielectric_coat,
+            vec![direction(60.0, 0.0)],
+        ),
         (
             "thin specular",
             &thin_specular,
@@ -794,7 +815,10 @@ fn principled_white_furnace() {
         }
     }
     let (mean, error) = albedo(&thin_diffuse, direction(50.0, 0.0), count, 9);
-    assert!((mean - 1.0).abs() < 5.0 * error + 1e-5, "thin diffuse: {mean}");
+    assert!(
+        (mean - 1.0).abs() < 5.0 * error + 1e-5,
+        "thin diffuse: {mean}"
+    );
 }
 
 #[test]

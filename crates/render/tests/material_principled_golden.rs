@@ -34,7 +34,10 @@ fn golden_wavelengths() -> SampledWavelengths {
         .lines()
         .find_map(|line| line.strip_prefix("# wavelengths "))
         .expect("a wavelengths line");
-    let lambdas: Vec<f32> = line.split_whitespace().map(|v| v.parse().unwrap()).collect();
+    let lambdas: Vec<f32> = line
+        .split_whitespace()
+        .map(|v| v.parse().unwrap())
+        .collect();
     SampledWavelengths::from_parts(lambdas.try_into().unwrap(), [1.0; 4]).unwrap()
 }
 
@@ -87,9 +90,7 @@ fn build(case: &Case, wavelengths: &SampledWavelengths, mode: TransportMode) -> 
                     p.specular_transmittance_sampling_rate = v
                 }
                 "diffuse_reflectance_sampling_rate" => p.diffuse_reflectance_sampling_rate = v,
-                "diffuse_transmittance_sampling_rate" => {
-                    p.diffuse_transmittance_sampling_rate = v
-                }
+                "diffuse_transmittance_sampling_rate" => p.diffuse_transmittance_sampling_rate = v,
                 other => panic!("unknown thin parameter {other}"),
             }
         }
@@ -151,7 +152,11 @@ fn principled_values_and_densities_match_mitsuba() {
         let (bsdf, transmits) = build(case, &wavelengths, mode);
         let value = bsdf.evaluate(wo, wi, &wavelengths);
         // Near-specular lobes amplify f32 rounding of the half vector.
-        let relative = if value.max_component() > 5.0 { 1e-2 } else { 2e-3 };
+        let relative = if value.max_component() > 5.0 {
+            1e-2
+        } else {
+            2e-3
+        };
         for k in 0..4 {
             if !close(value[k], numbers[6 + k], relative) {
                 failures.push(format!(

@@ -175,7 +175,11 @@ pub(super) fn tint_color(base_color: SampledSpectrum, luminance: f32) -> Sampled
 /// `m` that faces `wo`'s hemisphere; a transmission: `wi` on the other).
 pub(super) fn microfacet_compatible(m: Vec3, wo: Vec3, wi: Vec3, reflection: bool) -> bool {
     let facing = if wo.z < 0.0 { -m } else { m };
-    let wi_side = if reflection { wi.dot(facing) } else { -wi.dot(facing) };
+    let wi_side = if reflection {
+        wi.dot(facing)
+    } else {
+        -wi.dot(facing)
+    };
     wo.dot(facing) > 0.0 && wi_side > 0.0
 }
 
@@ -197,8 +201,8 @@ pub(super) fn diffuse_shape(
     let (weight_o, weight_i) = (schlick_weight(cos_o), schlick_weight(cos_i));
     let diffuse = (1.0 - 0.5 * weight_o) * (1.0 - 0.5 * weight_i);
     let retro_roughness = 2.0 * roughness * cos_d * cos_d;
-    let retro = retro_roughness
-        * (weight_o + weight_i + weight_o * weight_i * (retro_roughness - 1.0));
+    let retro =
+        retro_roughness * (weight_o + weight_i + weight_o * weight_i * (retro_roughness - 1.0));
     if flatness == 0.0 {
         return diffuse + retro;
     }
@@ -374,7 +378,8 @@ impl PrincipledBsdf {
             let d = self.distribution.d(half);
             let g = self.distribution.g(wo, wi, half);
             if reflection && fresnel > 0.0 {
-                value += self.specular_fresnel(fresnel, cos_oh, front) * (d * g / (4.0 * cos_o * cos_i));
+                value +=
+                    self.specular_fresnel(fresnel, cos_oh, front) * (d * g / (4.0 * cos_o * cos_i));
             }
             if !reflection && bsdf > 0.0 && fresnel < 1.0 {
                 let cos_ih = wi.dot(half);
@@ -383,16 +388,18 @@ impl PrincipledBsdf {
                     TransportMode::Radiance => 1.0 / (eta_path * eta_path),
                     TransportMode::Importance => 1.0,
                 };
-                let btdf = (scale * (1.0 - fresnel) * d * g * eta_path * eta_path * cos_oh * cos_ih
-                    / (cos_o * cos_i * denominator * denominator))
-                    .abs();
+                let btdf =
+                    (scale * (1.0 - fresnel) * d * g * eta_path * eta_path * cos_oh * cos_ih
+                        / (cos_o * cos_i * denominator * denominator))
+                        .abs();
                 value += p.base_color.sqrt() * (bsdf * btdf);
             }
             if reflection && front && p.clearcoat > 0.0 {
                 let fresnel_coat = schlick_fresnel(SampledSpectrum::splat(0.04), cos_oh, p.eta)[0];
                 let d_coat = self.clearcoat_distribution.d(half);
                 let g_coat = clearcoat_g1(wo, half) * clearcoat_g1(wi, half);
-                value += SampledSpectrum::splat(0.25 * p.clearcoat * fresnel_coat * d_coat * g_coat);
+                value +=
+                    SampledSpectrum::splat(0.25 * p.clearcoat * fresnel_coat * d_coat * g_coat);
             }
         }
         if reflection && front && brdf > 0.0 {

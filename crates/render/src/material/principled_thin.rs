@@ -29,8 +29,8 @@ use super::flags::BsdfFlags;
 use super::fresnel::fresnel_dielectric;
 use super::microfacet::MicrofacetDistribution;
 use super::principled::{
-    diffuse_shape, microfacet_compatible, schlick_fresnel, schlick_r0, schlick_weight,
-    sheen_color, spectral_luminance, specular_distribution, tint_color,
+    diffuse_shape, microfacet_compatible, schlick_fresnel, schlick_r0, schlick_weight, sheen_color,
+    spectral_luminance, specular_distribution, tint_color,
 };
 use super::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -172,8 +172,8 @@ impl PrincipledThinBsdf {
                 let distribution = &self.transmission_distribution;
                 let d = distribution.d(half);
                 let g = distribution.g(wo, wi, half);
-                value += p.base_color
-                    * (p.spec_trans * (1.0 - fresnel) * d * g / (4.0 * cos_o * cos_i));
+                value +=
+                    p.base_color * (p.spec_trans * (1.0 - fresnel) * d * g / (4.0 * cos_o * cos_i));
             }
         }
         if reflection && p.spec_trans < 1.0 && diffuse_transmission < 1.0 {
@@ -201,8 +201,9 @@ impl PrincipledThinBsdf {
         let diffuse_transmission = self.diffuse_transmission();
         let specular_reflection = 0.5 * p.spec_trans * p.specular_reflectance_sampling_rate;
         let specular_transmission = 0.5 * p.spec_trans * p.specular_transmittance_sampling_rate;
-        let diffuse_reflection =
-            p.diffuse_reflectance_sampling_rate * (1.0 - p.spec_trans) * (1.0 - diffuse_transmission);
+        let diffuse_reflection = p.diffuse_reflectance_sampling_rate
+            * (1.0 - p.spec_trans)
+            * (1.0 - diffuse_transmission);
         let diffuse_transmission =
             p.diffuse_transmittance_sampling_rate * (1.0 - p.spec_trans) * diffuse_transmission;
         let total =
@@ -264,7 +265,9 @@ impl PrincipledThinBsdf {
             }
             (wi, BsdfFlags::REFLECTION | BsdfFlags::GLOSSY)
         } else if u_component < threshold + probabilities.specular_transmission {
-            let m = self.transmission_distribution.sample_visible_normal(wo_up, u);
+            let m = self
+                .transmission_distribution
+                .sample_visible_normal(wo_up, u);
             let reflected = reflect_about(m);
             let wi = Vec3::new(reflected.x, reflected.y, -reflected.z);
             if wi.z >= 0.0 || !microfacet_compatible(m, wo_up, wi, false) {

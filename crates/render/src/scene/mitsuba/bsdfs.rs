@@ -431,7 +431,8 @@ impl Loader {
         thin: bool,
     ) -> Result<MaterialDescription, SceneFileError> {
         use crate::material::{PrincipledSamplingRates, principled_eta_from_specular};
-        let constant = |value: f32| TextureDescription::Constant(SpectrumDescription::Constant(value));
+        let constant =
+            |value: f32| TextureDescription::Constant(SpectrumDescription::Constant(value));
         // Mitsuba's `get_flag`: a lobe is on when its parameter is given and
         // is not the number 0.
         let given = |name: &str| {
@@ -454,7 +455,11 @@ impl Loader {
                 Some(eta) => eta,
                 None => {
                     let specular = properties.float("specular", 0.5)?;
-                    let specular = if has_spec_trans && specular == 0.0 { 1e-3 } else { specular };
+                    let specular = if has_spec_trans && specular == 0.0 {
+                        1e-3
+                    } else {
+                        specular
+                    };
                     principled_eta_from_specular(specular)
                 }
             };
@@ -486,8 +491,10 @@ impl Loader {
                 specular_reflection: properties
                     .float("main_specular_sampling_rate", defaults.specular_reflection)?,
                 clearcoat: properties.float("clearcoat_sampling_rate", defaults.clearcoat)?,
-                diffuse_reflection: properties
-                    .float("diffuse_reflectance_sampling_rate", defaults.diffuse_reflection)?,
+                diffuse_reflection: properties.float(
+                    "diffuse_reflectance_sampling_rate",
+                    defaults.diffuse_reflection,
+                )?,
                 ..defaults
             }
         };
@@ -498,23 +505,25 @@ impl Loader {
                 Ok(constant(0.0))
             }
         };
-        Ok(MaterialDescription::Principled(Box::new(PrincipledDescription {
-            thin,
-            base_color: self.texture_or(properties, "base_color", 0.5)?,
-            roughness: self.float_texture_or(properties, "roughness", 0.5)?,
-            anisotropic: self.float_texture_or(properties, "anisotropic", 0.0)?,
-            metallic: zero_unless_thin(self, "metallic", !thin)?,
-            spec_trans: self.float_texture_or(properties, "spec_trans", 0.0)?,
-            eta,
-            spec_tint: self.float_texture_or(properties, "spec_tint", 0.0)?,
-            sheen: self.float_texture_or(properties, "sheen", 0.0)?,
-            sheen_tint: self.float_texture_or(properties, "sheen_tint", 0.0)?,
-            clearcoat: zero_unless_thin(self, "clearcoat", !thin)?,
-            clearcoat_gloss: zero_unless_thin(self, "clearcoat_gloss", !thin)?,
-            flatness: self.float_texture_or(properties, "flatness", 0.0)?,
-            diff_trans: zero_unless_thin(self, "diff_trans", thin)?,
-            sampling_rates,
-        })))
+        Ok(MaterialDescription::Principled(Box::new(
+            PrincipledDescription {
+                thin,
+                base_color: self.texture_or(properties, "base_color", 0.5)?,
+                roughness: self.float_texture_or(properties, "roughness", 0.5)?,
+                anisotropic: self.float_texture_or(properties, "anisotropic", 0.0)?,
+                metallic: zero_unless_thin(self, "metallic", !thin)?,
+                spec_trans: self.float_texture_or(properties, "spec_trans", 0.0)?,
+                eta,
+                spec_tint: self.float_texture_or(properties, "spec_tint", 0.0)?,
+                sheen: self.float_texture_or(properties, "sheen", 0.0)?,
+                sheen_tint: self.float_texture_or(properties, "sheen_tint", 0.0)?,
+                clearcoat: zero_unless_thin(self, "clearcoat", !thin)?,
+                clearcoat_gloss: zero_unless_thin(self, "clearcoat_gloss", !thin)?,
+                flatness: self.float_texture_or(properties, "flatness", 0.0)?,
+                diff_trans: zero_unless_thin(self, "diff_trans", thin)?,
+                sampling_rates,
+            },
+        )))
     }
 
     /// Warns when a factor the description cannot hold is not 1.
