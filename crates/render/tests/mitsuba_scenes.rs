@@ -132,15 +132,21 @@ const SCENES: &[(&str, Status)] = &[
     ),
     (
         "bsdf_spheres/test_texturedprincipled1_path.xml",
-        Unverified("principled BSDF: loaded as a diffuse BSDF of its base colour (76 % pass)"),
+        Render {
+            samples_per_pixel: 256,
+        },
     ),
     (
         "bsdf_spheres/test_texturedprincipled2_path.xml",
-        Unverified("principled BSDF: loaded as a diffuse BSDF of its base colour (71 % pass)"),
+        Render {
+            samples_per_pixel: 256,
+        },
     ),
     (
         "bsdf_spheres/test_texturedprincipledthin_path.xml",
-        Unverified("principledthin BSDF: loaded as a diffuse BSDF of its base colour (66 % pass)"),
+        Render {
+            samples_per_pixel: 64,
+        },
     ),
     (
         "floating_sphere/test_directional_direct.xml",

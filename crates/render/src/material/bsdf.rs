@@ -39,6 +39,8 @@ use super::dielectric::DielectricBsdf;
 use super::diffuse::DiffuseBsdf;
 use super::flags::{BsdfFlags, TransportMode};
 use super::plastic::PlasticBsdf;
+use super::principled::PrincipledBsdf;
+use super::principled_thin::PrincipledThinBsdf;
 use super::rough_conductor::RoughConductorBsdf;
 use super::rough_dielectric::RoughDielectricBsdf;
 use super::rough_plastic::RoughPlasticBsdf;
@@ -67,6 +69,10 @@ pub enum BsdfModel {
     Plastic(PlasticBsdf),
     /// A diffuse base under a rough coating.
     RoughPlastic(RoughPlasticBsdf),
+    /// Mitsuba's principled (Disney) BSDF.
+    Principled(PrincipledBsdf),
+    /// Mitsuba's thin principled BSDF.
+    PrincipledThin(PrincipledThinBsdf),
 }
 
 impl BsdfModel {
@@ -81,6 +87,8 @@ impl BsdfModel {
             BsdfModel::ThinDielectric(thin) => thin.evaluate(wo, wi),
             BsdfModel::Plastic(plastic) => plastic.evaluate(wo, wi),
             BsdfModel::RoughPlastic(plastic) => plastic.evaluate(wo, wi),
+            BsdfModel::Principled(principled) => principled.evaluate(wo, wi, mode),
+            BsdfModel::PrincipledThin(thin) => thin.evaluate(wo, wi),
         }
     }
 
@@ -106,6 +114,8 @@ impl BsdfModel {
             BsdfModel::ThinDielectric(thin) => thin.sample(wo, u_component),
             BsdfModel::Plastic(plastic) => plastic.sample(wo, u_component, u),
             BsdfModel::RoughPlastic(plastic) => plastic.sample(wo, u_component, u),
+            BsdfModel::Principled(principled) => principled.sample(wo, u_component, u, mode),
+            BsdfModel::PrincipledThin(thin) => thin.sample(wo, u_component, u),
         }
     }
 
@@ -120,6 +130,8 @@ impl BsdfModel {
             BsdfModel::ThinDielectric(thin) => thin.pdf(wo, wi),
             BsdfModel::Plastic(plastic) => plastic.pdf(wo, wi),
             BsdfModel::RoughPlastic(plastic) => plastic.pdf(wo, wi),
+            BsdfModel::Principled(principled) => principled.pdf(wo, wi),
+            BsdfModel::PrincipledThin(thin) => thin.pdf(wo, wi),
         }
     }
 
@@ -134,6 +146,8 @@ impl BsdfModel {
             BsdfModel::ThinDielectric(thin) => thin.flags(),
             BsdfModel::Plastic(plastic) => plastic.flags(),
             BsdfModel::RoughPlastic(plastic) => plastic.flags(),
+            BsdfModel::Principled(principled) => principled.flags(),
+            BsdfModel::PrincipledThin(thin) => thin.flags(),
         }
     }
 
@@ -148,6 +162,8 @@ impl BsdfModel {
             BsdfModel::RoughConductor(conductor) => conductor.distribution().roughness(),
             BsdfModel::RoughDielectric(dielectric) => dielectric.distribution().roughness(),
             BsdfModel::RoughPlastic(plastic) => plastic.distribution().roughness(),
+            BsdfModel::Principled(principled) => principled.roughness(),
+            BsdfModel::PrincipledThin(thin) => thin.roughness(),
         }
     }
 }
@@ -349,6 +365,18 @@ impl From<ThinDielectricBsdf> for Bsdf {
 impl From<PlasticBsdf> for Bsdf {
     fn from(model: PlasticBsdf) -> Self {
         Bsdf::new(BsdfModel::Plastic(model))
+    }
+}
+
+impl From<PrincipledBsdf> for Bsdf {
+    fn from(model: PrincipledBsdf) -> Self {
+        Bsdf::new(BsdfModel::Principled(model))
+    }
+}
+
+impl From<PrincipledThinBsdf> for Bsdf {
+    fn from(model: PrincipledThinBsdf) -> Self {
+        Bsdf::new(BsdfModel::PrincipledThin(model))
     }
 }
 

@@ -204,7 +204,7 @@ impl RoughDielectricBsdf {
 /// Refracts `wo` through the microfacet with normal `m` (upper hemisphere) of
 /// an interface with relative index `eta` (below over above); `None` on total
 /// internal reflection.
-fn refract_about(wo: Vec3, m: Vec3, eta: f32) -> Option<Vec3> {
+pub(super) fn refract_about(wo: Vec3, m: Vec3, eta: f32) -> Option<Vec3> {
     let mut cos_i = wo.dot(m);
     let (mut normal, mut relative_eta) = (m, eta);
     if cos_i < 0.0 {

@@ -8,6 +8,7 @@ use super::diffuse::DiffuseBsdf;
 use super::error::MaterialError;
 use super::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use super::plastic::PlasticBsdf;
+use super::principled_material::PrincipledMaterial;
 use super::rough_conductor::RoughConductorBsdf;
 use super::rough_dielectric::RoughDielectricBsdf;
 use super::rough_plastic::{RoughPlasticBsdf, RoughPlasticTables};
@@ -144,6 +145,8 @@ pub enum Material {
         nonlinear: bool,
         two_sided: bool,
     },
+    /// Mitsuba's `principled` or `principledthin` (Disney) BSDF.
+    Principled(Box<PrincipledMaterial>),
     /// `front` where light arrives from the side the normal points to,
     /// `back` (seen as its own front) where it arrives from behind
     /// (Mitsuba's `twosided` with two children). Bump maps and masks inside
@@ -230,6 +233,7 @@ impl Material {
                     Err(MaterialError::NonPositiveIndexOfRefraction { value: *eta })
                 }
             }
+            Material::Principled(_) => Ok(()),
             Material::TwoSided { front, back } => {
                 front.validate()?;
                 back.validate()
@@ -369,6 +373,7 @@ impl Material {
                     None => PlasticBsdf::new(diffuse, *eta, *nonlinear, *two_sided).into(),
                 }
             }
+            Material::Principled(principled) => principled.bsdf(context, wavelengths),
             Material::TwoSided { front, back } => Bsdf::two_sided(
                 *front.bsdf_with_context(context, wavelengths).model(),
                 *back.bsdf_with_context(context, wavelengths).model(),

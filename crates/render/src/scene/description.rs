@@ -288,6 +288,32 @@ pub enum MaterialDescription {
     Interface,
     /// Absorbs everything (e.g. the back of a light).
     Black,
+    /// Mitsuba's `principled` / `principledthin` (Disney) BSDF.
+    Principled(Box<PrincipledDescription>),
+}
+
+/// The parameters of Mitsuba's `principled` and `principledthin` BSDFs
+/// (their defaults are Mitsuba's; see `material::PrincipledMaterial`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PrincipledDescription {
+    /// `principledthin` rather than `principled`.
+    pub thin: bool,
+    pub base_color: TextureDescription,
+    pub roughness: TextureDescription,
+    pub anisotropic: TextureDescription,
+    pub metallic: TextureDescription,
+    pub spec_trans: TextureDescription,
+    /// Relative index of refraction (for `principled` computed from `eta`
+    /// or `specular`).
+    pub eta: TextureDescription,
+    pub spec_tint: TextureDescription,
+    pub sheen: TextureDescription,
+    pub sheen_tint: TextureDescription,
+    pub clearcoat: TextureDescription,
+    pub clearcoat_gloss: TextureDescription,
+    pub flatness: TextureDescription,
+    pub diff_trans: TextureDescription,
+    pub sampling_rates: crate::material::PrincipledSamplingRates,
 }
 
 /// A light that is not a shape.

@@ -288,6 +288,7 @@ fn material(description: &MaterialDescription) -> Result<Option<Material>, Scene
             opacity: crate::texture::build_float_texture(opacity, "mask opacity")?,
             nested: Box::new(nested_material(nested)?),
         }),
+        MaterialDescription::Principled(principled) => Ok(principled_material(principled)?),
         MaterialDescription::Black => return Ok(None),
         other => {
             return Err(SceneError::Unsupported {
@@ -298,6 +299,39 @@ fn material(description: &MaterialDescription) -> Result<Option<Material>, Scene
     material
         .map(Some)
         .map_err(|e| parameter_error("material", e))
+}
+
+/// The render-time material of a principled BSDF description.
+fn principled_material(
+    description: &description::PrincipledDescription,
+) -> Result<Material, SceneError> {
+    let float = |texture: &TextureDescription, what: &str| {
+        crate::texture::build_float_texture(texture, &format!("principled {what}"))
+    };
+    let d = description;
+    Ok(Material::Principled(Box::new(
+        crate::material::PrincipledMaterial {
+            thin: d.thin,
+            base_color: spectrum_texture(
+                &d.base_color,
+                SpectrumUsage::Albedo,
+                "principled base_color",
+            )?,
+            roughness: float(&d.roughness, "roughness")?,
+            anisotropic: float(&d.anisotropic, "anisotropic")?,
+            metallic: float(&d.metallic, "metallic")?,
+            spec_trans: float(&d.spec_trans, "spec_trans")?,
+            eta: float(&d.eta, "eta")?,
+            spec_tint: float(&d.spec_tint, "spec_tint")?,
+            sheen: float(&d.sheen, "sheen")?,
+            sheen_tint: float(&d.sheen_tint, "sheen_tint")?,
+            clearcoat: float(&d.clearcoat, "clearcoat")?,
+            clearcoat_gloss: float(&d.clearcoat_gloss, "clearcoat_gloss")?,
+            flatness: float(&d.flatness, "flatness")?,
+            diff_trans: float(&d.diff_trans, "diff_trans")?,
+            sampling_rates: d.sampling_rates,
+        },
+    )))
 }
 
 /// The material inside a bump map, normal map or mask; black (`None`)

@@ -1,8 +1,7 @@
 //! Mitsuba's BSDFs: `diffuse`, `conductor`/`roughconductor`,
 //! `dielectric`/`roughdielectric`, `thindielectric`,
 //! `plastic`/`roughplastic`, `twosided`, `bumpmap`, `normalmap`, `mask`,
-//! `null`; `principled` is not supported and becomes a diffuse BSDF of its
-//! base colour (with a warning).
+//! `null`, `principled` and `principledthin`.
 //!
 //! Conventions carried over: Mitsuba's diffuse, conductor and plastic are
 //! one-sided (black from behind) unless wrapped in `twosided`; dielectrics
@@ -11,8 +10,8 @@
 //! of 1. Rough materials default to Beckmann with α = 0.1.
 
 use super::super::description::{
-    MaterialDescription, MicrofacetDistribution, RoughnessDescription, SpectrumDescription,
-    TextureDescription,
+    MaterialDescription, MicrofacetDistribution, PrincipledDescription, RoughnessDescription,
+    SpectrumDescription, TextureDescription,
 };
 use super::super::loader::SceneFileError;
 use super::named_values::{conductor_spectra, named_ior};
@@ -375,38 +374,7 @@ impl Loader {
             }
             "null" => MaterialDescription::Interface,
             "principled" | "principledthin" => {
-                let base = self
-                    .texture_parameter(&properties, "base_color")?
-                    .unwrap_or(TextureDescription::Constant(SpectrumDescription::Constant(
-                        0.5,
-                    )));
-                self.warn(
-                    element,
-                    format!("bsdf '{kind}' is not supported: replaced by a diffuse bsdf of its base_color"),
-                );
-                // Its other parameters are knowingly dropped.
-                properties.ignore(&[
-                    "roughness",
-                    "metallic",
-                    "specular",
-                    "anisotropic",
-                    "sheen",
-                    "sheen_tint",
-                    "clearcoat",
-                    "clearcoat_gloss",
-                    "spec_tint",
-                    "spec_trans",
-                    "eta",
-                    "flatness",
-                    "diff_trans",
-                    "main_specular_sampling_rate",
-                    "clearcoat_sampling_rate",
-                    "diffuse_reflectance_sampling_rate",
-                ]);
-                MaterialDescription::Diffuse {
-                    reflectance: base,
-                    two_sided: false,
-                }
+                self.principled(&properties, kind == "principledthin")?
             }
             other => {
                 self.warn(
@@ -452,6 +420,110 @@ impl Loader {
                 "bsdf 'bumpmap' needs exactly one nested bsdf, has {count}"
             ))),
         }
+    }
+
+    /// Mitsuba's `principled` / `principledthin`: every weight a float or
+    /// texture with Mitsuba's defaults; `principled` takes `eta` or
+    /// `specular` (η = 2/(1 − √(0.08 specular)) − 1), not both.
+    fn principled(
+        &mut self,
+        properties: &Properties,
+        thin: bool,
+    ) -> Result<MaterialDescription, SceneFileError> {
+        use crate::material::{PrincipledSamplingRates, principled_eta_from_specular};
+        let constant =
+            |value: f32| TextureDescription::Constant(SpectrumDescription::Constant(value));
+        // Mitsuba's `get_flag`: a lobe is on when its parameter is given and
+        // is not the number 0.
+        let given = |name: &str| {
+            properties.get(name).is_some_and(|element| {
+                element.tag != "float" || element.attribute("value").map(str::trim) != Some("0")
+            })
+        };
+        let has_spec_trans = given("spec_trans");
+        let eta = if thin {
+            self.float_texture_or(properties, "eta", 1.5)?
+        } else {
+            if properties.has("eta") && properties.has("specular") {
+                return Err(properties
+                    .element
+                    .location
+                    .error("bsdf 'principled' takes either 'eta' or 'specular', not both"));
+            }
+            let eta = match properties.optional_float("eta")? {
+                Some(eta) if has_spec_trans && eta == 1.0 => 1.001,
+                Some(eta) => eta,
+                None => {
+                    let specular = properties.float("specular", 0.5)?;
+                    let specular = if has_spec_trans && specular == 0.0 {
+                        1e-3
+                    } else {
+                        specular
+                    };
+                    principled_eta_from_specular(specular)
+                }
+            };
+            constant(eta)
+        };
+        let defaults = PrincipledSamplingRates::default();
+        let sampling_rates = if thin {
+            PrincipledSamplingRates {
+                specular_reflection: properties.float(
+                    "specular_reflectance_sampling_rate",
+                    defaults.specular_reflection,
+                )?,
+                specular_transmission: properties.float(
+                    "specular_transmittance_sampling_rate",
+                    defaults.specular_transmission,
+                )?,
+                diffuse_reflection: properties.float(
+                    "diffuse_reflectance_sampling_rate",
+                    defaults.diffuse_reflection,
+                )?,
+                diffuse_transmission: properties.float(
+                    "diffuse_transmittance_sampling_rate",
+                    defaults.diffuse_transmission,
+                )?,
+                ..defaults
+            }
+        } else {
+            PrincipledSamplingRates {
+                specular_reflection: properties
+                    .float("main_specular_sampling_rate", defaults.specular_reflection)?,
+                clearcoat: properties.float("clearcoat_sampling_rate", defaults.clearcoat)?,
+                diffuse_reflection: properties.float(
+                    "diffuse_reflectance_sampling_rate",
+                    defaults.diffuse_reflection,
+                )?,
+                ..defaults
+            }
+        };
+        let zero_unless_thin = |loader: &mut Self, name: &str, applies: bool| {
+            if applies {
+                loader.float_texture_or(properties, name, 0.0)
+            } else {
+                Ok(constant(0.0))
+            }
+        };
+        Ok(MaterialDescription::Principled(Box::new(
+            PrincipledDescription {
+                thin,
+                base_color: self.texture_or(properties, "base_color", 0.5)?,
+                roughness: self.float_texture_or(properties, "roughness", 0.5)?,
+                anisotropic: self.float_texture_or(properties, "anisotropic", 0.0)?,
+                metallic: zero_unless_thin(self, "metallic", !thin)?,
+                spec_trans: self.float_texture_or(properties, "spec_trans", 0.0)?,
+                eta,
+                spec_tint: self.float_texture_or(properties, "spec_tint", 0.0)?,
+                sheen: self.float_texture_or(properties, "sheen", 0.0)?,
+                sheen_tint: self.float_texture_or(properties, "sheen_tint", 0.0)?,
+                clearcoat: zero_unless_thin(self, "clearcoat", !thin)?,
+                clearcoat_gloss: zero_unless_thin(self, "clearcoat_gloss", !thin)?,
+                flatness: self.float_texture_or(properties, "flatness", 0.0)?,
+                diff_trans: zero_unless_thin(self, "diff_trans", thin)?,
+                sampling_rates,
+            },
+        )))
     }
 
     /// Warns when a factor the description cannot hold is not 1.
