@@ -38,6 +38,8 @@ use super::conductor::ConductorBsdf;
 use super::dielectric::DielectricBsdf;
 use super::diffuse::DiffuseBsdf;
 use super::flags::{BsdfFlags, TransportMode};
+use super::layered::CoatedDiffuseBsdf;
+use super::microfacet::MicrofacetDistribution;
 use super::plastic::PlasticBsdf;
 use super::rough_conductor::RoughConductorBsdf;
 use super::rough_dielectric::RoughDielectricBsdf;
@@ -67,6 +69,8 @@ pub enum BsdfModel {
     Plastic(PlasticBsdf),
     /// A diffuse base under a rough coating.
     RoughPlastic(RoughPlasticBsdf),
+    /// pbrt-v4's `coateddiffuse`: a stochastically evaluated layered BSDF.
+    CoatedDiffuse(CoatedDiffuseBsdf),
 }
 
 impl BsdfModel {
@@ -81,6 +85,7 @@ impl BsdfModel {
             BsdfModel::ThinDielectric(thin) => thin.evaluate(wo, wi),
             BsdfModel::Plastic(plastic) => plastic.evaluate(wo, wi),
             BsdfModel::RoughPlastic(plastic) => plastic.evaluate(wo, wi),
+            BsdfModel::CoatedDiffuse(coated) => coated.evaluate(wo, wi, mode),
         }
     }
 
@@ -106,6 +111,7 @@ impl BsdfModel {
             BsdfModel::ThinDielectric(thin) => thin.sample(wo, u_component),
             BsdfModel::Plastic(plastic) => plastic.sample(wo, u_component, u),
             BsdfModel::RoughPlastic(plastic) => plastic.sample(wo, u_component, u),
+            BsdfModel::CoatedDiffuse(coated) => coated.sample(wo, u_component, u, mode),
         }
     }
 
@@ -120,6 +126,7 @@ impl BsdfModel {
             BsdfModel::ThinDielectric(thin) => thin.pdf(wo, wi),
             BsdfModel::Plastic(plastic) => plastic.pdf(wo, wi),
             BsdfModel::RoughPlastic(plastic) => plastic.pdf(wo, wi),
+            BsdfModel::CoatedDiffuse(coated) => coated.pdf(wo, wi),
         }
     }
 
@@ -134,6 +141,7 @@ impl BsdfModel {
             BsdfModel::ThinDielectric(thin) => thin.flags(),
             BsdfModel::Plastic(plastic) => plastic.flags(),
             BsdfModel::RoughPlastic(plastic) => plastic.flags(),
+            BsdfModel::CoatedDiffuse(coated) => coated.flags(),
         }
     }
 
@@ -148,6 +156,9 @@ impl BsdfModel {
             BsdfModel::RoughConductor(conductor) => conductor.distribution().roughness(),
             BsdfModel::RoughDielectric(dielectric) => dielectric.distribution().roughness(),
             BsdfModel::RoughPlastic(plastic) => plastic.distribution().roughness(),
+            BsdfModel::CoatedDiffuse(coated) => coated
+                .distribution()
+                .map_or(0.0, MicrofacetDistribution::roughness),
         }
     }
 }
@@ -251,7 +262,10 @@ impl Bsdf {
     /// zero density, or a `wi` in the tangent plane), as pbrt-v4 does.
     ///
     /// For non-delta lobes the returned value and pdf equal
-    /// `evaluate(wo, wi)` and `pdf(wo, wi)`.
+    /// `evaluate(wo, wi)` and `pdf(wo, wi)`, except for stochastic models
+    /// ([`CoatedDiffuseBsdf`]), whose samples carry a path throughput and
+    /// density with [`BsdfSample::pdf_is_proportional`] set: their ratio is
+    /// the weight, and MIS must use [`Bsdf::pdf`].
     #[inline]
     pub fn sample(
         &self,
@@ -349,6 +363,12 @@ impl From<ThinDielectricBsdf> for Bsdf {
 impl From<PlasticBsdf> for Bsdf {
     fn from(model: PlasticBsdf) -> Self {
         Bsdf::new(BsdfModel::Plastic(model))
+    }
+}
+
+impl From<CoatedDiffuseBsdf> for Bsdf {
+    fn from(model: CoatedDiffuseBsdf) -> Self {
+        Bsdf::new(BsdfModel::CoatedDiffuse(model))
     }
 }
 
