@@ -159,6 +159,13 @@ pub fn radiance(
             break;
         }
         throughput *= sample.value * (cosine / sample.pdf);
+        // A stochastic BSDF's sample carries a path density; MIS needs the
+        // BSDF's own density estimate (the one next-event estimation uses).
+        let bsdf_pdf = if sample.pdf_is_proportional {
+            bsdf.pdf(wo, sample.wi)
+        } else {
+            sample.pdf
+        };
         if let Some(vertices) = vertices.as_deref_mut() {
             vertices.push(PathVertex {
                 point: hit.point,
@@ -170,7 +177,7 @@ pub fn radiance(
                 wi: sample.wi,
                 flags,
                 sampled: sample.flags,
-                pdf_forward: sample.pdf,
+                pdf_forward: bsdf_pdf,
                 pdf_reverse: if sample.is_specular() {
                     sample.pdf
                 } else {
@@ -180,7 +187,7 @@ pub fn radiance(
             });
         }
         specular_bounce = sample.is_specular();
-        previous_bsdf_pdf = sample.pdf;
+        previous_bsdf_pdf = bsdf_pdf;
         previous_point = reference;
         if sample.is_transmission() {
             eta_scale *= sample.eta * sample.eta;

@@ -38,6 +38,8 @@ use super::conductor::ConductorBsdf;
 use super::dielectric::DielectricBsdf;
 use super::diffuse::DiffuseBsdf;
 use super::flags::{BsdfFlags, TransportMode};
+use super::layered::CoatedDiffuseBsdf;
+use super::microfacet::MicrofacetDistribution;
 use super::plastic::PlasticBsdf;
 use super::principled::PrincipledBsdf;
 use super::principled_thin::PrincipledThinBsdf;
@@ -73,6 +75,8 @@ pub enum BsdfModel {
     Principled(PrincipledBsdf),
     /// Mitsuba's thin principled BSDF.
     PrincipledThin(PrincipledThinBsdf),
+    /// pbrt-v4's `coateddiffuse`: a stochastically evaluated layered BSDF.
+    CoatedDiffuse(CoatedDiffuseBsdf),
 }
 
 impl BsdfModel {
@@ -89,6 +93,7 @@ impl BsdfModel {
             BsdfModel::RoughPlastic(plastic) => plastic.evaluate(wo, wi),
             BsdfModel::Principled(principled) => principled.evaluate(wo, wi, mode),
             BsdfModel::PrincipledThin(thin) => thin.evaluate(wo, wi),
+            BsdfModel::CoatedDiffuse(coated) => coated.evaluate(wo, wi, mode),
         }
     }
 
@@ -116,6 +121,7 @@ impl BsdfModel {
             BsdfModel::RoughPlastic(plastic) => plastic.sample(wo, u_component, u),
             BsdfModel::Principled(principled) => principled.sample(wo, u_component, u, mode),
             BsdfModel::PrincipledThin(thin) => thin.sample(wo, u_component, u),
+            BsdfModel::CoatedDiffuse(coated) => coated.sample(wo, u_component, u, mode),
         }
     }
 
@@ -132,6 +138,7 @@ impl BsdfModel {
             BsdfModel::RoughPlastic(plastic) => plastic.pdf(wo, wi),
             BsdfModel::Principled(principled) => principled.pdf(wo, wi),
             BsdfModel::PrincipledThin(thin) => thin.pdf(wo, wi),
+            BsdfModel::CoatedDiffuse(coated) => coated.pdf(wo, wi),
         }
     }
 
@@ -148,6 +155,7 @@ impl BsdfModel {
             BsdfModel::RoughPlastic(plastic) => plastic.flags(),
             BsdfModel::Principled(principled) => principled.flags(),
             BsdfModel::PrincipledThin(thin) => thin.flags(),
+            BsdfModel::CoatedDiffuse(coated) => coated.flags(),
         }
     }
 
@@ -164,6 +172,9 @@ impl BsdfModel {
             BsdfModel::RoughPlastic(plastic) => plastic.distribution().roughness(),
             BsdfModel::Principled(principled) => principled.roughness(),
             BsdfModel::PrincipledThin(thin) => thin.roughness(),
+            BsdfModel::CoatedDiffuse(coated) => coated
+                .distribution()
+                .map_or(0.0, MicrofacetDistribution::roughness),
         }
     }
 }
@@ -267,7 +278,10 @@ impl Bsdf {
     /// zero density, or a `wi` in the tangent plane), as pbrt-v4 does.
     ///
     /// For non-delta lobes the returned value and pdf equal
-    /// `evaluate(wo, wi)` and `pdf(wo, wi)`.
+    /// `evaluate(wo, wi)` and `pdf(wo, wi)`, except for stochastic models
+    /// ([`CoatedDiffuseBsdf`]), whose samples carry a path throughput and
+    /// density with [`BsdfSample::pdf_is_proportional`] set: their ratio is
+    /// the weight, and MIS must use [`Bsdf::pdf`].
     #[inline]
     pub fn sample(
         &self,
@@ -377,6 +391,12 @@ impl From<PrincipledBsdf> for Bsdf {
 impl From<PrincipledThinBsdf> for Bsdf {
     fn from(model: PrincipledThinBsdf) -> Self {
         Bsdf::new(BsdfModel::PrincipledThin(model))
+    }
+}
+
+impl From<CoatedDiffuseBsdf> for Bsdf {
+    fn from(model: CoatedDiffuseBsdf) -> Self {
+        Bsdf::new(BsdfModel::CoatedDiffuse(model))
     }
 }
 

@@ -31,6 +31,7 @@ mod diffuse;
 mod error;
 mod flags;
 mod fresnel;
+mod layered;
 mod measured_conductors;
 mod microfacet;
 mod plastic;
@@ -58,6 +59,7 @@ pub use fresnel::{
     Refraction, fresnel_complex, fresnel_complex_spectrum, fresnel_dielectric,
     fresnel_diffuse_reflectance, reflect_about_normal, refract,
 };
+pub use layered::CoatedDiffuseBsdf;
 pub use measured_conductors::{MeasuredConductor, measured_conductor, measured_conductor_names};
 pub use microfacet::{MicrofacetDistribution, MicrofacetKind, SMOOTH_ALPHA_THRESHOLD};
 pub use plastic::PlasticBsdf;

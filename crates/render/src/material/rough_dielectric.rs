@@ -36,13 +36,13 @@ pub struct RoughDielectricBsdf {
 
 /// The generalised half vector of a pair of directions, with what both
 /// evaluation and density need.
-struct HalfVector {
+pub(super) struct HalfVector {
     /// The microfacet normal, in the upper hemisphere.
-    normal: Vec3,
+    pub(super) normal: Vec3,
     /// Whether `wi` is on the side of `wo`.
-    reflection: bool,
+    pub(super) reflection: bool,
     /// The relative index along the path (1 for reflection).
-    relative_eta: f32,
+    pub(super) relative_eta: f32,
 }
 
 impl RoughDielectricBsdf {
@@ -69,7 +69,7 @@ impl RoughDielectricBsdf {
 
     /// The half vector of `wo` and `wi`, or `None` where no microfacet can
     /// connect them (grazing, the half vector on the wrong side of either).
-    fn half_vector(&self, wo: Vec3, wi: Vec3) -> Option<HalfVector> {
+    pub(super) fn half_vector(&self, wo: Vec3, wi: Vec3) -> Option<HalfVector> {
         let (cos_o, cos_i) = (wo.z, wi.z);
         if cos_o == 0.0 || cos_i == 0.0 {
             return None;
@@ -102,7 +102,7 @@ impl RoughDielectricBsdf {
 
     /// `w` mirrored into the upper hemisphere, where visible normals are
     /// sampled from.
-    fn upper(w: Vec3) -> Vec3 {
+    pub(super) fn upper(w: Vec3) -> Vec3 {
         if w.z < 0.0 { -w } else { w }
     }
 

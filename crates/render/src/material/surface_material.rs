@@ -6,6 +6,7 @@ use super::conductor::{ConductorBsdf, ConductorReflectance};
 use super::dielectric::DielectricBsdf;
 use super::diffuse::DiffuseBsdf;
 use super::error::MaterialError;
+use super::layered::CoatedDiffuseBsdf;
 use super::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use super::plastic::PlasticBsdf;
 use super::principled_material::PrincipledMaterial;
@@ -147,6 +148,22 @@ pub enum Material {
     },
     /// Mitsuba's `principled` or `principledthin` (Disney) BSDF.
     Principled(Box<PrincipledMaterial>),
+    /// pbrt-v4's `coateddiffuse` ([`CoatedDiffuseBsdf`]): a diffuse base of
+    /// albedo `reflectance` (clamped to [0, 1]) under a dielectric coating of
+    /// relative index `eta`, smooth when `roughness` is `None`, over a layer
+    /// of optical thickness `thickness` whose medium has albedo `albedo`
+    /// (clamped to [0, 1]) and Henyey–Greenstein asymmetry `g`; walks of at
+    /// most `max_depth` events, `samples` per evaluation. Two-sided.
+    CoatedDiffuse {
+        reflectance: SpectrumTexture,
+        eta: f32,
+        roughness: Option<Roughness>,
+        thickness: f32,
+        albedo: SpectrumTexture,
+        g: f32,
+        max_depth: u32,
+        samples: u32,
+    },
     /// `front` where light arrives from the side the normal points to,
     /// `back` (seen as its own front) where it arrives from behind
     /// (Mitsuba's `twosided` with two children). Bump maps and masks inside
@@ -225,6 +242,28 @@ impl Material {
             }
             Material::RoughDielectric { eta, .. } => {
                 Material::Dielectric { eta: eta.clone() }.validate()
+            }
+            Material::CoatedDiffuse {
+                eta, thickness, g, ..
+            } => {
+                if !(eta.is_finite() && *eta > 0.0) {
+                    return Err(MaterialError::NonPositiveIndexOfRefraction { value: *eta });
+                }
+                if !(thickness.is_finite() && *thickness >= 0.0) {
+                    return Err(MaterialError::InvalidValue {
+                        what: "coated diffuse thickness",
+                        requirement: "finite and non-negative",
+                        value: *thickness,
+                    });
+                }
+                if !g.is_finite() {
+                    return Err(MaterialError::InvalidValue {
+                        what: "coated diffuse g",
+                        requirement: "finite",
+                        value: *g,
+                    });
+                }
+                Ok(())
             }
             Material::ThinDielectric { eta } | Material::Plastic { eta, .. } => {
                 if eta.is_finite() && *eta > 0.0 {
@@ -374,6 +413,28 @@ impl Material {
                 }
             }
             Material::Principled(principled) => principled.bsdf(context, wavelengths),
+            Material::CoatedDiffuse {
+                reflectance,
+                eta,
+                roughness,
+                thickness,
+                albedo,
+                g,
+                max_depth,
+                samples,
+            } => CoatedDiffuseBsdf::new(
+                reflectance.evaluate(context, wavelengths).clamp(0.0, 1.0),
+                *eta,
+                roughness
+                    .as_ref()
+                    .map(|roughness| roughness.distribution(context)),
+                *thickness,
+                albedo.evaluate(context, wavelengths).clamp(0.0, 1.0),
+                *g,
+                *max_depth,
+                *samples,
+            )
+            .into(),
             Material::TwoSided { front, back } => Bsdf::two_sided(
                 *front.bsdf_with_context(context, wavelengths).model(),
                 *back.bsdf_with_context(context, wavelengths).model(),

@@ -253,12 +253,22 @@ pub enum MaterialDescription {
         nonlinear: bool,
         two_sided: bool,
     },
-    /// pbrt-v4's `coateddiffuse` (a stochastically evaluated layered BSDF).
+    /// pbrt-v4's `coateddiffuse` (a stochastically evaluated layered BSDF):
+    /// a diffuse base under a dielectric coating, with a medium of albedo
+    /// `albedo` and Henyey–Greenstein asymmetry `g` in a layer of optical
+    /// thickness `thickness`; random walks of at most `max_depth` events,
+    /// `samples` per evaluation (pbrt-v4's defaults: reflectance 0.5, eta
+    /// 1.5, roughness 0, thickness 0.01, albedo 0, g 0, maxdepth 10,
+    /// nsamples 1).
     CoatedDiffuse {
         reflectance: TextureDescription,
         interior_ior: f32,
         roughness: Option<RoughnessDescription>,
         thickness: f32,
+        albedo: TextureDescription,
+        g: f32,
+        max_depth: u32,
+        samples: u32,
     },
     /// Different materials on the front and back (Mitsuba `twosided` with two
     /// children).

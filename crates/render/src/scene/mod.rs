@@ -267,6 +267,32 @@ fn material(description: &MaterialDescription) -> Result<Option<Material>, Scene
                 two_sided: *two_sided,
             })
         }
+        MaterialDescription::CoatedDiffuse {
+            reflectance,
+            interior_ior,
+            roughness: coating_roughness,
+            thickness,
+            albedo,
+            g,
+            max_depth,
+            samples,
+        } => {
+            let material = Material::CoatedDiffuse {
+                reflectance: spectrum_texture(
+                    reflectance,
+                    SpectrumUsage::Albedo,
+                    "coated diffuse reflectance",
+                )?,
+                eta: relative_index(*interior_ior, 1.0, "coated diffuse")?,
+                roughness: coating_roughness.as_ref().map(roughness).transpose()?,
+                thickness: *thickness,
+                albedo: spectrum_texture(albedo, SpectrumUsage::Albedo, "coated diffuse albedo")?,
+                g: *g,
+                max_depth: *max_depth,
+                samples: *samples,
+            };
+            material.validate().map(|()| material)
+        }
         MaterialDescription::TwoSided { front, back } => Ok(Material::TwoSided {
             front: Box::new(nested_material(front)?),
             back: Box::new(nested_material(back)?),

@@ -112,7 +112,8 @@ pub fn build_spectrum(
 ///   `metal-none-k`, zero, a perfect mirror). The data are Mitsuba 3.9.1's
 ///   tables (luxpop.com, Palik 1985; see [`crate::material::measured_conductor`]),
 ///   also for the pbrt-v4 names, whose own tables (from refractiveindex.info)
-///   differ slightly. pbrt-v4's `metal-CuZn` (brass) is not available.
+///   differ slightly. pbrt-v4's `metal-CuZn-eta` / `metal-CuZn-k` (brass,
+///   which Mitsuba does not have) use pbrt-v4's own table ([`pbrt_brass`]).
 ///
 /// - `glass-BK7`, `glass-BAF10`, `glass-FK51A`, `glass-LASF9`, `glass-F5`,
 ///   `glass-F10`, `glass-F11` (also spelt `glass-SF5`, …): pbrt-v4's
@@ -128,6 +129,11 @@ pub fn named_spectrum(name: &str) -> Option<Spectrum> {
         return pbrt_glass(glass);
     }
     let metal = name.strip_prefix("metal-")?;
+    match metal {
+        "CuZn-eta" => return pbrt_brass(&BRASS_ETA),
+        "CuZn-k" => return pbrt_brass(&BRASS_K),
+        _ => {}
+    }
     if let Some(conductor) = metal.strip_suffix("-eta") {
         return crate::material::measured_conductor(conductor).map(|measured| measured.eta);
     }
@@ -176,6 +182,39 @@ pub const MITSUBA_NAMED_IORS: &[(&str, f32)] = &[
     ("pet", 1.5750),
     ("diamond", 2.419),
 ];
+
+/// η of brass (CuZn), 290–890 nm in 10 nm steps: pbrt-v4's `CuZn_eta` table
+/// (`src/pbrt/util/spectrum.cpp`; refractiveindex.info data, CC0), the
+/// spectrum behind its `metal-CuZn-eta`.
+const BRASS_ETA: [f32; 61] = [
+    1.358, 1.388, 1.419, 1.446, 1.473, 1.494, 1.504, 1.503, 1.497, 1.487, 1.471, 1.445, 1.405,
+    1.350, 1.278, 1.191, 1.094, 0.994, 0.900, 0.816, 0.745, 0.686, 0.639, 0.602, 0.573, 0.549,
+    0.527, 0.505, 0.484, 0.468, 0.460, 0.450, 0.452, 0.449, 0.445, 0.444, 0.444, 0.445, 0.444,
+    0.444, 0.445, 0.446, 0.448, 0.450, 0.452, 0.455, 0.457, 0.458, 0.460, 0.464, 0.469, 0.473,
+    0.478, 0.481, 0.483, 0.486, 0.490, 0.494, 0.500, 0.507, 0.515,
+];
+
+/// κ of brass (CuZn) at the wavelengths of [`BRASS_ETA`]: pbrt-v4's `CuZn_k`.
+const BRASS_K: [f32; 61] = [
+    1.688, 1.731, 1.764, 1.789, 1.807, 1.815, 1.815, 1.815, 1.818, 1.818, 1.813, 1.805, 1.794,
+    1.786, 1.784, 1.797, 1.829, 1.883, 1.957, 2.046, 2.145, 2.250, 2.358, 2.464, 2.568, 2.668,
+    2.765, 2.860, 2.958, 3.059, 3.159, 3.253, 3.345, 3.434, 3.522, 3.609, 3.695, 3.778, 3.860,
+    3.943, 4.025, 4.106, 4.186, 4.266, 4.346, 4.424, 4.501, 4.579, 4.657, 4.737, 4.814, 4.890,
+    4.965, 5.039, 5.115, 5.192, 5.269, 5.346, 5.423, 5.500, 5.575,
+];
+
+/// A brass table ([`BRASS_ETA`] or [`BRASS_K`]) as a piecewise-linear
+/// spectrum over 290, 300, …, 890 nm.
+fn pbrt_brass(values: &[f32; 61]) -> Option<Spectrum> {
+    let samples: Vec<(f32, f32)> = values
+        .iter()
+        .enumerate()
+        .map(|(index, &value)| (290.0 + 10.0 * index as f32, value))
+        .collect();
+    PiecewiseLinearSpectrum::new(&samples)
+        .ok()
+        .map(Spectrum::PiecewiseLinear)
+}
 
 /// pbrt-v4's named glass index spectra (refractiveindex.info, CC0), as
 /// (nm, η) pairs, with the digits of the published tables (more than f32

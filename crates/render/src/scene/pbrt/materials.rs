@@ -7,7 +7,8 @@
 //! Defaults (pbrt-v4's file-format reference): diffuse reflectance 0.5;
 //! conductor `eta` = `metal-Cu-eta`, `k` = `metal-Cu-k`, roughness 0;
 //! dielectric `eta` 1.5; coateddiffuse reflectance 0.5, roughness 0,
-//! thickness 0.01, `eta` 1.5; `remaproughness` true; `uroughness` and
+//! thickness 0.01, `eta` 1.5, albedo 0, g 0, maxdepth 10, nsamples 1;
+//! `remaproughness` true; `uroughness` and
 //! `vroughness` default to `roughness`.
 
 use super::parameters::{ParameterList, Position};
@@ -236,7 +237,26 @@ impl Loader {
                 exterior_ior: 1.0,
             },
             "coateddiffuse" => {
-                let material = MaterialDescription::CoatedDiffuse {
+                let count = |name: &str, default: i64| -> Result<u32, SceneFileError> {
+                    let value = parameters.integer(name, default)?;
+                    u32::try_from(value)
+                        .ok()
+                        .filter(|&v| v >= 1)
+                        .ok_or_else(|| {
+                            position.error(format!(
+                            "Material \"coateddiffuse\": \"{name}\" must be at least 1, got {value}"
+                        ))
+                        })
+                };
+                let max_depth = count("maxdepth", 10)?;
+                let samples = count("nsamples", 1)?;
+                let thickness = parameters.float("thickness", 0.01)?;
+                if !(thickness.is_finite() && thickness >= 0.0) {
+                    return Err(position.error(format!(
+                        "Material \"coateddiffuse\": \"thickness\" must be finite and non-negative, got {thickness}"
+                    )));
+                }
+                MaterialDescription::CoatedDiffuse {
                     reflectance: self
                         .spectrum_texture(parameters, "reflectance")?
                         .unwrap_or(constant(0.5)),
@@ -246,16 +266,14 @@ impl Loader {
                         "Material \"coateddiffuse\"",
                     )?,
                     roughness: self.roughness(parameters)?,
-                    thickness: parameters.float("thickness", 0.01)?,
-                };
-                let albedo = self.spectrum_texture(parameters, "albedo")?;
-                let g = parameters.float("g", 0.0)?;
-                parameters.integer("maxdepth", 10)?;
-                parameters.integer("nsamples", 1)?;
-                if albedo.is_some_and(|a| a != constant(0.0)) || g != 0.0 {
-                    self.warn(position, "Material \"coateddiffuse\": a scattering layer (albedo, g) is not supported; the layer is clear");
+                    thickness,
+                    albedo: self
+                        .spectrum_texture(parameters, "albedo")?
+                        .unwrap_or(constant(0.0)),
+                    g: parameters.float("g", 0.0)?,
+                    max_depth,
+                    samples,
                 }
-                material
             }
             "interface" | "" | "none" => MaterialDescription::Interface,
             "mix" => {

@@ -666,3 +666,24 @@ fn ply_meshes_plain_and_gzipped() {
         );
     }
 }
+
+#[test]
+fn brass_named_spectra_load_and_build() {
+    let loaded = load_source(&format!(
+        "WorldBegin\n\
+         Material \"conductor\" \"spectrum eta\" \"metal-CuZn-eta\" \"spectrum k\" \"metal-CuZn-k\"\n{TRIANGLE}"
+    ));
+    let MaterialDescription::Conductor { eta, k, .. } = &loaded.description.shapes[0].material
+    else {
+        panic!("{:?}", loaded.description.shapes[0].material)
+    };
+    assert_eq!(*eta, SpectrumDescription::Named("metal-CuZn-eta".into()));
+    assert_eq!(*k, SpectrumDescription::Named("metal-CuZn-k".into()));
+    crate::scene::Scene::build(&loaded.description).expect("a brass triangle builds");
+    // pbrt-v4's table: η = 0.527, κ = 2.765 at 550 nm; linear in between.
+    let eta = crate::scene::spectra::named_spectrum("metal-CuZn-eta").unwrap();
+    let k = crate::scene::spectra::named_spectrum("metal-CuZn-k").unwrap();
+    assert!((eta.evaluate(550.0) - 0.527).abs() < 1e-6);
+    assert!((k.evaluate(555.0) - 0.5 * (2.765 + 2.860)).abs() < 1e-5);
+    assert!((eta.evaluate(890.0) - 0.515).abs() < 1e-6);
+}
