@@ -133,12 +133,20 @@ fn assert_scene_converges(
         }
         let count = pixel_count as f64;
         let bound = 4.0 * image_variance.sqrt() / count + 1e-6;
+        eprintln!(
+            "{name} channel {channel}: image mean difference {:.3} standard errors",
+            image_difference / image_variance.sqrt().max(1e-30)
+        );
         assert!(
             (image_difference / count).abs() < bound,
             "{name}: channel {channel}: LQMC mean differs from the path tracer's by {} (bound {bound})",
             image_difference / count
         );
     }
+    eprintln!(
+        "{name}: {failures} of {} pixel channels fail |z| > 4; {statistics:?}",
+        3 * pixel_count
+    );
     assert!(
         failures as f64 <= 0.02 * 3.0 * pixel_count as f64,
         "{name}: {failures} of {} pixel channels fail the z-test",

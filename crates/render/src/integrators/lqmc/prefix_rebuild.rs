@@ -17,10 +17,10 @@ use super::medium_segment::{FlightEnd, lands_on, medium_roughness, sample_flight
 use super::path_record::{CameraVertex, SplatEvent, SurfaceVertex, Terminal};
 use super::statistics::FailureReason;
 use crate::geometry::{Ray, SurfaceHit, spawn_ray};
-use crate::material::SurfaceBsdf;
-use crate::medium::medium_after;
 use crate::integrators::TraceCounters;
 use crate::integrators::path::oriented_hit;
+use crate::material::SurfaceBsdf;
+use crate::medium::medium_after;
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::SampledWavelengths;
@@ -113,7 +113,6 @@ impl ImagePlane {
         self.raster(g)
     }
 }
-
 
 /// A rebuilt surface vertex: the seed's sampled lobe, the roughness of
 /// that lobe of the member's own BSDF.

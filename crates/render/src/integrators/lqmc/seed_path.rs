@@ -76,7 +76,8 @@ pub fn trace_seed_path(
         let hit = oriented_hit(scene, &raw_hit);
         let info = &scene.shapes[hit.shape_index as usize];
         let wo = -ray.direction;
-        path.vertices.push(SurfaceVertex::surface(raw_hit, hit, 1.0));
+        path.vertices
+            .push(SurfaceVertex::surface(raw_hit, hit, 1.0));
         if let Some(light_index) = info.light {
             path.events.push(SplatEvent {
                 vertex_count: path.vertices.len(),

@@ -120,7 +120,8 @@ pub fn trace_volumetric_seed_path(
             FlightEnd::Surface { raw_hit } => {
                 let hit = oriented_hit(scene, &raw_hit);
                 let info = &scene.shapes[hit.shape_index as usize];
-                path.vertices.push(SurfaceVertex::surface(raw_hit, hit, 1.0));
+                path.vertices
+                    .push(SurfaceVertex::surface(raw_hit, hit, 1.0));
                 if let Some(light_index) = info.light {
                     path.events.push(SplatEvent {
                         vertex_count: path.vertices.len(),

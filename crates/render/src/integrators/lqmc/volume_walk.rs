@@ -18,11 +18,11 @@
 //! segment that reaches a surface is checked by the rebuild. In the suffix,
 //! positions are kept and the free-flight decision is part of the density.
 
+use super::medium_segment::{SegmentTarget, trace_segment};
 use super::path_record::{CameraVertex, SurfaceVertex, Terminal};
 use super::path_walk::{SPECULAR_DIRECTION_COSINE, WalkInput, WalkedPath, non_specular_eta};
 use super::statistics::FailureReason;
 use super::volume_seed::start_medium;
-use super::medium_segment::{SegmentTarget, trace_segment};
 use crate::geometry::{Ray, offset_ray_origin, spawn_ray};
 use crate::integrators::TraceCounters;
 use crate::integrators::path::PathSettings;
@@ -35,7 +35,12 @@ use glam::Vec3;
 
 /// The ray of the segment that leaves `from` (the camera when `None`)
 /// along `direction`.
-fn segment_ray(camera: &CameraVertex, scene: &Scene, from: Option<&SurfaceVertex>, direction: Vec3) -> Ray {
+fn segment_ray(
+    camera: &CameraVertex,
+    scene: &Scene,
+    from: Option<&SurfaceVertex>,
+    direction: Vec3,
+) -> Ray {
     match from {
         None => Ray::with_time(camera.origin, direction, scene.camera.time(camera.u_time)),
         Some(vertex) if vertex.is_medium() => {
@@ -212,7 +217,11 @@ pub fn walk_volumetric(
                 vertex.raw_hit.point,
                 vertex.raw_hit.geometric_normal,
             );
-            return finish(state.emission(emitted, light_pdf), wavelengths, suffix_density);
+            return finish(
+                state.emission(emitted, light_pdf),
+                wavelengths,
+                suffix_density,
+            );
         }
         let last = m + 1 == scattering_count;
 
@@ -227,7 +236,9 @@ pub fn walk_volumetric(
                 .ok_or(FailureReason::Evaluation)?;
             Some(material.surface_bsdf_at(&vertex.hit, &wavelengths))
         };
-        let phase = vertex.medium.map(|medium| scene.media[medium as usize].phase);
+        let phase = vertex
+            .medium
+            .map(|medium| scene.media[medium as usize].phase);
         let reference = match surface {
             Some(_) => offset_ray_origin(vertex.hit.point, vertex.hit.geometric_normal, wo),
             None => vertex.raw_hit.point,
