@@ -19,18 +19,26 @@ use render::renderer::{RenderSettings, render};
 use render::sampler::SamplerKind;
 use render::scene::Scene;
 use render::scene::builtin::builtin_scene;
+use render::scene::description::{
+    MaterialDescription, MicrofacetDistribution, RoughnessDescription, SceneDescription,
+    SpectrumDescription, TextureDescription,
+};
 use std::sync::atomic::AtomicBool;
 
 const RESOLUTION: u32 = 32;
 const REPLICATIONS: u64 = 8;
 
 fn scene(name: &str) -> Scene {
-    let mut description = builtin_scene(name).unwrap();
+    Scene::build(&small(builtin_scene(name).unwrap())).unwrap()
+}
+
+/// The description at most `RESOLUTION` pixels wide.
+fn small(mut description: SceneDescription) -> SceneDescription {
     let [width, height] = description.camera.resolution;
     // Keep the aspect ratio, at most 32 pixels wide.
     let scaled_height = ((RESOLUTION as f64 * height as f64 / width as f64).round() as u32).max(1);
     description.camera.resolution = [RESOLUTION, scaled_height];
-    Scene::build(&description).unwrap()
+    description
 }
 
 /// One render's image (splats scaled by 1/spp) and variance image.
@@ -67,16 +75,28 @@ fn assert_converges(
     lqmc_spp: u64,
     reference_spp: u64,
 ) -> LqmcStatistics {
-    let scene = scene(name);
+    assert_scene_converges(name, &scene(name), IntegratorKind::Path, lqmc, lqmc_spp, reference_spp)
+}
+
+/// [`assert_converges`] for a built scene against the `reference`
+/// integrator (`path`, or `volpath` for scenes with media).
+fn assert_scene_converges(
+    name: &str,
+    scene: &Scene,
+    reference_integrator: IntegratorKind,
+    lqmc: LqmcSettings,
+    lqmc_spp: u64,
+    reference_spp: u64,
+) -> LqmcStatistics {
     let (reference, reference_variance, _) =
-        render_once(&scene, IntegratorKind::Path, lqmc, reference_spp, 1000);
+        render_once(scene, reference_integrator, lqmc, reference_spp, 1000);
     let pixel_count = reference.pixels().len();
     let mut sum = vec![[0.0f64; 3]; pixel_count];
     let mut sum_squares = vec![[0.0f64; 3]; pixel_count];
     let mut statistics = LqmcStatistics::default();
     for replication in 0..REPLICATIONS {
         let (image, _, counters) =
-            render_once(&scene, IntegratorKind::Lqmc, lqmc, lqmc_spp, replication);
+            render_once(scene, IntegratorKind::Lqmc, lqmc, lqmc_spp, replication);
         statistics.add(&counters);
         for (pixel, value) in image.pixels().iter().enumerate() {
             for channel in 0..3 {
@@ -113,12 +133,20 @@ fn assert_converges(
         }
         let count = pixel_count as f64;
         let bound = 4.0 * image_variance.sqrt() / count + 1e-6;
+        eprintln!(
+            "{name} channel {channel}: image mean difference {:.3} standard errors",
+            image_difference / image_variance.sqrt().max(1e-30)
+        );
         assert!(
             (image_difference / count).abs() < bound,
             "{name}: channel {channel}: LQMC mean differs from the path tracer's by {} (bound {bound})",
             image_difference / count
         );
     }
+    eprintln!(
+        "{name}: {failures} of {} pixel channels fail |z| > 4; {statistics:?}",
+        3 * pixel_count
+    );
     assert!(
         failures as f64 <= 0.02 * 3.0 * pixel_count as f64,
         "{name}: {failures} of {} pixel channels fail the z-test",
@@ -179,6 +207,92 @@ fn glass_sphere_box_caustic() {
     assert!(
         statistics.explorations[1] > 10,
         "caustic explorations: {statistics:?}"
+    );
+}
+
+/// Media in LQMC paths (issue 5): rough glass spheres (two lobes, reflect
+/// and refract, chosen by the seed's component number) filled with
+/// scattering media, the breakup drawn from the roughness CDF (media count
+/// √(1 − g²), the glass its α = 0.1), against the volumetric path tracer.
+#[test]
+fn translucent_spheres_media_roughness_breakup() {
+    let name = "translucent-spheres";
+    let statistics = assert_scene_converges(
+        name,
+        &scene(name),
+        IntegratorKind::VolPath,
+        LqmcSettings::default(),
+        4,
+        256,
+    );
+    assert!(
+        statistics.medium_explorations > 100,
+        "explorations with free flights: {statistics:?}"
+    );
+}
+
+/// The camera inside fog, a beam focused by a glass sphere: medium
+/// vertices at x_1 (the first segment's free flight is explored).
+#[test]
+fn volumetric_caustic_media_roughness_breakup() {
+    let name = "volumetric-caustic";
+    let statistics = assert_scene_converges(
+        name,
+        &scene(name),
+        IntegratorKind::VolPath,
+        LqmcSettings::default(),
+        4,
+        256,
+    );
+    assert!(
+        statistics.medium_explorations > 100,
+        "explorations with free flights: {statistics:?}"
+    );
+}
+
+/// Multi-lobe BSDFs (issue 5): the Cornell box with rough plastic (GGX
+/// coating α = 0.2 over a diffuse base, two non-delta lobes) and smooth
+/// plastic (a delta coating over a diffuse base) in place of its diffuse
+/// walls and boxes, alternately.
+#[test]
+fn cornell_box_plastic_lobes() {
+    let mut description = small(builtin_scene("cornell-box").unwrap());
+    let mut index = 0;
+    for shape in &mut description.shapes {
+        if shape.emission.is_some() {
+            continue;
+        }
+        if let MaterialDescription::Diffuse { reflectance, .. } = &shape.material {
+            let roughness = (index % 2 == 0).then(|| RoughnessDescription {
+                distribution: MicrofacetDistribution::Ggx,
+                alpha_u: TextureDescription::Constant(SpectrumDescription::Constant(0.2)),
+                alpha_v: TextureDescription::Constant(SpectrumDescription::Constant(0.2)),
+                remap: false,
+            });
+            shape.material = MaterialDescription::Plastic {
+                diffuse_reflectance: reflectance.clone(),
+                interior_ior: 1.5,
+                exterior_ior: 1.0,
+                roughness,
+                nonlinear: false,
+                two_sided: false,
+            };
+            index += 1;
+        }
+    }
+    assert!(index >= 4, "plastic shapes: {index}");
+    let scene = Scene::build(&description).unwrap();
+    let statistics = assert_scene_converges(
+        "cornell-box (plastic)",
+        &scene,
+        IntegratorKind::Path,
+        LqmcSettings::default(),
+        4,
+        256,
+    );
+    assert!(
+        statistics.breakups[1] + statistics.breakups[2] > 1000,
+        "{statistics:?}"
     );
 }
 

@@ -495,7 +495,7 @@ fn sample_light(
 
 /// The shadow ray of a light sample and its extent: from a surface hit
 /// offset towards the light, or from a medium point.
-fn shadow_ray(
+pub(crate) fn shadow_ray(
     reference: Vec3,
     hit: Option<&SurfaceHit>,
     sample: &LightSample,

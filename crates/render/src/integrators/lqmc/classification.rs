@@ -6,6 +6,7 @@
 
 use super::path_record::{CameraVertex, SplatEvent, SurfaceVertex};
 use super::settings::{BreakupChoice, LqmcSettings};
+use crate::material::{BsdfFlags, SurfaceBsdf};
 use crate::scene::Scene;
 
 /// The classes that choose the lattice size and the tiles.
@@ -52,14 +53,29 @@ impl PathClass {
     }
 }
 
-/// The roughness of a surface vertex for the breakup CDF: 0 for a specular
-/// scattering, 1 otherwise (diffuse). This is the one place to switch to the
-/// BSDF's own roughness (α of rough materials) once materials provide it.
+/// The roughness of a vertex for the breakup CDF and the caustic class: 0
+/// for a specular scattering, otherwise the roughness recorded with the
+/// vertex (see [`lobe_roughness`]; √(1 − g²) in media).
 pub fn vertex_roughness(vertex: &SurfaceVertex) -> f32 {
     if vertex.sampled.is_specular() {
         0.0
     } else {
+        vertex.roughness
+    }
+}
+
+/// The effective roughness of the lobes `lobes` of `bsdf` (the sampled
+/// lobe's flags, or all of the BSDF's flags where nothing was sampled, as
+/// at a next-event vertex): 1 if they include a diffuse lobe (plastic's
+/// substrate as well), the BSDF's own roughness ([`SurfaceBsdf::roughness`],
+/// the microfacet α) for glossy lobes, 0 for specular ones.
+pub fn lobe_roughness(bsdf: &SurfaceBsdf, lobes: BsdfFlags) -> f32 {
+    if lobes.is_diffuse() {
         1.0
+    } else if lobes.is_glossy() {
+        bsdf.roughness().clamp(0.0, 1.0)
+    } else {
+        0.0
     }
 }
 
@@ -199,6 +215,62 @@ pub fn draw_breakup(weights: &[f64], u: f64) -> Option<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::integrators::lqmc::path_record::Terminal;
+    use glam::{Vec2, Vec3};
+
+    /// The CDF's masses are min(roughness(x_b), roughness(x_{b+1})) with the
+    /// vertices' own roughness (a rough lobe's α, a medium's √(1 − g²)), 1
+    /// for the camera and the light; the draws follow them.
+    #[test]
+    fn breakup_draws_follow_the_vertices_roughness() {
+        let camera = CameraVertex {
+            raster: Vec2::ZERO,
+            u_lens: [0.5; 2],
+            u_time: 0.5,
+            u_wavelength: 0.5,
+            origin: Vec3::ZERO,
+        };
+        let vertex = |roughness: f32| SurfaceVertex::in_medium(Vec3::ONE, 0.0, 0, roughness);
+        let mut glossy = vertex(0.1);
+        glossy.medium = None;
+        glossy.sampled = BsdfFlags::GLOSSY | BsdfFlags::TRANSMISSION;
+        let mut specular = vertex(0.7);
+        specular.medium = None;
+        specular.sampled = BsdfFlags::SPECULAR | BsdfFlags::REFLECTION;
+        let vertices = [vertex(0.6), glossy, vertex(1.0), specular, vertex(1.0)];
+        let event = SplatEvent {
+            vertex_count: vertices.len(),
+            terminal: Terminal::Emission { light_index: 0 },
+        };
+        let path = EventPath {
+            camera: &camera,
+            vertices: &vertices,
+            event: &event,
+        };
+        let mut weights = Vec::new();
+        breakup_weights(
+            &LqmcSettings::default(),
+            &path,
+            PathClass::Normal,
+            |_| true,
+            &mut weights,
+        );
+        let expected = [0.6, 0.1, 0.1, 0.0, 0.0];
+        assert_eq!(weights.len(), expected.len());
+        for (weight, expected) in weights.iter().zip(expected) {
+            assert!((weight - expected).abs() < 1e-6, "{weights:?}");
+        }
+        let draws = 100_000;
+        let mut counts = [0usize; 5];
+        for i in 0..draws {
+            let b = draw_breakup(&weights, (i as f64 + 0.5) / draws as f64).unwrap();
+            counts[b] += 1;
+        }
+        let total: f64 = expected.iter().sum();
+        for (count, expected) in counts.iter().zip(expected) {
+            assert!((*count as f64 / draws as f64 - expected / total).abs() < 1e-3);
+        }
+    }
 
     #[test]
     fn breakup_draw_follows_the_weights() {

@@ -148,6 +148,7 @@ fn handle_event(
             terminal: &event.terminal,
             rebuilt_vertices: 0,
             breakup: None,
+            tolerance: settings.reconnection_tolerance,
         },
         sampler,
     ) else {
@@ -265,6 +266,9 @@ fn explore(
             DimensionKind::Direction { vertex, axis } => {
                 sampler.get(layout::vertex(vertex, layout::SCATTER_DIRECTION + axis))
             }
+            DimensionKind::FreeFlight { vertex } => {
+                sampler.get(layout::vertex(vertex, layout::FREE_FLIGHT))
+            }
         };
         scratch
             .seed_numbers
@@ -311,6 +315,13 @@ fn explore(
     }
     statistics.explorations[class.index()] += 1;
     statistics.breakups[breakup.min(3)] += 1;
+    if scratch
+        .dimensions
+        .iter()
+        .any(|dimension| matches!(dimension.kind, DimensionKind::FreeFlight { .. }))
+    {
+        statistics.medium_explorations += 1;
+    }
 
     let member_count = scratch.members.numbers.len() / dimension_count;
     scratch.member_splats.clear();
@@ -339,6 +350,9 @@ fn explore(
                     layout::vertex(vertex, layout::SCATTER_DIRECTION + axis),
                     value,
                 )),
+                DimensionKind::FreeFlight { vertex } => scratch
+                    .overrides
+                    .push((layout::vertex(vertex, layout::FREE_FLIGHT), value)),
             }
         }
         if image_numbers != seed_image_numbers {
@@ -371,6 +385,7 @@ fn explore(
                     terminal: &event.terminal,
                     rebuilt_vertices: breakup,
                     breakup: Some(breakup),
+                    tolerance: settings.reconnection_tolerance,
                 },
                 &mut source,
             )?;

@@ -4,7 +4,10 @@
 //! outgoing direction of every non-specular vertex x_1 .. x_{b−1} (which
 //! places x_2 .. x_b). Specular vertices consume no explored dimension;
 //! Russian roulette and component selection keep the seed's numbers.
-//! Free-flight distances (media) will add one dimension per medium segment.
+//! In media, the free-flight distance of each segment that ends at a
+//! medium vertex x_1 .. x_b is explored too (1000 tiles, the authors'
+//! value); a segment that reaches a surface through a medium keeps the
+//! seed's free-flight number, a discrete decision like Russian roulette.
 
 use super::classification::EventPath;
 use super::settings::{ClassParameters, LqmcSettings};
@@ -29,6 +32,12 @@ pub enum DimensionKind {
         /// The axis.
         axis: usize,
     },
+    /// Free-flight distance of the segment that ends at layout vertex
+    /// `vertex` (a medium vertex).
+    FreeFlight {
+        /// The layout vertex.
+        vertex: usize,
+    },
 }
 
 impl DimensionKind {
@@ -42,6 +51,9 @@ impl DimensionKind {
             DimensionKind::Image(axis) => (layout::FILM + axis) as u64,
             DimensionKind::Direction { vertex, axis } => {
                 layout::vertex(vertex, layout::SCATTER_DIRECTION + axis) as u64
+            }
+            DimensionKind::FreeFlight { vertex } => {
+                layout::vertex(vertex, layout::FREE_FLIGHT) as u64
             }
         }
     }
@@ -111,6 +123,17 @@ pub fn explored_dimensions(
                     dimensions.push(ExploredDimension {
                         kind: DimensionKind::Direction { vertex, axis },
                         tiles: parameters.direction_tiles.max(1),
+                    });
+                }
+            }
+        }
+        if effects.free_flight {
+            // The segment ending at x_{m+1} (layout vertex m) places it.
+            for vertex in 0..breakup.min(path.vertices.len()) {
+                if path.vertices[vertex].is_medium() {
+                    dimensions.push(ExploredDimension {
+                        kind: DimensionKind::FreeFlight { vertex },
+                        tiles: settings.free_flight_tiles.max(1),
                     });
                 }
             }

@@ -22,12 +22,15 @@ pub mod estimator;
 pub mod exploration;
 pub mod explored_dimensions;
 pub mod lattice_step;
+pub mod medium_segment;
 pub mod path_record;
 pub mod path_walk;
 pub mod prefix_rebuild;
 pub mod seed_path;
 pub mod settings;
 pub mod statistics;
+pub mod volume_seed;
+pub mod volume_walk;
 
 pub use classification::PathClass;
 pub use exploration::{ClassDensity, LqmcContext, LqmcScratch, render_pixel_sample};

@@ -24,7 +24,10 @@ pub struct CameraVertex {
     pub origin: Vec3,
 }
 
-/// One surface vertex `x_{m+1}` (vertex `m` of the dimension layout).
+/// One scattering vertex `x_{m+1}` (vertex `m` of the dimension layout): a
+/// surface hit, or a scattering event inside a homogeneous medium (then
+/// `medium` names the medium, and `raw_hit` and `hit` hold only the point
+/// and the time: zero normals, shape index [`MEDIUM_SHAPE`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SurfaceVertex {
     /// The hit as the geometry returned it (for ray spawning and emission).
@@ -32,8 +35,71 @@ pub struct SurfaceVertex {
     /// The hit with normals flipped for shapes with `flip_normals` (for
     /// materials).
     pub hit: SurfaceHit,
-    /// Flags of the scattering sampled here (empty where none was).
+    /// Flags of the scattering sampled here (empty where none was, and at
+    /// medium vertices).
     pub sampled: BsdfFlags,
+    /// The vertex's effective roughness for the breakup CDF (see
+    /// [`super::classification::vertex_roughness`]).
+    pub roughness: f32,
+    /// The medium of a medium vertex (`None` on surfaces).
+    pub medium: Option<u32>,
+}
+
+/// The shape index that medium vertices carry in their hit records.
+pub const MEDIUM_SHAPE: u32 = u32::MAX;
+
+impl SurfaceVertex {
+    /// A surface vertex with nothing sampled yet.
+    pub fn surface(raw_hit: SurfaceHit, hit: SurfaceHit, roughness: f32) -> Self {
+        Self {
+            raw_hit,
+            hit,
+            sampled: BsdfFlags::NONE,
+            roughness,
+            medium: None,
+        }
+    }
+
+    /// A scattering event at `point` inside medium `medium`, whose phase
+    /// function gives it `roughness` (√(1 − g²)).
+    pub fn in_medium(point: Vec3, time: f32, medium: u32, roughness: f32) -> Self {
+        let hit = SurfaceHit {
+            t: 0.0,
+            point,
+            geometric_normal: Vec3::ZERO,
+            shading_normal: Vec3::ZERO,
+            uv: Vec2::ZERO,
+            dpdu: Vec3::ZERO,
+            dpdv: Vec3::ZERO,
+            shape_index: MEDIUM_SHAPE,
+            primitive_index: 0,
+            time,
+        };
+        Self {
+            raw_hit: hit,
+            hit,
+            sampled: BsdfFlags::NONE,
+            roughness,
+            medium: Some(medium),
+        }
+    }
+
+    /// Whether this is a scattering event in a medium.
+    pub fn is_medium(&self) -> bool {
+        self.medium.is_some()
+    }
+
+    /// The factor that turns a solid-angle density at the previous vertex
+    /// into a density at this vertex, per unit distance squared: |cos| of
+    /// the geometric normal with `direction` on surfaces, 1 in media
+    /// (volume measure).
+    pub fn measure_cosine(&self, direction: Vec3) -> f32 {
+        if self.is_medium() {
+            1.0
+        } else {
+            self.raw_hit.geometric_normal.dot(direction).abs()
+        }
+    }
 }
 
 /// A next-event-estimation connection from the last surface vertex.

@@ -19,6 +19,7 @@ use super::path_record::{CameraVertex, SurfaceVertex, Terminal};
 use super::statistics::FailureReason;
 use crate::geometry::{offset_ray_origin, spawn_ray, spawn_ray_to_point};
 use crate::integrators::path::{PathSettings, emission_weight};
+use crate::material::{BsdfModel, SurfaceBsdf};
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -26,7 +27,39 @@ use glam::Vec3;
 
 /// Directions of a specular scattering recomputed for a member must agree
 /// with the recorded ones to this cosine.
-const SPECULAR_DIRECTION_COSINE: f32 = 1.0 - 1e-4;
+pub(super) const SPECULAR_DIRECTION_COSINE: f32 = 1.0 - 1e-4;
+
+/// The η² factor of Russian roulette's throughput at a non-specular vertex
+/// (η_t/η_i of a transmission through a rough dielectric, 1 otherwise, as
+/// the seed's sampling applied it), or `ModeChange` when the path's
+/// directions no longer make the recorded kind of scattering (reflection
+/// or transmission about the shading normal): Russian roulette's decisions
+/// must see the same factor for the seed and for every member.
+pub(super) fn non_specular_eta(
+    vertex: &SurfaceVertex,
+    bsdf: &SurfaceBsdf,
+    wo: Vec3,
+    wi: Vec3,
+) -> Result<f32, FailureReason> {
+    if vertex.sampled.is_empty() {
+        return Ok(1.0);
+    }
+    let normal = bsdf.frame.normal();
+    let transmits = wo.dot(normal) * wi.dot(normal) < 0.0;
+    if transmits != vertex.sampled.is_transmissive() {
+        return Err(FailureReason::ModeChange);
+    }
+    let front_eta = match bsdf.bsdf.model() {
+        BsdfModel::RoughDielectric(dielectric) if transmits => dielectric.eta(),
+        _ => return Ok(1.0),
+    };
+    let eta = if wo.dot(normal) > 0.0 {
+        front_eta
+    } else {
+        1.0 / front_eta
+    };
+    Ok(eta * eta)
+}
 
 /// The value of a path and the density of its suffix.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -55,6 +88,9 @@ pub struct WalkInput<'a> {
     /// The breakup vertex `b` (paper numbering) whose suffix density is
     /// wanted.
     pub breakup: Option<usize>,
+    /// Relative distance within which a re-traced segment must land on its
+    /// vertex (scenes with media, whose every segment is traced again).
+    pub tolerance: f32,
 }
 
 /// Evaluates the path; `numbers` answers the seed's numbers by dimension.
@@ -64,6 +100,9 @@ pub fn walk(
     input: &WalkInput<'_>,
     numbers: &mut dyn SampleSource,
 ) -> Result<WalkedPath, FailureReason> {
+    if !scene.media.is_empty() {
+        return super::volume_walk::walk_volumetric(scene, settings, input, numbers);
+    }
     let camera = input.camera;
     let vertices = input.vertices;
     let mut wavelengths = SampledWavelengths::sample_visible(camera.u_wavelength);
@@ -216,6 +255,7 @@ pub fn walk(
             }
             (sample.value, sample.pdf)
         } else {
+            eta_scale *= non_specular_eta(vertex, &bsdf, wo, wi)?;
             (bsdf.evaluate(wo, wi, &wavelengths), bsdf.pdf(wo, wi))
         };
         if pdf.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || value.is_black() {

@@ -5,16 +5,22 @@
 //! scene, a blocked reconnection, or one that lands away from the seed's
 //! `x_{b+1}` make the member fail.
 //!
-//! Media: a medium vertex would be rebuilt here from its free-flight number
-//! (layout dimension 7 of its block) like a surface vertex from its
-//! direction numbers, and the reconnection would then need the
-//! transmittance along the segment.
+//! Media: in scenes with participating media the prefix is traced through
+//! them as [`crate::integrators::volpath`] does (free flights from each
+//! block's `FREE_FLIGHT` number, medium vertices scattering with the phase
+//! function; [`super::medium_segment`]), and the reconnection and every
+//! other segment are traced, with their transmittance, by the walk
+//! ([`super::volume_walk`]).
 
+use super::classification::lobe_roughness;
+use super::medium_segment::{FlightEnd, lands_on, medium_roughness, sample_flight};
 use super::path_record::{CameraVertex, SplatEvent, SurfaceVertex, Terminal};
 use super::statistics::FailureReason;
-use crate::geometry::{SurfaceHit, spawn_ray};
+use crate::geometry::{Ray, SurfaceHit, spawn_ray};
 use crate::integrators::TraceCounters;
 use crate::integrators::path::oriented_hit;
+use crate::material::SurfaceBsdf;
+use crate::medium::medium_after;
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::SampledWavelengths;
@@ -108,10 +114,111 @@ impl ImagePlane {
     }
 }
 
-/// Whether a reconnection ray's hit is the seed's vertex.
-fn lands_on(hit: &SurfaceHit, target: &SurfaceVertex, distance: f32, tolerance: f32) -> bool {
-    hit.shape_index == target.raw_hit.shape_index
-        && (hit.point - target.raw_hit.point).length() <= tolerance * distance.max(1e-6)
+/// A rebuilt surface vertex: the seed's sampled lobe, the roughness of
+/// that lobe of the member's own BSDF.
+fn rebuilt_surface_vertex(
+    raw_hit: SurfaceHit,
+    hit: SurfaceHit,
+    bsdf: &SurfaceBsdf,
+    seed_vertex: &SurfaceVertex,
+) -> SurfaceVertex {
+    let lobes = if seed_vertex.sampled.is_empty() {
+        bsdf.flags()
+    } else {
+        seed_vertex.sampled
+    };
+    SurfaceVertex {
+        sampled: seed_vertex.sampled,
+        ..SurfaceVertex::surface(raw_hit, hit, lobe_roughness(bsdf, lobes))
+    }
+}
+
+/// Rebuilds `x_1 .. x_b` through media from the member's numbers (free
+/// flights from `FREE_FLIGHT`, directions from `SCATTER_DIRECTION`, the
+/// seed's component numbers), starting with the camera ray `ray`. A vertex
+/// whose kind differs from the seed's (medium or surface, the medium, the
+/// sampled lobe) fails the member with `ModeChange`.
+#[allow(clippy::too_many_arguments)]
+fn rebuild_volumetric_prefix(
+    scene: &Scene,
+    seed_vertices: &[SurfaceVertex],
+    breakup: usize,
+    mut ray: Ray,
+    wavelengths: &mut SampledWavelengths,
+    source: &mut dyn SampleSource,
+    counters: &mut TraceCounters,
+    vertices: &mut Vec<SurfaceVertex>,
+) -> Result<(), FailureReason> {
+    let mut medium = scene.camera_medium;
+    for (m, seed_vertex) in seed_vertices.iter().enumerate().take(breakup) {
+        let flight = sample_flight(
+            scene,
+            &mut ray,
+            &mut medium,
+            || source.get(layout::vertex(m, layout::FREE_FLIGHT)),
+            wavelengths,
+            &mut counters.closest_hit_rays,
+        );
+        let wo = -ray.direction;
+        match flight.end {
+            FlightEnd::Dead => return Err(FailureReason::Evaluation),
+            FlightEnd::Escaped => return Err(FailureReason::Escaped),
+            FlightEnd::Medium {
+                point,
+                medium: medium_index,
+            } => {
+                if seed_vertex.medium != Some(medium_index) {
+                    return Err(FailureReason::ModeChange);
+                }
+                vertices.push(SurfaceVertex::in_medium(
+                    point,
+                    ray.time,
+                    medium_index,
+                    medium_roughness(scene, medium_index),
+                ));
+                if m + 1 == breakup {
+                    break;
+                }
+                let phase = scene.media[medium_index as usize].phase;
+                let sample = phase.sample(
+                    wo,
+                    source.get_2d(layout::vertex(m, layout::SCATTER_DIRECTION)),
+                );
+                ray = Ray::with_time(point, sample.wi, ray.time);
+            }
+            FlightEnd::Surface { raw_hit } => {
+                if seed_vertex.is_medium() {
+                    return Err(FailureReason::ModeChange);
+                }
+                let hit = oriented_hit(scene, &raw_hit);
+                let info = &scene.shapes[hit.shape_index as usize];
+                let Some(material) = &info.material else {
+                    return Err(FailureReason::Escaped);
+                };
+                let bsdf = material.surface_bsdf_at(&hit, wavelengths);
+                vertices.push(rebuilt_surface_vertex(raw_hit, hit, &bsdf, seed_vertex));
+                if m + 1 == breakup {
+                    break;
+                }
+                let u_component = source.get(layout::vertex(m, layout::SCATTER_COMPONENT));
+                let u = source.get_2d(layout::vertex(m, layout::SCATTER_DIRECTION));
+                let sample = bsdf
+                    .sample(wo, u_component, u, wavelengths)
+                    .ok_or(FailureReason::Evaluation)?;
+                if sample.flags != seed_vertex.sampled {
+                    return Err(FailureReason::ModeChange);
+                }
+                medium = medium_after(
+                    info.medium_interface.as_ref(),
+                    hit.geometric_normal,
+                    sample.wi,
+                    medium,
+                );
+                ray = spawn_ray(&raw_hit, sample.wi);
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Rebuilds the member's vertices (prefix, then the seed's suffix) into
@@ -138,6 +245,17 @@ pub fn rebuild_member(
             .project(first.raw_hit.point, camera.u_lens, camera.u_time)
             .filter(|projection| image_plane.contains(projection.raster))
             .ok_or(FailureReason::OutsideImage)?;
+        if !scene.media.is_empty() {
+            // The walk traces (and checks) every segment through the media.
+            vertices.extend_from_slice(seed_vertices);
+            return Ok(CameraVertex {
+                raster: projection.raster,
+                u_lens: camera.u_lens,
+                u_time: camera.u_time,
+                u_wavelength: camera.u_wavelength,
+                origin: projection.origin,
+            });
+        }
         let to_first = first.raw_hit.point - projection.origin;
         let distance = to_first.length();
         let ray = crate::geometry::Ray::with_time(
@@ -176,6 +294,21 @@ pub fn rebuild_member(
     let mut wavelengths = SampledWavelengths::sample_visible(camera.u_wavelength);
     let mut ray =
         crate::geometry::Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time);
+    if !scene.media.is_empty() {
+        rebuild_volumetric_prefix(
+            scene,
+            seed_vertices,
+            breakup,
+            ray,
+            &mut wavelengths,
+            source,
+            counters,
+            vertices,
+        )?;
+        // The walk traces (and checks) the reconnection through the media.
+        vertices.extend_from_slice(&seed_vertices[breakup..]);
+        return Ok(camera_vertex);
+    }
     for (m, seed_vertex) in seed_vertices.iter().enumerate().take(breakup) {
         counters.closest_hit_rays += 1;
         let raw_hit = scene
@@ -183,18 +316,14 @@ pub fn rebuild_member(
             .intersect(&ray, f32::INFINITY)
             .ok_or(FailureReason::Escaped)?;
         let hit = oriented_hit(scene, &raw_hit);
-        vertices.push(SurfaceVertex {
-            raw_hit,
-            hit,
-            sampled: seed_vertex.sampled,
-        });
         let Some(material) = &scene.shapes[hit.shape_index as usize].material else {
             return Err(FailureReason::Escaped);
         };
+        let bsdf = material.surface_bsdf_at(&hit, &wavelengths);
+        vertices.push(rebuilt_surface_vertex(raw_hit, hit, &bsdf, seed_vertex));
         if m + 1 == breakup {
             break;
         }
-        let bsdf = material.surface_bsdf_at(&hit, &wavelengths);
         let u_component = source.get(layout::vertex(m, layout::SCATTER_COMPONENT));
         let u = source.get_2d(layout::vertex(m, layout::SCATTER_DIRECTION));
         let sample = bsdf

@@ -5,6 +5,7 @@
 //! the values of the events are computed afterwards by
 //! [`super::path_walk::walk`].
 
+use super::classification::lobe_roughness;
 use super::path_record::{CameraVertex, LightConnection, SplatEvent, SurfaceVertex, Terminal};
 use crate::geometry::{Ray, offset_ray_origin, spawn_ray, spawn_ray_to_point};
 use crate::integrators::TraceCounters;
@@ -36,6 +37,11 @@ pub fn trace_seed_path(
     counters: &mut TraceCounters,
     path: &mut SeedPath,
 ) {
+    if !scene.media.is_empty() {
+        return super::volume_seed::trace_volumetric_seed_path(
+            scene, settings, raster, sampler, counters, path,
+        );
+    }
     path.vertices.clear();
     path.events.clear();
     let u_lens = sampler.get_2d(layout::LENS);
@@ -70,11 +76,8 @@ pub fn trace_seed_path(
         let hit = oriented_hit(scene, &raw_hit);
         let info = &scene.shapes[hit.shape_index as usize];
         let wo = -ray.direction;
-        path.vertices.push(SurfaceVertex {
-            raw_hit,
-            hit,
-            sampled: crate::material::BsdfFlags::NONE,
-        });
+        path.vertices
+            .push(SurfaceVertex::surface(raw_hit, hit, 1.0));
         if let Some(light_index) = info.light {
             path.events.push(SplatEvent {
                 vertex_count: path.vertices.len(),
@@ -89,6 +92,7 @@ pub fn trace_seed_path(
         };
         let bsdf = material.surface_bsdf_at(&hit, &wavelengths);
         let flags = bsdf.flags();
+        path.vertices.last_mut().expect("just pushed").roughness = lobe_roughness(&bsdf, flags);
         let reference = offset_ray_origin(hit.point, hit.geometric_normal, wo);
         if flags.is_non_specular()
             && let Some(connection) = sample_light(
@@ -116,7 +120,9 @@ pub fn trace_seed_path(
             break;
         }
         throughput *= sample.value * (cosine / sample.pdf);
-        path.vertices.last_mut().expect("just pushed").sampled = sample.flags;
+        let vertex = path.vertices.last_mut().expect("just pushed");
+        vertex.sampled = sample.flags;
+        vertex.roughness = lobe_roughness(&bsdf, sample.flags);
         if sample.is_transmission() {
             eta_scale *= sample.eta * sample.eta;
         }
@@ -135,7 +141,7 @@ pub fn trace_seed_path(
 
 /// Next-event estimation's light sample at a vertex, if it reaches the
 /// light unoccluded with non-zero radiance.
-fn sample_light(
+pub(super) fn sample_light(
     scene: &Scene,
     hit: &crate::geometry::SurfaceHit,
     reference: glam::Vec3,

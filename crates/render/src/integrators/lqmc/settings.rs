@@ -18,10 +18,14 @@ pub struct ExploredEffects {
     /// Outgoing directions of the non-specular vertices before the breakup
     /// vertex (2 dimensions each).
     pub direction: bool,
+    /// Free-flight distances of the segments that end at medium vertices
+    /// of the prefix (1 dimension each).
+    pub free_flight: bool,
 }
 
 impl Default for ExploredEffects {
-    /// Aperture, wavelength, image plane and directions; time is optional
+    /// Aperture, wavelength, image plane, directions and free flights; time
+    /// is optional
     /// (as in the authors' renderer).
     fn default() -> Self {
         Self {
@@ -30,13 +34,21 @@ impl Default for ExploredEffects {
             time: false,
             image: true,
             direction: true,
+            free_flight: true,
         }
     }
 }
 
 impl ExploredEffects {
     /// Every effect by its command-line name.
-    pub const NAMES: [&'static str; 5] = ["aperture", "wavelength", "time", "image", "direction"];
+    pub const NAMES: [&'static str; 6] = [
+        "aperture",
+        "wavelength",
+        "time",
+        "image",
+        "direction",
+        "free-flight",
+    ];
 
     /// No effect at all.
     pub fn none() -> Self {
@@ -46,6 +58,7 @@ impl ExploredEffects {
             time: false,
             image: false,
             direction: false,
+            free_flight: false,
         }
     }
 
@@ -63,6 +76,7 @@ impl ExploredEffects {
                 "time" => effects.time = true,
                 "image" => effects.image = true,
                 "direction" => effects.direction = true,
+                "free-flight" => effects.free_flight = true,
                 other => {
                     return Err(format!(
                         "unknown effect `{other}` (expected a list of {})",
@@ -124,6 +138,8 @@ pub struct LqmcSettings {
     pub wavelength_tiles: u32,
     /// Tiles per time dimension (default 1: the whole shutter interval).
     pub time_tiles: u32,
+    /// Tiles per free-flight dimension (default 1000, the authors' value).
+    pub free_flight_tiles: u32,
     /// A first hit whose circle of confusion exceeds this many pixels makes
     /// the path a depth-of-field path (default 2).
     pub depth_of_field_threshold_pixels: f32,
@@ -170,6 +186,7 @@ impl Default for LqmcSettings {
             },
             wavelength_tiles: 1,
             time_tiles: 1,
+            free_flight_tiles: 1000,
             depth_of_field_threshold_pixels: 2.0,
             depth_of_field_camera_weight: 16.0,
             caustic_roughness: 0.05,

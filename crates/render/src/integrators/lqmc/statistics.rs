@@ -86,6 +86,9 @@ pub struct LqmcStatistics {
     pub breakups: [u64; 4],
     /// Nanoseconds spent in the closest-lattice-point search.
     pub closest_point_nanoseconds: u64,
+    /// Explorations that explore a free-flight distance (a medium vertex
+    /// in the prefix).
+    pub medium_explorations: u64,
 }
 
 impl LqmcStatistics {
@@ -104,6 +107,7 @@ impl LqmcStatistics {
         }
         self.empty_explorations += other.empty_explorations;
         self.closest_point_nanoseconds += other.closest_point_nanoseconds;
+        self.medium_explorations += other.medium_explorations;
     }
 
     /// Counts a failed member.
@@ -133,6 +137,12 @@ impl LqmcStatistics {
                 self.explorations[i],
                 self.valid_members[i] as f64 / self.explorations[i] as f64,
                 self.members[i] as f64 / self.explorations[i] as f64,
+            ));
+        }
+        if self.medium_explorations > 0 {
+            lines.push(format!(
+                "  {} explorations with free-flight distances (media)",
+                self.medium_explorations
             ));
         }
         lines.push(format!(
