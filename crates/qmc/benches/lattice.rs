@@ -72,7 +72,20 @@ fn queries(dimensions: usize) -> Vec<Vec<f64>> {
         .collect()
 }
 
-const CLOSEST_CASES: [(u64, usize); 5] = [(23, 5), (97, 5), (97, 12), (313, 12), (313, 21)];
+/// `(N, s̄)`: the dof-spheres explorations (N = 23, s̄ = 2–4; NEE N = 7), then
+/// larger sets and dimension counts of the LQMC table.
+const CLOSEST_CASES: [(u64, usize); 10] = [
+    (7, 4),
+    (23, 2),
+    (23, 3),
+    (23, 4),
+    (23, 8),
+    (97, 5),
+    (97, 12),
+    (313, 5),
+    (313, 12),
+    (313, 21),
+];
 
 /// Brute-force closest point, per query (64 random queries per iteration).
 #[divan::bench(args = CLOSEST_CASES)]
@@ -108,8 +121,48 @@ fn closest_reduced_basis(bencher: Bencher, (point_count, dimensions): (u64, usiz
     });
 }
 
-/// `ClosestPointSearch::closest_index`: enumeration or brute force, whichever the
-/// construction-time node count predicts cheaper.
+/// Projection scan over the points sorted by their first coordinate, per query.
+#[divan::bench(args = CLOSEST_CASES)]
+fn closest_projection_scan(bencher: Bencher, (point_count, dimensions): (u64, usize)) {
+    let search = lqmc_lattice_entry(point_count, dimensions)
+        .unwrap()
+        .closest_point_search();
+    let points = queries(dimensions);
+    bencher.counter(ItemsCount::new(QUERIES)).bench(|| {
+        points
+            .iter()
+            .map(|point| {
+                search
+                    .closest_index_by_projection_scan(black_box(point))
+                    .unwrap()
+            })
+            .sum::<u64>()
+    });
+}
+
+/// What the LQMC lattice step calls: `ClosestPointSearch::closest_point_into`
+/// (the automatic choice, then the shift), per query.
+#[divan::bench(args = CLOSEST_CASES)]
+fn closest_point_and_shift(bencher: Bencher, (point_count, dimensions): (u64, usize)) {
+    let search = lqmc_lattice_entry(point_count, dimensions)
+        .unwrap()
+        .closest_point_search();
+    let points = queries(dimensions);
+    let mut shift = vec![0.0; dimensions];
+    bencher.counter(ItemsCount::new(QUERIES)).bench_local(|| {
+        points
+            .iter()
+            .map(|point| {
+                search
+                    .closest_point_into(black_box(point), &mut shift)
+                    .unwrap()
+            })
+            .sum::<u64>()
+    });
+}
+
+/// `ClosestPointSearch::closest_index`: enumeration or the projection scan,
+/// whichever the construction-time work count predicts cheaper.
 #[divan::bench(args = CLOSEST_CASES)]
 fn closest_automatic(bencher: Bencher, (point_count, dimensions): (u64, usize)) {
     let search = lqmc_lattice_entry(point_count, dimensions)

@@ -9,16 +9,27 @@
 //! every member `y_k = x_k + Δ` of the shifted lattice finds the same shift
 //! again (its closest lattice point is `x_k`), which the estimator relies on.
 //!
-//! Two searches, giving the same answer:
+//! Three searches, giving the same answer:
 //! - [`closest_point_brute_force`]: all `N` points, abandoning a candidate as soon
 //!   as its partial squared distance exceeds the best so far (what the authors'
 //!   renderer does; fine for `N` in the hundreds);
-//! - [`ClosestPointSearch`]: the lattice `{i z / N} + Z^s`, scaled by `N`, is the
+//! - [`ClosestPointSearch::closest_index_by_projection_scan`]: the points sorted
+//!   once by their first coordinate (for `z₁` a unit, the first coordinates are
+//!   exactly `0, 1/N, …, (N−1)/N`), visited outwards from the query's first
+//!   coordinate in order of increasing first-coordinate distance, stopping as soon
+//!   as that one-dimensional distance alone exceeds the best full distance; the
+//!   coordinates are precomputed, so a candidate costs a few flops;
+//! - [`ClosestPointSearch::closest_index_by_enumeration`]: the lattice
+//!   `{i z / N} + Z^s`, scaled by `N`, is the
 //!   integer lattice with basis `(z, N e_2, …, N e_s)` when `z₁ = 1`. That basis is
 //!   LLL-reduced once (Lenstra, Lenstra, Lovász 1982, δ = 0.99); a query runs a
 //!   Schnorr–Euchner / Fincke–Pohst enumeration of the closest vector whose first
 //!   leaf is Babai's nearest-plane solution, so the search radius starts at
 //!   Babai's distance and shrinks, and the result is exact.
+//!
+//! [`ClosestPointSearch::closest_index`] uses whichever of the last two does less
+//! work on pseudo-random queries (decided once per lattice, by counting, not
+//! timing).
 //!
 //! Determinism: both searches return the minimum of `(squared distance, index)`
 //! in lexicographic order, where the squared distance of an index is always
@@ -159,13 +170,27 @@ pub struct ClosestPointSearch {
     mu: Vec<Vec<f64>>,
     /// `z₁⁻¹ mod N`: maps the first coordinate of a lattice vector to its index.
     index_multiplier: u64,
-    /// Whether `closest_index` enumerates (else brute force); see `uses_enumeration`.
+    /// The coordinates `residue / N` of every point, `N × s` row-major (the exact
+    /// values [`toroidal_squared_distance`] computes).
+    coordinates: Vec<f64>,
+    /// `index_by_first_residue[r]` is the index of the point whose first
+    /// coordinate is `r / N`.
+    index_by_first_residue: Vec<u64>,
+    /// Whether `closest_index` enumerates (else the projection scan); see
+    /// `uses_enumeration`.
     use_enumeration: bool,
 }
 
-/// Number of pseudo-random queries used to decide between enumeration and brute
-/// force when a [`ClosestPointSearch`] is built.
-pub const CALIBRATION_QUERIES: u64 = 16;
+/// Number of pseudo-random queries used to decide between enumeration and the
+/// projection scan when a [`ClosestPointSearch`] is built.
+pub const CALIBRATION_QUERIES: u64 = 32;
+
+/// Work of one enumeration node relative to one projection-scan candidate: a
+/// node updates the projected centre (a dot product over the levels above it)
+/// and keeps a deeper recursion, a candidate reads a few precomputed
+/// coordinates. From the `closest_*` divan benchmarks in `benches/lattice.rs`
+/// (ns per node and per candidate on the LQMC table), rounded.
+const ENUMERATION_NODE_COST: u64 = 4;
 
 impl ClosestPointSearch {
     /// Prepares the search for `lattice`: its first generator component must be a
@@ -203,6 +228,14 @@ impl ClosestPointSearch {
         }
         lll_reduce(&mut basis, LLL_DELTA);
         let (orthogonal, orthogonal_norms, mu) = gram_schmidt(&basis);
+        let mut coordinates = Vec::with_capacity(point_count as usize * dimensions);
+        let mut index_by_first_residue = vec![0; point_count as usize];
+        for index in 0..point_count {
+            for dimension in 0..dimensions {
+                coordinates.push(lattice.residue(index, dimension) as f64 / point_count as f64);
+            }
+            index_by_first_residue[lattice.residue(index, 0) as usize] = index;
+        }
         let mut search = Self {
             lattice,
             basis,
@@ -210,16 +243,19 @@ impl ClosestPointSearch {
             orthogonal_norms,
             mu,
             index_multiplier: first_inverse,
+            coordinates,
+            index_by_first_residue,
             use_enumeration: true,
         };
-        let mut total_nodes = 0;
+        let (mut enumeration_nodes, mut scan_candidates) = (0, 0);
         for query in 0..CALIBRATION_QUERIES {
             let point: Vec<f64> = (0..dimensions)
                 .map(|dimension| to_unit_f64(hash3(0x1a77_1ce5, query, dimension as u64)))
                 .collect();
-            total_nodes += search.enumerate_closest(&point)?.1;
+            enumeration_nodes += search.enumerate_closest(&point)?.1;
+            scan_candidates += search.scan_closest(&point).1;
         }
-        search.use_enumeration = total_nodes < CALIBRATION_QUERIES * point_count;
+        search.use_enumeration = enumeration_nodes * ENUMERATION_NODE_COST < scan_candidates;
         Ok(search)
     }
 
@@ -234,24 +270,127 @@ impl ClosestPointSearch {
     }
 
     /// Index of the lattice point closest to `point` on the torus; ties go to the
-    /// smallest index. Uses whichever of enumeration and brute force was found
-    /// cheaper for this lattice at construction ([`Self::uses_enumeration`]);
-    /// both return the same index.
+    /// smallest index. Uses whichever of enumeration and the projection scan was
+    /// found cheaper for this lattice at construction ([`Self::uses_enumeration`]);
+    /// both return the same index as [`closest_index_brute_force`].
     pub fn closest_index(&self, point: &[f64]) -> Result<u64, PointSetError> {
         if self.use_enumeration {
             self.closest_index_by_enumeration(point)
         } else {
-            closest_index_brute_force(&self.lattice, point)
+            self.closest_index_by_projection_scan(point)
         }
     }
 
     /// Whether [`Self::closest_index`] enumerates in the reduced basis (true) or
-    /// scans all points (false). Decided at construction by counting enumeration
-    /// nodes (deterministic, not timed) on [`CALIBRATION_QUERIES`] pseudo-random
-    /// queries: a node costs about as much as one brute-force candidate, so
-    /// enumeration is used when it visits fewer nodes on average than `N`.
+    /// runs the projection scan (false). Decided at construction by counting work
+    /// (deterministic, not timed) on [`CALIBRATION_QUERIES`] pseudo-random
+    /// queries: enumeration nodes, weighted by their relative cost, against
+    /// projection-scan candidates.
     pub fn uses_enumeration(&self) -> bool {
         self.use_enumeration
+    }
+
+    /// Index of the closest lattice point by the projection scan (always,
+    /// regardless of [`Self::uses_enumeration`]); exact, ties to the smallest
+    /// index.
+    pub fn closest_index_by_projection_scan(&self, point: &[f64]) -> Result<u64, PointSetError> {
+        validate_query(&self.lattice, point)?;
+        Ok(self.scan_closest(point).0)
+    }
+
+    /// The projection scan and the number of candidates whose distance it
+    /// evaluated (at least in part).
+    ///
+    /// Residues `r` of the first coordinate are taken from both ends of the arc
+    /// not yet visited, always the end nearer to the query's first coordinate
+    /// `u₁`. The first one taken is `round(u₁ N)`, within half a spacing of `u₁`;
+    /// after it, the unvisited arc lies on the far side of the circle, where the
+    /// circular distance to `u₁` rises from both ends towards the antipode, so
+    /// its smaller end is its minimum. Once that one-dimensional squared distance
+    /// exceeds the best full squared distance, no unvisited point can be closer
+    /// (nor tie), and the scan stops.
+    fn scan_closest(&self, point: &[f64]) -> (u64, u64) {
+        let point_count = self.index_by_first_residue.len();
+        let dimensions = point.len();
+        let scale = point_count as f64;
+        let first = point[0];
+        // The same arithmetic as `bounded_squared_distance` for dimension 0.
+        let first_term = |residue: usize| {
+            let difference = (first - residue as f64 / scale).abs();
+            let wrapped = difference.min(1.0 - difference);
+            wrapped * wrapped
+        };
+        let centre = ((first * scale).round() as usize) % point_count;
+        let mut upper = centre;
+        let mut lower = (centre + point_count - 1) % point_count;
+        let mut upper_term = first_term(upper);
+        let mut lower_term = first_term(lower);
+        let mut best_index = u64::MAX;
+        let mut best_distance = f64::INFINITY;
+        let mut visited = 0;
+        while visited < point_count as u64 {
+            let (residue, term) = if upper_term <= lower_term {
+                let taken = (upper, upper_term);
+                upper = if upper + 1 == point_count {
+                    0
+                } else {
+                    upper + 1
+                };
+                upper_term = first_term(upper);
+                taken
+            } else {
+                let taken = (lower, lower_term);
+                lower = if lower == 0 {
+                    point_count - 1
+                } else {
+                    lower - 1
+                };
+                lower_term = first_term(lower);
+                taken
+            };
+            if term > best_distance {
+                break;
+            }
+            visited += 1;
+            let index = self.index_by_first_residue[residue];
+            let row = &self.coordinates[index as usize * dimensions..][..dimensions];
+            let mut sum = term;
+            let mut abandoned = false;
+            for (coordinate, lattice_coordinate) in point[1..].iter().zip(&row[1..]) {
+                let difference = (coordinate - lattice_coordinate).abs();
+                let wrapped = difference.min(1.0 - difference);
+                sum += wrapped * wrapped;
+                if sum > best_distance {
+                    abandoned = true;
+                    break;
+                }
+            }
+            if !abandoned && (sum < best_distance || (sum == best_distance && index < best_index)) {
+                best_distance = sum;
+                best_index = index;
+            }
+        }
+        (best_index, visited)
+    }
+
+    /// The closest lattice point to `point` (as [`Self::closest_index`]); writes
+    /// its Cranley–Patterson shift into `shift` (one entry per dimension) without
+    /// allocating.
+    pub fn closest_point_into(
+        &self,
+        point: &[f64],
+        shift: &mut [f64],
+    ) -> Result<u64, PointSetError> {
+        if shift.len() != point.len() {
+            return Err(PointSetError::InvalidParameter(format!(
+                "shift has {} entries for a {}-dimensional query",
+                shift.len(),
+                point.len()
+            )));
+        }
+        let index = self.closest_index(point)?;
+        cranley_patterson_shift(&self.lattice, index, point, shift);
+        Ok(index)
     }
 
     /// Index of the closest lattice point by exact closest-vector enumeration in
