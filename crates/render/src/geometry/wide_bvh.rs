@@ -30,7 +30,7 @@ use obvhs::ploc::PlocBuilder;
 
 use std::mem::MaybeUninit;
 
-use super::simd::F32x4;
+use super::simd::{F32x4, prefetch};
 use super::triangle::WatertightRay;
 use super::triangle_packet::{PACKET_LANES, PacketRay, PacketTriangle, TrianglePacket};
 use super::{PrimitiveReference, Ray};
@@ -309,6 +309,28 @@ impl WideBvh {
         }
     }
 
+    /// Starts loading the memory of the children in `bits` (their nodes, or
+    /// the first packet of compact leaves) while the nearest is visited: on
+    /// large scenes the traversal waits for memory more than it computes.
+    #[inline(always)]
+    fn prefetch_children(&self, node: &WideNode, mut bits: u32) {
+        while bits != 0 {
+            let reference = node.children[bits.trailing_zeros() as usize];
+            bits &= bits - 1;
+            if reference & LEAF_BIT == 0 {
+                let address = self.nodes.as_ptr().wrapping_add(reference as usize);
+                prefetch(address);
+                prefetch(address.cast::<u8>().wrapping_add(64));
+            } else if reference & GENERAL_LEAF_BIT == 0 {
+                let packet = (reference & COMPACT_START_MASK) as usize;
+                let address = self.packets.as_ptr().wrapping_add(packet).cast::<u8>();
+                prefetch(address);
+                prefetch(address.wrapping_add(64));
+                prefetch(address.wrapping_add(128));
+            }
+        }
+    }
+
     /// The closest primitive hit by `ray` with `0 < t < t_max`.
     /// `analytic(slot, t_max)` tests an analytic primitive and returns its `t`
     /// and its reference.
@@ -358,6 +380,7 @@ impl WideBvh {
                 let node = &self.nodes[current as usize];
                 let (mut bits, distances) = node_ray.intersect(node, t_max);
                 if bits != 0 {
+                    self.prefetch_children(node, bits);
                     let distances = distances.to_array();
                     let first = bits.trailing_zeros() as usize;
                     bits &= bits - 1;
