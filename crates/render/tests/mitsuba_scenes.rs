@@ -32,9 +32,11 @@ use render::image::compare::{
     DEFAULT_ALPHA, ReferenceVariance, VARIANCE_FLOOR, compare_images, normal_two_sided_p_value,
 };
 use render::image::{Image, read_exr, read_pfm};
+use render::integrators::IntegratorKind;
 use render::renderer::{RenderOutput, RenderSettings, render};
 use render::sampler::SamplerKind;
 use render::scene::Scene;
+use render::scene::description::SceneDescription;
 use render::scene::loader::{LoadOptions, LoadedScene, load_scene_file};
 
 /// What the renderer does with a Mitsuba test scene today.
@@ -156,35 +158,51 @@ const SCENES: &[(&str, Status)] = &[
     ),
     (
         "participating_media/test_homo_area_light_volpath.xml",
-        Unverified("media: builds; not yet compared with its reference"),
+        Render {
+            samples_per_pixel: 64,
+        },
     ),
     (
         "participating_media/test_homo_dielectric_envmap_volpath.xml",
-        Unverified("media: builds; not yet compared with its reference"),
+        Render {
+            samples_per_pixel: 64,
+        },
     ),
     (
         "participating_media/test_homo_emitter_inside_medium_volpath.xml",
-        Unverified("media: builds; not yet compared with its reference"),
+        Render {
+            samples_per_pixel: 64,
+        },
     ),
     (
         "participating_media/test_homo_null_envmap_volpath.xml",
-        Unverified("media: builds; not yet compared with its reference"),
+        Render {
+            samples_per_pixel: 64,
+        },
     ),
     (
         "participating_media/test_homo_obj_inside_medium_volpath.xml",
-        Unverified("media: builds; not yet compared with its reference"),
+        Render {
+            samples_per_pixel: 64,
+        },
     ),
     (
         "participating_media/test_homo_roughdielectric_spot_volpath.xml",
-        Unverified("media: builds; not yet compared with its reference"),
+        Render {
+            samples_per_pixel: 64,
+        },
     ),
     (
         "participating_media/test_homo_spectral_sigmat_volpathmis.xml",
-        Unverified("media: builds; not yet compared with its reference"),
+        Render {
+            samples_per_pixel: 64,
+        },
     ),
     (
         "participating_media/test_surf_area_light_volpath.xml",
-        Unverified("media: builds; not yet compared with its reference"),
+        Render {
+            samples_per_pixel: 64,
+        },
     ),
     (
         "spot_light/test_spot_direct.xml",
@@ -222,8 +240,26 @@ fn load(path: &Path) -> LoadedScene {
     loaded
 }
 
-fn render_scene(scene: &Scene, samples_per_pixel: u64, max_depth: u32) -> RenderOutput {
+/// The integrator of ours whose expectation equals that of the Mitsuba
+/// integrator the scene file names: `volpath` and `volpathmis` (which differ
+/// only in variance) are our volumetric path tracer; `path`, `direct` (depth
+/// 2, set by the loader) and `ptracer` (a light tracer with the same
+/// expectation) our path tracer.
+fn integrator_of(description: &SceneDescription) -> IntegratorKind {
+    match description.integrator.as_deref() {
+        Some("volpath" | "volpathmis") => IntegratorKind::VolPath,
+        _ => IntegratorKind::Path,
+    }
+}
+
+fn render_scene(
+    scene: &Scene,
+    integrator: IntegratorKind,
+    samples_per_pixel: u64,
+    max_depth: u32,
+) -> RenderOutput {
     let settings = RenderSettings {
+        integrator,
         sampler: SamplerKind::Independent,
         samples_per_pixel,
         max_depth,
@@ -360,11 +396,15 @@ fn supported_mitsuba_test_scenes_match_their_references() {
         let scene = Scene::build(&loaded.description)
             .unwrap_or_else(|error| panic!("{name} does not build: {error}"));
         let [width, height] = loaded.description.camera.resolution.map(|v| v as usize);
+        let started = std::time::Instant::now();
+        let integrator = integrator_of(&loaded.description);
         let output = render_scene(
             &scene,
+            integrator,
             samples_per_pixel,
             scene.max_depth.unwrap_or(u32::MAX),
         );
+        let seconds = started.elapsed().as_secs_f64();
         let (ours, our_variance) = means_and_variances(&output, width, height);
         let stem = Path::new(name)
             .file_stem()
@@ -380,7 +420,10 @@ fn supported_mitsuba_test_scenes_match_their_references() {
         let variance = read_exr(references.join(format!("{stem}_ref_spectral_var.exr")))
             .unwrap_or_else(|error| panic!("{name}: {error}"))
             .image;
-        eprintln!("{name}: {samples_per_pixel} spp");
+        eprintln!(
+            "{name}: {} at {samples_per_pixel} spp in {seconds:.2} s",
+            integrator.name()
+        );
         // Mitsuba's own test: the z-test in XYZ against the reference's
         // variance (`render::image::compare`, as `lqmc compare` runs it).
         let _ = &our_variance;
@@ -433,7 +476,7 @@ fn mitsuba_cornell_box_file_matches_mitsuba() {
     assert_eq!(description.max_depth, Some(6));
     description.camera.resolution = [RESOLUTION as u32; 2];
     let scene = Scene::build(&description).expect("Mitsuba's Cornell box builds");
-    let output = render_scene(&scene, SAMPLES_PER_PIXEL, 6);
+    let output = render_scene(&scene, IntegratorKind::Path, SAMPLES_PER_PIXEL, 6);
     let (ours, our_variance) = means_and_variances(&output, RESOLUTION, RESOLUTION);
     let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data");
     let reference = read_pfm(data.join("cbox_mitsuba_mean.pfm")).expect("reference mean");
@@ -492,7 +535,12 @@ fn bitterli_cornell_box_matches_tungsten_mean() {
     // reach at the border); 96 × 96 keeps the render short.
     description.camera.resolution = [96, 96];
     let scene = Scene::build(&description).expect("Bitterli's Cornell box builds");
-    let output = render_scene(&scene, 64, scene.max_depth.unwrap_or(u32::MAX));
+    let output = render_scene(
+        &scene,
+        IntegratorKind::Path,
+        64,
+        scene.max_depth.unwrap_or(u32::MAX),
+    );
     let (ours, _) = means_and_variances(&output, 96, 96);
     let tungsten = read_exr(directory.join("TungstenRender.exr"))
         .expect("the Tungsten reference reads")
@@ -518,4 +566,52 @@ fn bitterli_cornell_box_matches_tungsten_mean() {
         (total_ratio - 1.0).abs() < 0.02,
         "the image mean is {total_ratio:.4} times Tungsten's"
     );
+}
+
+/// A diagnostic, not a check: renders the Mitsuba test scene named by
+/// `LQMC_SCENE` (a path under `mitsuba-data/tests/scenes/`) at `LQMC_SPP`
+/// samples per pixel (default 64) with the scene's integrator and the
+/// independent sampler, and writes the image to `LQMC_OUT` (default
+/// `mitsuba_scene.exr` in the system's temporary directory), e.g. to compare
+/// with Mitsuba at more samples than the z-test uses:
+/// `LQMC_SCENE=bsdf_spheres/test_pointlight_path.xml LQMC_SPP=4096 cargo
+/// test -p render --test mitsuba_scenes -- --ignored render_one_scene`.
+#[test]
+#[ignore = "a diagnostic run by hand"]
+fn render_one_scene() {
+    let Ok(name) = std::env::var("LQMC_SCENE") else {
+        eprintln!("LQMC_SCENE is not set: nothing to render");
+        return;
+    };
+    let samples_per_pixel = std::env::var("LQMC_SPP")
+        .ok()
+        .and_then(|value| value.parse().ok())
+        .unwrap_or(64);
+    let output_path = std::env::var("LQMC_OUT")
+        .map(PathBuf::from)
+        .unwrap_or_else(|_| std::env::temp_dir().join("mitsuba_scene.exr"));
+    let loaded = load(&test_scene(&name));
+    let scene = Scene::build(&loaded.description).expect("the scene builds");
+    let [width, height] = loaded.description.camera.resolution.map(|v| v as usize);
+    let started = std::time::Instant::now();
+    let output = render_scene(
+        &scene,
+        integrator_of(&loaded.description),
+        samples_per_pixel,
+        scene.max_depth.unwrap_or(u32::MAX),
+    );
+    eprintln!(
+        "{name}: {samples_per_pixel} spp in {:.2} s",
+        started.elapsed().as_secs_f64()
+    );
+    let (ours, _) = means_and_variances(&output, width, height);
+    let image = Image::from_pixels(
+        width,
+        height,
+        ours.iter().map(|pixel| pixel.map(|v| v as f32)).collect(),
+    )
+    .expect("our image has the scene's size");
+    render::image::write_exr(&output_path, &image, &[], &Default::default())
+        .expect("the image is written");
+    eprintln!("wrote {}", output_path.display());
 }
