@@ -75,7 +75,14 @@ fn assert_converges(
     lqmc_spp: u64,
     reference_spp: u64,
 ) -> LqmcStatistics {
-    assert_scene_converges(name, &scene(name), IntegratorKind::Path, lqmc, lqmc_spp, reference_spp)
+    assert_scene_converges(
+        name,
+        &scene(name),
+        IntegratorKind::Path,
+        lqmc,
+        lqmc_spp,
+        reference_spp,
+    )
 }
 
 /// [`assert_converges`] for a built scene against the `reference`

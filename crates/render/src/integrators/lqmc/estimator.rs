@@ -11,6 +11,30 @@
 //! has `q_j = 0`. With `s̄ = s` (no suffix) every valid member has the same
 //! `q`, and each gets `C_j / M` with `M` the number of valid members: the
 //! paper's Eq. (10).
+//!
+//! # Multi-lobe vertices (plastic, rough dielectric)
+//!
+//! The lobe of a vertex is chosen by its component number, which the set
+//! shares with the seed. Write `c` for the shared numbers and `J_c(P)` for
+//! the density of the prefix map `ū ↦ P` at fixed `c` (the chosen lobes' own
+//! densities, without their selection probabilities). A member's path has
+//! density `J_c(P_j) · p(S | P_seed)`, so Eq. (9) holds with any
+//! contribution `C(c, X)` for which `∫ C(c, X) J_c(P) p(S | P) dc = f(X)`:
+//! `J_c` cancels between the member density and the estimator and never has
+//! to be computed. The walk uses the mixture (marginal) density `bsdf.pdf`
+//! and the full `bsdf.evaluate` at non-specular vertices, whose integral of
+//! `J_c` over `c` is exactly that mixture density, so the condition holds;
+//! the suffix density is the mixture density as well (its component numbers
+//! are integrated out, since its positions are kept). Delta lobes (smooth
+//! plastic's coating, smooth dielectrics) are re-sampled with the seed's
+//! numbers, the discrete probability staying in `C`. A member whose
+//! rebuilt vertex samples another lobe than the seed's, or whose walked
+//! directions make a different kind of scattering (reflection instead of
+//! transmission), fails; the rule compares every member with the same
+//! recorded lobes, so it is symmetric within the set and keeps the
+//! estimator unbiased (it only costs members). Tested by
+//! `tests/lqmc_convergence.rs` on a Cornell box with rough and smooth
+//! plastic and on `translucent-spheres` (rough glass).
 
 /// The weight of each member's own contribution, `q_j / Σ_m q_m`, written
 /// into `weights` (all zero if every `q` is zero).

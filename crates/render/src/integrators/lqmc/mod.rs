@@ -14,6 +14,8 @@
 //! [`explored_dimensions`] (dimensions and tiles), [`lattice_step`] (tile
 //! transform, closest point, shift), [`prefix_rebuild`] (members),
 //! [`path_walk`] (contribution and suffix density of a path),
+//! [`medium_segment`], [`volume_seed`] and [`volume_walk`] (the same
+//! through homogeneous media, as `volpath` traces them),
 //! [`estimator`] (Eq. 9 extended), [`statistics`] (`--stats`),
 //! [`exploration`] (one pixel sample).
 

@@ -106,7 +106,7 @@ impl State {
                 let coefficients = scene.media[medium as usize].coefficients(wavelengths);
                 let sigma_t = coefficients.sigma_t();
                 let hero_pdf = hero * sigma_t[0];
-                if !(hero_pdf > 0.0) {
+                if not_positive(hero_pdf) {
                     return Err(FailureReason::Evaluation);
                 }
                 self.beta *= transmittance * coefficients.sigma_s / hero_pdf;
@@ -116,7 +116,7 @@ impl State {
                 Ok(hero_pdf as f64)
             }
             None => {
-                if !(hero > 0.0) {
+                if not_positive(hero) {
                     return Err(FailureReason::Evaluation);
                 }
                 let ratio = transmittance / hero;
@@ -330,7 +330,7 @@ pub fn walk_volumetric(
             } else {
                 (r_l + state.r_u * scatter_pdf).average()
             };
-            if !(denominator > 0.0) {
+            if not_positive(denominator) {
                 return Err(FailureReason::Evaluation);
             }
             if in_suffix(m + 1) && !connection.is_delta {
@@ -381,7 +381,7 @@ pub fn walk_volumetric(
                     eta_scale *= non_specular_eta(vertex, bsdf, wo, wi)?;
                     (bsdf.evaluate(wo, wi, &wavelengths), bsdf.pdf(wo, wi))
                 };
-                if !(pdf > 0.0) || value.is_black() {
+                if not_positive(pdf) || value.is_black() {
                     return Err(FailureReason::Evaluation);
                 }
                 let cosine = wi.dot(bsdf.frame.normal()).abs();
@@ -395,7 +395,7 @@ pub fn walk_volumetric(
             None => {
                 let phase = phase.expect("a medium vertex has a medium");
                 let pdf = phase.pdf(wo, wi);
-                if !(pdf > 0.0) {
+                if not_positive(pdf) {
                     return Err(FailureReason::Evaluation);
                 }
                 state.beta *= phase.evaluate(wo, wi) / pdf;
@@ -406,7 +406,7 @@ pub fn walk_volumetric(
             }
         }
         let r_u_mean = state.r_u.average();
-        if !(r_u_mean > 0.0) {
+        if not_positive(r_u_mean) {
             return Err(FailureReason::Evaluation);
         }
         let roulette_throughput = (state.beta * (eta_scale / r_u_mean)).max_component();
@@ -448,6 +448,11 @@ pub fn walk_volumetric(
         total += state.emission(emitted, light_pdf);
     }
     finish(total, wavelengths, suffix_density)
+}
+
+/// Whether `value` is zero, negative or NaN.
+fn not_positive(value: f32) -> bool {
+    value.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
 }
 
 /// The walked path, or `Evaluation` for a black contribution.
