@@ -15,7 +15,8 @@
 //! transform, closest point, shift), [`prefix_rebuild`] (members),
 //! [`path_walk`] (contribution and suffix density of a path),
 //! [`estimator`] (Eq. 9 extended), [`statistics`] (`--stats`),
-//! [`exploration`] (one pixel sample).
+//! [`exploration`] (one pixel sample), [`progression_variance`] (the
+//! variance layer of LQMC renders).
 
 pub mod classification;
 pub mod estimator;
@@ -25,11 +26,13 @@ pub mod lattice_step;
 pub mod path_record;
 pub mod path_walk;
 pub mod prefix_rebuild;
+pub mod progression_variance;
 pub mod seed_path;
 pub mod settings;
 pub mod statistics;
 
 pub use classification::PathClass;
 pub use exploration::{ClassDensity, LqmcContext, LqmcScratch, render_pixel_sample};
+pub use progression_variance::ProgressionVariance;
 pub use settings::{BreakupChoice, ClassParameters, ExploredEffects, LqmcSettings};
-pub use statistics::{FailureReason, LqmcStatistics};
+pub use statistics::{ClosestPointTiming, FailureReason, LqmcStatistics};
