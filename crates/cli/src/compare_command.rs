@@ -13,7 +13,7 @@ use crate::error::{CliError, usage};
 use crate::json::Json;
 use clap::Args;
 use render::image::compare::{DEFAULT_ALPHA, ReferenceVariance, compare_images};
-use render::image::{Image, Metadata, read_exr, read_image};
+use render::image::{Image, Metadata, VARIANCE_LAYER, read_exr, read_image};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `lqmc compare`.
@@ -27,6 +27,12 @@ pub struct CompareArgs {
     /// `*_var.exr`): enables the per-pixel z-test.
     #[arg(long)]
     pub variance: Option<PathBuf>,
+    /// Run the z-test with IMAGE's own `variance` layer instead: the
+    /// estimated variance of each pixel's value, which `lqmc render` writes
+    /// into EXR files for path, volpath and lqmc renders (the test then
+    /// reports 1 spp, as the layer is already divided by the sample count).
+    #[arg(long, conflicts_with_all = ["variance", "spp"])]
+    pub image_variance: bool,
     /// Samples per pixel of IMAGE for the z-test (default: the `spp`
     /// metadata that `lqmc render` writes into EXR files).
     #[arg(long)]
@@ -54,6 +60,17 @@ fn read_with_metadata(path: &Path) -> Result<(Image, Metadata), CliError> {
     }
 }
 
+/// The `variance` layer of the EXR file `path`.
+fn image_variance_layer(path: &Path) -> Result<Image, CliError> {
+    let contents = read_exr(path).map_err(|error| usage(error.to_string()))?;
+    contents.layers.get(VARIANCE_LAYER).cloned().ok_or_else(|| {
+        usage(format!(
+            "{} has no `{VARIANCE_LAYER}` layer for --image-variance",
+            path.display()
+        ))
+    })
+}
+
 /// Runs `lqmc compare`.
 pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     if !(args.alpha > 0.0 && args.alpha < 1.0) {
@@ -63,9 +80,11 @@ pub fn run(args: &CompareArgs) -> Result<(), CliError> {
     let (reference, _) = read_with_metadata(&args.reference)?;
     let variance = match &args.variance {
         Some(path) => Some(read_with_metadata(path)?.0),
+        None if args.image_variance => Some(image_variance_layer(&args.image)?),
         None => None,
     };
     let samples_per_pixel = match (args.spp, metadata.get("spp")) {
+        _ if args.image_variance => Some(1),
         (Some(0), _) => return Err(usage("--spp must be at least 1")),
         (Some(spp), _) => Some(spp),
         (None, Some(text)) => text.trim().parse::<u64>().ok(),

@@ -406,7 +406,6 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         / (scene.camera.resolution()[0] as f64 * scene.camera.resolution()[1] as f64);
     let splat_scale = 1.0 / spp.max(1.0);
     output
-        .film
         .write(&args.output, splat_scale, &metadata)
         .map_err(|error| CliError::Failure(error.to_string()))?;
     let mut written = vec![args.output.display().to_string()];

@@ -102,6 +102,47 @@ pub struct RenderOutput {
     /// per pixel (box filter, before the splat scale) of normal, caustic and
     /// depth-of-field paths as red, green and blue, and of next-event paths.
     pub lqmc_density: Option<[Film; 2]>,
+    /// For LQMC renders, the estimated variance of each pixel's value from
+    /// the images of the complete progressions (see
+    /// [`lqmc::ProgressionVariance`]); `None` for other integrators, whose
+    /// film has a per-pixel sample variance.
+    pub lqmc_variance: Option<lqmc::ProgressionVariance>,
+}
+
+impl RenderOutput {
+    /// The estimated variance of each pixel's value, the EXR's variance
+    /// layer: from the progressions for LQMC, else the film's variance of
+    /// the pixel mean.
+    pub fn variance_image(&self) -> crate::image::Image {
+        match &self.lqmc_variance {
+            Some(progressions) => progressions.variance_image(),
+            None => self.film.variance_image(),
+        }
+    }
+
+    /// Writes the film's image to `path` in the format of its extension, as
+    /// [`Film::write`] does, but an EXR file's variance layer is
+    /// [`Self::variance_image`] (so LQMC renders get theirs).
+    pub fn write(
+        &self,
+        path: impl AsRef<std::path::Path>,
+        splat_scale: f64,
+        metadata: &crate::image::Metadata,
+    ) -> Result<(), crate::image::ImageError> {
+        let path = path.as_ref();
+        if self.lqmc_variance.is_some()
+            && crate::image::ImageFormat::from_path(path)? == crate::image::ImageFormat::OpenExr
+        {
+            crate::image::write_exr(
+                path,
+                &self.film.image(splat_scale),
+                &[(crate::image::VARIANCE_LAYER, &self.variance_image())],
+                metadata,
+            )
+        } else {
+            self.film.write(path, splat_scale, metadata)
+        }
+    }
 }
 
 /// Renders `scene`. `stop` is polled between tiles (set it from a Ctrl-C
@@ -170,6 +211,8 @@ fn render_in_pool(
     } else {
         None
     };
+    let mut progression_variance = (settings.integrator == IntegratorKind::Lqmc)
+        .then(|| lqmc::ProgressionVariance::new([width as usize, height as usize]));
     let mut first_sample = 0;
     while first_sample < settings.samples_per_pixel && !out_of_time() {
         let end_sample = (first_sample + pass_size).min(settings.samples_per_pixel);
@@ -199,6 +242,7 @@ fn render_in_pool(
                             samples: count,
                             lqmc: LqmcStatistics::default(),
                             density: None,
+                            splat_ends: Vec::new(),
                         }
                     }
                     IntegratorKind::Lqmc => {
@@ -223,7 +267,7 @@ fn render_in_pool(
         let mut complete = true;
         // Tiles and their splats merge in the fixed tile order: the image
         // does not depend on the number of threads.
-        for result in results {
+        for result in &results {
             match result {
                 Some(result) => {
                     film.merge_tile(&result.tile)?;
@@ -241,6 +285,9 @@ fn render_in_pool(
                 None => complete = false,
             }
         }
+        if let Some(progressions) = &mut progression_variance {
+            add_progressions(&film, &results, end_sample - first_sample, progressions);
+        }
         if complete {
             statistics.completed_samples_per_pixel = end_sample;
         }
@@ -254,7 +301,43 @@ fn render_in_pool(
         film,
         statistics,
         lqmc_density: density,
+        lqmc_variance: progression_variance,
     })
+}
+
+/// Adds the pass's LQMC splats to the progression statistics, one
+/// progression (sample index) at a time, tiles in their fixed order; a
+/// progression missing from any tile (the pass was cut short) is dropped.
+fn add_progressions(
+    film: &Film,
+    results: &[Option<TileResult>],
+    pass_length: u64,
+    progressions: &mut lqmc::ProgressionVariance,
+) {
+    for progression in 0..pass_length {
+        let mut complete = true;
+        for result in results {
+            let Some(result) = result else {
+                complete = false;
+                continue;
+            };
+            let Some(splats) = &result.splats else {
+                continue;
+            };
+            let mut start = 0;
+            for &(sample_offset, end) in &result.splat_ends {
+                if sample_offset == progression {
+                    progressions.add_splats(film, &splats.splats()[start..end]);
+                }
+                start = end;
+            }
+        }
+        if complete {
+            progressions.finish_progression();
+        } else {
+            progressions.discard_progression();
+        }
+    }
 }
 
 /// What rendering one tile for one pass produced.
@@ -265,6 +348,9 @@ struct TileResult {
     samples: u64,
     lqmc: LqmcStatistics,
     density: Option<lqmc::ClassDensity>,
+    /// For LQMC: after each pixel sample, its offset in the pass and the
+    /// number of splats so far (the sample's splats end there).
+    splat_ends: Vec<(u64, usize)>,
 }
 
 /// Renders samples `samples` of every pixel of a tile with LQMC: every
@@ -287,6 +373,7 @@ fn render_tile_lqmc(
     let mut scratch = lqmc::LqmcScratch::default();
     scratch.density = gather_density.then(lqmc::ClassDensity::default);
     let mut count = 0;
+    let mut splat_ends = Vec::new();
     for y in bounds.min[1]..bounds.max[1] {
         for x in bounds.min[0]..bounds.max[0] {
             for sample_index in samples.clone() {
@@ -301,6 +388,7 @@ fn render_tile_lqmc(
                     &mut statistics,
                     &mut counters,
                 );
+                splat_ends.push((sample_index - samples.start, splats.splats().len()));
                 count += 1;
             }
         }
@@ -312,6 +400,7 @@ fn render_tile_lqmc(
         samples: count,
         lqmc: statistics,
         density: scratch.density.take(),
+        splat_ends,
     }
 }
 

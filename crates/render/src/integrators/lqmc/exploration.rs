@@ -23,7 +23,6 @@ use crate::scene::Scene;
 use crate::spectrum::to_linear_srgb;
 use qmc::hash::{hash2, hash3, to_unit_f64};
 use qmc::lattice_table::{LQMC_MAX_DIMENSIONS, lqmc_lattice_entry};
-use std::time::Instant;
 
 /// Purposes of the deterministic random choices (hash keys).
 const BREAKUP_KEY: u64 = 0x6272_6561_6b75_7000;
@@ -297,7 +296,6 @@ fn explore(
         let _ = splats.add(camera.raster.to_array(), [0.0; 3]);
         return;
     };
-    let start = Instant::now();
     let found = lattice_members(
         entry,
         &TileGrid {
@@ -308,8 +306,8 @@ fn explore(
         &scratch.seed_numbers,
         &mut scratch.query,
         &mut scratch.members,
+        &mut statistics.closest_point,
     );
-    statistics.closest_point_nanoseconds += start.elapsed().as_nanos() as u64;
     if found.is_err() {
         return;
     }

@@ -7,6 +7,7 @@
 //! lattice structure); a permuted rank-1 lattice is again a rank-1 lattice,
 //! so its Voronoi cells stay congruent and the shift consistent.
 
+use super::statistics::ClosestPointTiming;
 use qmc::PointSet;
 use qmc::lattice_table::LqmcLatticeEntry;
 
@@ -17,6 +18,8 @@ pub struct LatticeMembers {
     pub numbers: Vec<f64>,
     /// The lattice point the seed is closest to (its own member).
     pub seed_member: usize,
+    /// The Cranley–Patterson shift `Δ`, one entry per lattice dimension.
+    pub shift: Vec<f64>,
 }
 
 /// Tile grid and lattice dimension mapping of one exploration.
@@ -37,7 +40,8 @@ fn fraction(x: f64) -> f64 {
 }
 
 /// Fills `members` with the explored numbers of the exploration of `seed`
-/// (the seed's explored numbers, in `[0, 1)`).
+/// (the seed's explored numbers, in `[0, 1)`); `timing` measures the
+/// closest-point search alone (not the mapping of the members).
 #[allow(clippy::needless_range_loop)] // d indexes four parallel arrays
 pub fn lattice_members(
     entry: &LqmcLatticeEntry,
@@ -45,6 +49,7 @@ pub fn lattice_members(
     seed: &[f64],
     query: &mut Vec<f64>,
     members: &mut LatticeMembers,
+    timing: &mut ClosestPointTiming,
 ) -> Result<(), qmc::PointSetError> {
     let dimensions = seed.len();
     query.clear();
@@ -57,17 +62,20 @@ pub fn lattice_members(
         *tile_slot = tile;
         query[grid.lattice_dimension[d]] = fraction(scaled - tile).min(1.0 - f64::EPSILON);
     }
-    let closest = entry.closest_point_search().closest_point(query)?;
+    members.shift.clear();
+    members.shift.resize(dimensions, 0.0);
+    let search = entry.closest_point_search();
+    let seed_member = timing.measure(|| search.closest_point_into(query, &mut members.shift))?;
     let lattice = entry.lattice();
     let count = lattice.point_count() as usize;
     members.numbers.clear();
     members.numbers.reserve(count * dimensions);
-    members.seed_member = closest.index as usize;
+    members.seed_member = seed_member as usize;
     for j in 0..count {
         for d in 0..dimensions {
             let lattice_dimension = grid.lattice_dimension[d];
             let in_tile = fraction(
-                lattice.sample(j as u64, lattice_dimension) + closest.shift[lattice_dimension],
+                lattice.sample(j as u64, lattice_dimension) + members.shift[lattice_dimension],
             );
             let tiles = grid.tiles[d] as f64;
             let value = fraction(grid.jitter[d] + (tile_index[d] + in_tile) / tiles);
@@ -94,7 +102,17 @@ mod tests {
         };
         let seed = [0.37, 0.81, 0.999];
         let mut members = LatticeMembers::default();
-        lattice_members(entry, &grid, &seed, &mut Vec::new(), &mut members).unwrap();
+        let mut timing = ClosestPointTiming::default();
+        lattice_members(
+            entry,
+            &grid,
+            &seed,
+            &mut Vec::new(),
+            &mut members,
+            &mut timing,
+        )
+        .unwrap();
+        assert_eq!(timing.searches, 1);
         assert_eq!(members.numbers.len(), 23 * 3);
         let own = &members.numbers[members.seed_member * 3..members.seed_member * 3 + 3];
         for d in 0..3 {

@@ -17,7 +17,8 @@
 //! [`medium_segment`], [`volume_seed`] and [`volume_walk`] (the same
 //! through homogeneous media, as `volpath` traces them),
 //! [`estimator`] (Eq. 9 extended), [`statistics`] (`--stats`),
-//! [`exploration`] (one pixel sample).
+//! [`exploration`] (one pixel sample), [`progression_variance`] (the
+//! variance layer of LQMC renders).
 
 pub mod classification;
 pub mod estimator;
@@ -28,6 +29,7 @@ pub mod medium_segment;
 pub mod path_record;
 pub mod path_walk;
 pub mod prefix_rebuild;
+pub mod progression_variance;
 pub mod seed_path;
 pub mod settings;
 pub mod statistics;
@@ -36,5 +38,6 @@ pub mod volume_walk;
 
 pub use classification::PathClass;
 pub use exploration::{ClassDensity, LqmcContext, LqmcScratch, render_pixel_sample};
+pub use progression_variance::ProgressionVariance;
 pub use settings::{BreakupChoice, ClassParameters, ExploredEffects, LqmcSettings};
-pub use statistics::{FailureReason, LqmcStatistics};
+pub use statistics::{ClosestPointTiming, FailureReason, LqmcStatistics};

@@ -3,6 +3,8 @@
 //! spent in the closest-lattice-point search.
 
 use super::classification::PathClass;
+use std::hint::black_box;
+use std::time::Instant;
 
 /// Why a lattice member contributes nothing.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -84,11 +86,77 @@ pub struct LqmcStatistics {
     pub empty_explorations: u64,
     /// Explorations per breakup vertex b = 0, 1, 2, ≥ 3.
     pub breakups: [u64; 4],
-    /// Nanoseconds spent in the closest-lattice-point search.
-    pub closest_point_nanoseconds: u64,
     /// Explorations that explore a free-flight distance (a medium vertex
     /// in the prefix).
     pub medium_explorations: u64,
+    /// The closest-lattice-point search's calls and sampled time.
+    pub closest_point: ClosestPointTiming,
+}
+
+/// The time of the closest-point search, measured on a sample of its calls.
+///
+/// One call takes tens of nanoseconds, about what reading the clock twice
+/// costs, so timing every call would mostly measure the timer (and slow the
+/// render). Instead every [`Self::SAMPLING_PERIOD`]-th call (by count, so the
+/// sample is deterministic) is timed as a batch of [`Self::BATCH`] identical
+/// searches between two clock reads, which spreads the timer's cost over the
+/// batch; the total is the mean time per timed search times the number of
+/// calls. The repeated searches add about `BATCH / SAMPLING_PERIOD` of the
+/// search's own cost to the render (under 1 % of it while the share is).
+/// They run on warm caches, so the estimate leans low where the first
+/// search of a batch misses the cache; `lqmc-fig7.md` cross-checks it with
+/// instruction counts.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ClosestPointTiming {
+    /// Closest-point searches of the render.
+    pub searches: u64,
+    /// Searches inside timed batches (the repeats included).
+    pub timed_searches: u64,
+    /// Nanoseconds of the timed batches.
+    pub timed_nanoseconds: u64,
+}
+
+impl ClosestPointTiming {
+    /// One call in this many is timed.
+    pub const SAMPLING_PERIOD: u64 = 64;
+    /// Searches per timed batch (the call itself and its repeats).
+    pub const BATCH: u64 = 16;
+
+    /// Runs `search` once (its result is returned) and, on sampled calls,
+    /// `BATCH − 1` more times inside the timer. `search` must be a pure
+    /// function of its captures (the closest-point search is).
+    pub fn measure<T>(&mut self, mut search: impl FnMut() -> T) -> T {
+        self.searches += 1;
+        if self.searches % Self::SAMPLING_PERIOD != 1 {
+            return search();
+        }
+        let start = Instant::now();
+        let result = search();
+        for _ in 1..Self::BATCH {
+            black_box(search());
+        }
+        self.timed_nanoseconds += start.elapsed().as_nanos() as u64;
+        self.timed_searches += Self::BATCH;
+        result
+    }
+
+    /// Mean nanoseconds per search in the timed batches.
+    pub fn nanoseconds_per_search(&self) -> f64 {
+        self.timed_nanoseconds as f64 / self.timed_searches.max(1) as f64
+    }
+
+    /// Estimated CPU seconds of all searches of the render (the repeats of the
+    /// timed batches not counted).
+    pub fn estimated_seconds(&self) -> f64 {
+        self.nanoseconds_per_search() * self.searches as f64 * 1e-9
+    }
+
+    /// Adds another tile's counts.
+    pub fn add(&mut self, other: &ClosestPointTiming) {
+        self.searches += other.searches;
+        self.timed_searches += other.timed_searches;
+        self.timed_nanoseconds += other.timed_nanoseconds;
+    }
 }
 
 impl LqmcStatistics {
@@ -106,8 +174,8 @@ impl LqmcStatistics {
             self.failures[i] += other.failures[i];
         }
         self.empty_explorations += other.empty_explorations;
-        self.closest_point_nanoseconds += other.closest_point_nanoseconds;
         self.medium_explorations += other.medium_explorations;
+        self.closest_point.add(&other.closest_point);
     }
 
     /// Counts a failed member.
@@ -167,15 +235,47 @@ impl LqmcStatistics {
                 ));
             }
         }
-        let search_seconds = self.closest_point_nanoseconds as f64 * 1e-9;
+        let search_seconds = self.closest_point.estimated_seconds();
         let cpu_seconds = render_seconds * threads.max(1) as f64;
         lines.push(format!(
-            "  closest-point search: {:.4} s CPU, {:.3} % of {:.2} s render time x {} threads",
+            "  closest-point search: {} calls x {:.1} ns = {:.4} s CPU, {:.3} % of {:.2} s render time x {} threads",
+            self.closest_point.searches,
+            self.closest_point.nanoseconds_per_search(),
             search_seconds,
             100.0 * search_seconds / cpu_seconds.max(1e-12),
             render_seconds,
             threads.max(1)
         ));
         lines.join("\n")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sampled_timing_counts_every_call_and_times_a_batch_per_period() {
+        let mut timing = ClosestPointTiming::default();
+        let mut runs = 0u64;
+        let calls = 3 * ClosestPointTiming::SAMPLING_PERIOD;
+        for call in 0..calls {
+            let result = timing.measure(|| {
+                runs += 1;
+                call
+            });
+            assert_eq!(result, call);
+        }
+        assert_eq!(timing.searches, calls);
+        assert_eq!(timing.timed_searches, 3 * ClosestPointTiming::BATCH);
+        assert_eq!(runs, calls + 3 * (ClosestPointTiming::BATCH - 1));
+        let mut total = ClosestPointTiming::default();
+        total.add(&timing);
+        total.add(&timing);
+        assert_eq!(total.searches, 2 * calls);
+        assert!(
+            (total.estimated_seconds() - 2.0 * timing.estimated_seconds()).abs()
+                <= 1e-12 + 1e-9 * timing.estimated_seconds()
+        );
     }
 }

@@ -1,0 +1,190 @@
+//! The variance layer of an LQMC render: the estimated variance of each
+//! pixel's mean, from the images of the render's progressions.
+//!
+//! LQMC splats every member into other pixels, so a pixel's value is not a
+//! mean of its own samples and the film's per-pixel sample variance says
+//! nothing about it. What is a mean of identically distributed terms is the
+//! image as a whole: a render of `M` samples per pixel is the mean of the `M`
+//! progression images `I_k` (progression `k` = sample `k` of every pixel,
+//! with its own tile jitter; each `I_k` is the splat sum of that
+//! progression, at one sample per pixel). This module keeps, per pixel and
+//! channel, the running mean and sum of squared deviations of the `I_k`
+//! (Welford's update) and reports `s² / M`, with `s²` the unbiased sample
+//! variance of the `I_k`.
+//!
+//! When the progressions are independent — the `independent` sampler, whose
+//! numbers are a separate pseudo-random stream per pixel sample, with
+//! LQMC's own choices (tile jitter, breakup draw, dimension scrambling)
+//! hashed from the sample index — the `I_k` of a pixel are independent and
+//! identically distributed, so `E[s²] = Var(I_k)` and `s² / M` is an
+//! unbiased estimate of `Var(Ī) = Var(I_k) / M`, the variance of the pixel's
+//! value. With a QMC seed sampler (Halton, the default) the progressions
+//! are not independent; `s² / M` then treats them as if they were, as the
+//! path tracer's film variance does for its samples (for QMC points, whose
+//! errors tend to cancel, it usually overestimates).
+//!
+//! Only complete progressions count: a progression cut short by a time
+//! budget or an interruption is left out of the variance (its splats are in
+//! the image).
+
+use crate::film::{Film, Splat};
+use crate::image::Image;
+
+/// Per-pixel statistics of the progression images of an LQMC render.
+#[derive(Debug, Clone)]
+pub struct ProgressionVariance {
+    resolution: [usize; 2],
+    /// The current progression's image (filtered splat sums).
+    current: Vec<[f64; 3]>,
+    /// Running mean of the finished progressions' images.
+    mean: Vec<[f64; 3]>,
+    /// Running sum of squared deviations from the mean.
+    squared_deviations: Vec<[f64; 3]>,
+    progressions: u64,
+}
+
+impl ProgressionVariance {
+    /// Statistics for an image of `resolution` pixels, no progression yet.
+    pub fn new(resolution: [usize; 2]) -> Self {
+        let pixel_count = resolution[0] * resolution[1];
+        Self {
+            resolution,
+            current: vec![[0.0; 3]; pixel_count],
+            mean: vec![[0.0; 3]; pixel_count],
+            squared_deviations: vec![[0.0; 3]; pixel_count],
+            progressions: 0,
+        }
+    }
+
+    /// Adds splats of the current progression, filtered as `film` filters
+    /// them into its image.
+    pub fn add_splats(&mut self, film: &Film, splats: &[Splat]) {
+        film.accumulate_splats(splats, &mut self.current);
+    }
+
+    /// Ends the current progression: its image joins the statistics.
+    pub fn finish_progression(&mut self) {
+        self.progressions += 1;
+        let count = self.progressions as f64;
+        for ((current, mean), squared) in self
+            .current
+            .iter_mut()
+            .zip(&mut self.mean)
+            .zip(&mut self.squared_deviations)
+        {
+            for channel in 0..3 {
+                let value = current[channel];
+                let deviation = value - mean[channel];
+                mean[channel] += deviation / count;
+                squared[channel] += deviation * (value - mean[channel]);
+                current[channel] = 0.0;
+            }
+        }
+    }
+
+    /// Drops the current progression (it did not complete).
+    pub fn discard_progression(&mut self) {
+        self.current.iter_mut().for_each(|pixel| *pixel = [0.0; 3]);
+    }
+
+    /// Number of finished progressions `M`.
+    pub fn progressions(&self) -> u64 {
+        self.progressions
+    }
+
+    /// The mean of the finished progressions' images (the render's image
+    /// when every progression finished).
+    pub fn mean(&self) -> &[[f64; 3]] {
+        &self.mean
+    }
+
+    /// Per pixel and channel, `s² / M`: the estimated variance of the mean
+    /// of the `M` progression images; zero with fewer than two.
+    pub fn variance_of_mean(&self) -> Vec<[f64; 3]> {
+        let count = self.progressions as f64;
+        self.squared_deviations
+            .iter()
+            .map(|squared| {
+                squared.map(|value| {
+                    if self.progressions < 2 {
+                        0.0
+                    } else {
+                        (value / (count - 1.0)).max(0.0) / count
+                    }
+                })
+            })
+            .collect()
+    }
+
+    /// [`Self::variance_of_mean`] as an image (the EXR's variance layer).
+    pub fn variance_image(&self) -> Image {
+        let pixels = self
+            .variance_of_mean()
+            .into_iter()
+            .map(|variance| variance.map(|value| value as f32))
+            .collect();
+        Image::from_pixels(self.resolution[0], self.resolution[1], pixels)
+            .unwrap_or_else(|_| unreachable!("width × height pixels"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::film::{BoxFilter, Filter, SplatBuffer};
+
+    /// Splats of known values at pixel centres with a box filter reproduce
+    /// the two-pass sample variance of the values divided by `M`.
+    #[test]
+    fn matches_the_two_pass_variance_of_the_mean() {
+        let filter = Filter::Box(BoxFilter::new([0.5, 0.5]).unwrap());
+        let film = Film::new([2, 1], filter).unwrap();
+        let values = [1.0, 4.0, 2.5, 7.0, -1.0];
+        let mut statistics = ProgressionVariance::new([2, 1]);
+        for value in values {
+            let mut buffer = SplatBuffer::new();
+            // Two splats into pixel 0 per progression, none into pixel 1.
+            let _ = buffer.add([0.5, 0.5], [value as f32, 0.0, 2.0 * value as f32]);
+            let _ = buffer.add([0.5, 0.5], [value as f32, 0.0, 0.0]);
+            statistics.add_splats(&film, buffer.splats());
+            statistics.finish_progression();
+        }
+        // A cut-short progression does not count.
+        let mut buffer = SplatBuffer::new();
+        let _ = buffer.add([0.5, 0.5], [100.0, 100.0, 100.0]);
+        statistics.add_splats(&film, buffer.splats());
+        statistics.discard_progression();
+        assert_eq!(statistics.progressions(), 5);
+        let count = values.len() as f64;
+        let sample_variance = |scale: f64| {
+            let mean = values.iter().map(|v| scale * v).sum::<f64>() / count;
+            values
+                .iter()
+                .map(|v| (scale * v - mean).powi(2))
+                .sum::<f64>()
+                / (count - 1.0)
+        };
+        let variance = statistics.variance_of_mean();
+        for (channel, scale) in [2.0, 0.0, 2.0].into_iter().enumerate() {
+            let expected = sample_variance(scale) / count;
+            assert!(
+                (variance[0][channel] - expected).abs() <= 1e-12 * expected.max(1.0),
+                "{channel}: {} vs {expected}",
+                variance[0][channel]
+            );
+        }
+        assert_eq!(variance[1], [0.0; 3]);
+        let mean = values.iter().sum::<f64>() / count;
+        assert!((statistics.mean()[0][0] - 2.0 * mean).abs() < 1e-12);
+        let image = statistics.variance_image();
+        assert_eq!(image.width(), 2);
+    }
+
+    #[test]
+    fn fewer_than_two_progressions_have_zero_variance() {
+        let mut statistics = ProgressionVariance::new([1, 1]);
+        assert_eq!(statistics.variance_of_mean(), vec![[0.0; 3]]);
+        statistics.finish_progression();
+        assert_eq!(statistics.variance_of_mean(), vec![[0.0; 3]]);
+    }
+}
