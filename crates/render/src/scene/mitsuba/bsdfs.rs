@@ -498,7 +498,9 @@ impl Loader {
                 ..defaults
             }
         };
-        let zero_unless_thin = |loader: &mut Self, name: &str, applies: bool| {
+        // metallic and the clearcoat belong to `principled` only, diff_trans to
+        // the thin variant; the other variant takes 0.
+        let parameter_if = |loader: &mut Self, name: &str, applies: bool| {
             if applies {
                 loader.float_texture_or(properties, name, 0.0)
             } else {
@@ -511,16 +513,16 @@ impl Loader {
                 base_color: self.texture_or(properties, "base_color", 0.5)?,
                 roughness: self.float_texture_or(properties, "roughness", 0.5)?,
                 anisotropic: self.float_texture_or(properties, "anisotropic", 0.0)?,
-                metallic: zero_unless_thin(self, "metallic", !thin)?,
+                metallic: parameter_if(self, "metallic", !thin)?,
                 spec_trans: self.float_texture_or(properties, "spec_trans", 0.0)?,
                 eta,
                 spec_tint: self.float_texture_or(properties, "spec_tint", 0.0)?,
                 sheen: self.float_texture_or(properties, "sheen", 0.0)?,
                 sheen_tint: self.float_texture_or(properties, "sheen_tint", 0.0)?,
-                clearcoat: zero_unless_thin(self, "clearcoat", !thin)?,
-                clearcoat_gloss: zero_unless_thin(self, "clearcoat_gloss", !thin)?,
+                clearcoat: parameter_if(self, "clearcoat", !thin)?,
+                clearcoat_gloss: parameter_if(self, "clearcoat_gloss", !thin)?,
                 flatness: self.float_texture_or(properties, "flatness", 0.0)?,
-                diff_trans: zero_unless_thin(self, "diff_trans", thin)?,
+                diff_trans: parameter_if(self, "diff_trans", thin)?,
                 sampling_rates,
             },
         )))

@@ -805,3 +805,59 @@ fn references_to_objects_defined_later() {
     assert_eq!(description.media.len(), 1, "the medium is read once");
     assert!(description.lights.is_empty());
 }
+
+#[test]
+fn principled_bsdfs_read_every_parameter() {
+    let scene = loaded(
+        r#"<bsdf type="principled" id="disney">
+               <rgb name="base_color" value="0.2, 0.8, 0.1"/>
+               <float name="specular" value="0.7"/>
+               <texture name="metallic" type="checkerboard">
+                   <float name="color0" value="0.7"/>
+                   <float name="color1" value="0.1"/>
+               </texture>
+               <float name="clearcoat_sampling_rate" value="2"/>
+           </bsdf>
+           <bsdf type="principledthin" id="thin">
+               <float name="eta" value="1.33"/>
+               <float name="diff_trans" value="1.4"/>
+           </bsdf>
+           <shape type="cube"><ref id="disney"/></shape>
+           <shape type="cube"><ref id="thin"/></shape>
+           <sensor type="perspective"/>"#,
+    );
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let constant = |value: f32| TextureDescription::Constant(SpectrumDescription::Constant(value));
+    let MaterialDescription::Principled(disney) = &scene.description.shapes[0].material else {
+        panic!("{:?}", scene.description.shapes[0].material)
+    };
+    assert!(!disney.thin);
+    let eta = crate::material::principled_eta_from_specular(0.7);
+    assert_eq!(disney.eta, constant(eta));
+    assert_eq!(disney.roughness, constant(0.5));
+    assert!(matches!(
+        disney.metallic,
+        TextureDescription::Checkerboard { .. }
+    ));
+    assert_eq!(disney.sampling_rates.clearcoat, 2.0);
+    let MaterialDescription::Principled(thin) = &scene.description.shapes[1].material else {
+        panic!("{:?}", scene.description.shapes[1].material)
+    };
+    assert!(thin.thin);
+    assert_eq!(thin.eta, constant(1.33));
+    assert_eq!(thin.diff_trans, constant(1.4));
+    assert_eq!(thin.base_color, constant(0.5));
+}
+
+#[test]
+fn principled_rejects_both_eta_and_specular() {
+    let message = error(
+        r#"<bsdf type="principled" id="disney">
+               <float name="eta" value="1.5"/>
+               <float name="specular" value="0.5"/>
+           </bsdf>
+           <shape type="cube"><ref id="disney"/></shape>
+           <sensor type="perspective"/>"#,
+    );
+    assert!(message.contains("either 'eta' or 'specular'"), "{message}");
+}
