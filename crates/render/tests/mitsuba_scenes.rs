@@ -4,7 +4,9 @@
 //! * every rendering test scene of Mitsuba 3's data repository
 //!   (`mitsuba-data/tests/scenes/*/test_*.xml`) is listed in [`SCENES`] with
 //!   a status. All must load. Those the renderer supports are rendered with
-//!   the independent sampler and compared with Mitsuba's
+//!   the independent sampler and the integrator the scene names (`volpath`
+//!   and `volpathmis` with ours, the others with the path tracer) and
+//!   compared with Mitsuba's
 //!   `refs/*_ref_spectral.exr` by a per-pixel z-test; the others must still
 //!   fail to *build* with a "not supported" error, so that the day they
 //!   build, this test says to flip their status;
@@ -177,7 +179,7 @@ const SCENES: &[(&str, Status)] = &[
     (
         "participating_media/test_homo_null_envmap_volpath.xml",
         Render {
-            samples_per_pixel: 64,
+            samples_per_pixel: 32,
         },
     ),
     (
@@ -195,7 +197,7 @@ const SCENES: &[(&str, Status)] = &[
     (
         "participating_media/test_homo_spectral_sigmat_volpathmis.xml",
         Render {
-            samples_per_pixel: 64,
+            samples_per_pixel: 32,
         },
     ),
     (

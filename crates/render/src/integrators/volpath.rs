@@ -242,7 +242,8 @@ pub fn radiance(
                     // A surface with a null lobe (a thin dielectric's
                     // transmission, a mask's pass-through): choose it with
                     // its probability first; it is no vertex and no depth.
-                    let u = sampler.get_2d(layout::vertex(block as usize, layout::SCATTER_DIRECTION));
+                    let u =
+                        sampler.get_2d(layout::vertex(block as usize, layout::SCATTER_DIRECTION));
                     let mut probe = *wavelengths;
                     if let Some(sample) = bsdf.sample(wo, u_component, u, &mut probe)
                         && is_null_sample(&bsdf, u_component, &sample)
