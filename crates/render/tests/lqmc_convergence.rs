@@ -270,7 +270,7 @@ fn cornell_box_plastic_lobes() {
             continue;
         }
         if let MaterialDescription::Diffuse { reflectance, .. } = &shape.material {
-            let roughness = (index % 2 == 0).then(|| RoughnessDescription {
+            let roughness = (index % 2 == 0).then_some(RoughnessDescription {
                 distribution: MicrofacetDistribution::Ggx,
                 alpha_u: TextureDescription::Constant(SpectrumDescription::Constant(0.2)),
                 alpha_v: TextureDescription::Constant(SpectrumDescription::Constant(0.2)),
