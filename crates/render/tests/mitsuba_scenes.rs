@@ -130,9 +130,9 @@ const SCENES: &[(&str, Status)] = &[
     ),
     (
         "bsdf_spheres/test_textured_roughconductor_path.xml",
-        Unverified(
-            "93.5 % of pixels passed before the checkerboard-roughness fix; not re-rendered since",
-        ),
+        Render {
+            samples_per_pixel: 64,
+        },
     ),
     (
         "bsdf_spheres/test_texturedprincipled1_path.xml",
