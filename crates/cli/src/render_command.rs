@@ -42,7 +42,7 @@ pub enum SamplerName {
     Halton,
     /// Owen-scrambled Sobol per pixel.
     Sobol,
-    /// Independent random numbers (PCG).
+    /// Independent random numbers (SplitMix64 of the pixel sample and dimension).
     Independent,
     /// Randomized rank-1 lattice (CBC, N = spp rounded up to a power of two).
     Lattice,
