@@ -737,6 +737,10 @@ mod tests {
         }
     }
 
+    /// A named function of the sampled direction whose weighted mean the
+    /// consistency test compares.
+    type TestFunction = (&'static str, fn(Vec3) -> f64);
+
     /// Mean and standard error of the mean.
     fn mean_and_error(values: &[f64]) -> (f64, f64) {
         let n = values.len() as f64;
@@ -864,7 +868,7 @@ mod tests {
         // for several test functions g (a histogram of the sampled
         // directions weighted by their weights, in effect).
         let wo = Vec3::new(0.5, 0.1, 0.8).normalize();
-        let tests: [(&str, fn(Vec3) -> f64); 3] = [
+        let tests: [TestFunction; 3] = [
             ("1", |_| 1.0),
             ("cos²", |w| f64::from(w.z * w.z)),
             ("x > 0.3", |w| f64::from(u8::from(w.x > 0.3))),
