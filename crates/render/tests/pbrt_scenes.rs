@@ -320,12 +320,11 @@ fn a_diffuse_sphere_under_a_uniform_sky_reflects_half() {
 /// the internal reflections up to `maxdepth` 100), so a sphere of it under a
 /// uniform sky of radiance 1 shows 1 everywhere — a white furnace through
 /// the loader, `Scene::build`, the stochastic BSDF and the path tracer's
-/// MIS (which takes the BSDF's density estimate). A rough coating (GGX,
-/// roughness 0.1, remapped) loses only its microfacets' single-scattering
-/// energy, a little, at grazing angles.
+/// MIS (which takes the BSDF's density estimate). Rough coatings are
+/// refused by `Scene::build` for now (their estimator is biased).
 #[test]
 fn a_white_coated_diffuse_sphere_in_a_furnace_reflects_everything() {
-    for (name, roughness, low) in [("smooth", 0.0, 0.99), ("rough", 0.1, 0.9)] {
+    for (name, roughness, low) in [("smooth", 0.0, 0.99)] {
         let directory =
             std::env::temp_dir().join(format!("lqmc-pbrt-coated-{name}-{}", std::process::id()));
         std::fs::create_dir_all(&directory).unwrap();

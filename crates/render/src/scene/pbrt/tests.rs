@@ -670,7 +670,7 @@ fn ply_meshes_plain_and_gzipped() {
 #[test]
 fn brass_named_spectra_load_and_build() {
     let loaded = load_source(&format!(
-        "WorldBegin\n\
+        "WorldBegin\nLightSource \"infinite\" \"rgb L\" [1 1 1]\n\
          Material \"conductor\" \"spectrum eta\" \"metal-CuZn-eta\" \"spectrum k\" \"metal-CuZn-k\"\n{TRIANGLE}"
     ));
     let MaterialDescription::Conductor { eta, k, .. } = &loaded.description.shapes[0].material
