@@ -185,11 +185,12 @@ pub struct ClosestPointSearch {
 /// projection scan when a [`ClosestPointSearch`] is built.
 pub const CALIBRATION_QUERIES: u64 = 32;
 
-/// Work of one enumeration node relative to one projection-scan candidate: a
-/// node updates the projected centre (a dot product over the levels above it)
-/// and keeps a deeper recursion, a candidate reads a few precomputed
-/// coordinates. From the `closest_*` divan benchmarks in `benches/lattice.rs`
-/// (ns per node and per candidate on the LQMC table), rounded.
+/// Work of one enumeration node relative to one projection-scan candidate, an
+/// estimate from what each does: a node updates the projected centre (a dot
+/// product over the levels above it) and recurses, a candidate reads a few
+/// precomputed coordinates and usually abandons after one or two. The choice
+/// only affects speed (both searches are exact); `closest_*` in
+/// `benches/lattice.rs` measure both.
 const ENUMERATION_NODE_COST: u64 = 4;
 
 impl ClosestPointSearch {

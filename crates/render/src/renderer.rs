@@ -190,7 +190,10 @@ fn render_in_pool(
     let total = pixel_count * settings.samples_per_pixel;
     // Progressive passes keep a time budget or an interruption from leaving
     // some pixels far behind others.
-    let pass_size = if settings.time_budget.is_some() {
+    // LQMC renders one progression per pass: the variance layer needs the
+    // image of each progression (`lqmc::ProgressionVariance`).
+    let pass_size = if settings.time_budget.is_some() || settings.integrator == IntegratorKind::Lqmc
+    {
         1
     } else {
         settings.samples_per_pixel.clamp(1, 4)
@@ -242,7 +245,6 @@ fn render_in_pool(
                             samples: count,
                             lqmc: LqmcStatistics::default(),
                             density: None,
-                            splat_ends: Vec::new(),
                         }
                     }
                     IntegratorKind::Lqmc => {
@@ -267,7 +269,7 @@ fn render_in_pool(
         let mut complete = true;
         // Tiles and their splats merge in the fixed tile order: the image
         // does not depend on the number of threads.
-        for result in &results {
+        for result in results {
             match result {
                 Some(result) => {
                     film.merge_tile(&result.tile)?;
@@ -286,7 +288,7 @@ fn render_in_pool(
             }
         }
         if let Some(progressions) = &mut progression_variance {
-            add_progressions(&film, &results, end_sample - first_sample, progressions);
+            progressions.end_progression(&film, complete);
         }
         if complete {
             statistics.completed_samples_per_pixel = end_sample;
@@ -305,41 +307,6 @@ fn render_in_pool(
     })
 }
 
-/// Adds the pass's LQMC splats to the progression statistics, one
-/// progression (sample index) at a time, tiles in their fixed order; a
-/// progression missing from any tile (the pass was cut short) is dropped.
-fn add_progressions(
-    film: &Film,
-    results: &[Option<TileResult>],
-    pass_length: u64,
-    progressions: &mut lqmc::ProgressionVariance,
-) {
-    for progression in 0..pass_length {
-        let mut complete = true;
-        for result in results {
-            let Some(result) = result else {
-                complete = false;
-                continue;
-            };
-            let Some(splats) = &result.splats else {
-                continue;
-            };
-            let mut start = 0;
-            for &(sample_offset, end) in &result.splat_ends {
-                if sample_offset == progression {
-                    progressions.add_splats(film, &splats.splats()[start..end]);
-                }
-                start = end;
-            }
-        }
-        if complete {
-            progressions.finish_progression();
-        } else {
-            progressions.discard_progression();
-        }
-    }
-}
-
 /// What rendering one tile for one pass produced.
 struct TileResult {
     tile: crate::film::FilmTile,
@@ -348,9 +315,6 @@ struct TileResult {
     samples: u64,
     lqmc: LqmcStatistics,
     density: Option<lqmc::ClassDensity>,
-    /// For LQMC: after each pixel sample, its offset in the pass and the
-    /// number of splats so far (the sample's splats end there).
-    splat_ends: Vec<(u64, usize)>,
 }
 
 /// Renders samples `samples` of every pixel of a tile with LQMC: every
@@ -373,7 +337,6 @@ fn render_tile_lqmc(
     let mut scratch = lqmc::LqmcScratch::default();
     scratch.density = gather_density.then(lqmc::ClassDensity::default);
     let mut count = 0;
-    let mut splat_ends = Vec::new();
     for y in bounds.min[1]..bounds.max[1] {
         for x in bounds.min[0]..bounds.max[0] {
             for sample_index in samples.clone() {
@@ -388,7 +351,6 @@ fn render_tile_lqmc(
                     &mut statistics,
                     &mut counters,
                 );
-                splat_ends.push((sample_index - samples.start, splats.splats().len()));
                 count += 1;
             }
         }
@@ -400,7 +362,6 @@ fn render_tile_lqmc(
         samples: count,
         lqmc: statistics,
         density: scratch.density.take(),
-        splat_ends,
     }
 }
 

@@ -9,7 +9,7 @@ use super::FilmError;
 use super::film_tile::{FilmTile, PixelBounds, SampleOutcome};
 use super::filter::Filter;
 use super::pixel_statistics::PixelStatistics;
-use super::splat_buffer::{Splat, SplatBuffer};
+use super::splat_buffer::SplatBuffer;
 use crate::image::{
     Image, ImageError, ImageFormat, Metadata, VARIANCE_LAYER, write_exr, write_image,
 };
@@ -292,22 +292,6 @@ impl Film {
             .iter()
             .map(PixelStatistics::sample_count)
             .collect()
-    }
-
-    /// Adds `splats`, filtered exactly as [`Film::merge_splats`] filters
-    /// them, into `target` (one RGB sum per pixel, row-major, the film's
-    /// size) instead of the film's splat image: for statistics over a part
-    /// of a render, such as LQMC's per-progression images.
-    pub fn accumulate_splats(&self, splats: &[Splat], target: &mut [[f64; 3]]) {
-        debug_assert_eq!(target.len(), self.pixels.len());
-        for splat in splats {
-            let rgb = splat.rgb.map(f64::from);
-            self.for_each_splat_pixel(splat.raster_position, |index, weight| {
-                for (value, channel) in target[index].iter_mut().zip(rgb) {
-                    *value += weight * channel;
-                }
-            });
-        }
     }
 
     /// Writes [`Film::image`] to `path` in the format of its extension; an

@@ -23,19 +23,21 @@
 //! path tracer's film variance does for its samples (for QMC points, whose
 //! errors tend to cancel, it usually overestimates).
 //!
-//! Only complete progressions count: a progression cut short by a time
-//! budget or an interruption is left out of the variance (its splats are in
-//! the image).
+//! The renderer runs LQMC one progression per pass; after each pass the
+//! progression's image is the change of the film's splat sums (so splats
+//! are filtered once, by the film). Only complete progressions count: a
+//! progression cut short by a time budget or an interruption is left out
+//! of the variance (its splats are in the image).
 
-use crate::film::{Film, Splat};
+use crate::film::Film;
 use crate::image::Image;
 
 /// Per-pixel statistics of the progression images of an LQMC render.
 #[derive(Debug, Clone)]
 pub struct ProgressionVariance {
     resolution: [usize; 2],
-    /// The current progression's image (filtered splat sums).
-    current: Vec<[f64; 3]>,
+    /// The film's splat sums at the end of the previous progression.
+    previous: Vec<[f64; 3]>,
     /// Running mean of the finished progressions' images.
     mean: Vec<[f64; 3]>,
     /// Running sum of squared deviations from the mean.
@@ -49,42 +51,41 @@ impl ProgressionVariance {
         let pixel_count = resolution[0] * resolution[1];
         Self {
             resolution,
-            current: vec![[0.0; 3]; pixel_count],
+            previous: vec![[0.0; 3]; pixel_count],
             mean: vec![[0.0; 3]; pixel_count],
             squared_deviations: vec![[0.0; 3]; pixel_count],
             progressions: 0,
         }
     }
 
-    /// Adds splats of the current progression, filtered as `film` filters
-    /// them into its image.
-    pub fn add_splats(&mut self, film: &Film, splats: &[Splat]) {
-        film.accumulate_splats(splats, &mut self.current);
-    }
-
-    /// Ends the current progression: its image joins the statistics.
-    pub fn finish_progression(&mut self) {
-        self.progressions += 1;
+    /// Ends a progression whose splats `film` has just merged: its image
+    /// is the change of the film's splat sums since the previous call, and
+    /// joins the statistics if `complete` (else it is dropped).
+    #[allow(clippy::needless_range_loop)] // channel indexes four parallel arrays
+    pub fn end_progression(&mut self, film: &Film, complete: bool) {
+        if complete {
+            self.progressions += 1;
+        }
         let count = self.progressions as f64;
-        for ((current, mean), squared) in self
-            .current
+        let width = self.resolution[0];
+        for (index, ((previous, mean), squared)) in self
+            .previous
             .iter_mut()
             .zip(&mut self.mean)
             .zip(&mut self.squared_deviations)
+            .enumerate()
         {
-            for channel in 0..3 {
-                let value = current[channel];
-                let deviation = value - mean[channel];
-                mean[channel] += deviation / count;
-                squared[channel] += deviation * (value - mean[channel]);
-                current[channel] = 0.0;
+            let sums = film.splat(index % width, index / width).unwrap_or([0.0; 3]);
+            if complete {
+                for channel in 0..3 {
+                    let value = sums[channel] - previous[channel];
+                    let deviation = value - mean[channel];
+                    mean[channel] += deviation / count;
+                    squared[channel] += deviation * (value - mean[channel]);
+                }
             }
+            *previous = sums;
         }
-    }
-
-    /// Drops the current progression (it did not complete).
-    pub fn discard_progression(&mut self) {
-        self.current.iter_mut().for_each(|pixel| *pixel = [0.0; 3]);
     }
 
     /// Number of finished progressions `M`.
@@ -131,7 +132,7 @@ impl ProgressionVariance {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::film::{BoxFilter, Filter, SplatBuffer};
+    use crate::film::{BoxFilter, Filter};
 
     /// Splats of known values at pixel centres with a box filter reproduce
     /// the two-pass sample variance of the values divided by `M`.
@@ -142,18 +143,14 @@ mod tests {
         let values = [1.0, 4.0, 2.5, 7.0, -1.0];
         let mut statistics = ProgressionVariance::new([2, 1]);
         for value in values {
-            let mut buffer = SplatBuffer::new();
             // Two splats into pixel 0 per progression, none into pixel 1.
-            let _ = buffer.add([0.5, 0.5], [value as f32, 0.0, 2.0 * value as f32]);
-            let _ = buffer.add([0.5, 0.5], [value as f32, 0.0, 0.0]);
-            statistics.add_splats(&film, buffer.splats());
-            statistics.finish_progression();
+            let _ = film.add_splat([0.5, 0.5], [value as f32, 0.0, 2.0 * value as f32]);
+            let _ = film.add_splat([0.5, 0.5], [value as f32, 0.0, 0.0]);
+            statistics.end_progression(&film, true);
         }
         // A cut-short progression does not count.
-        let mut buffer = SplatBuffer::new();
-        let _ = buffer.add([0.5, 0.5], [100.0, 100.0, 100.0]);
-        statistics.add_splats(&film, buffer.splats());
-        statistics.discard_progression();
+        let _ = film.add_splat([0.5, 0.5], [100.0, 100.0, 100.0]);
+        statistics.end_progression(&film, false);
         assert_eq!(statistics.progressions(), 5);
         let count = values.len() as f64;
         let sample_variance = |scale: f64| {
@@ -184,7 +181,8 @@ mod tests {
     fn fewer_than_two_progressions_have_zero_variance() {
         let mut statistics = ProgressionVariance::new([1, 1]);
         assert_eq!(statistics.variance_of_mean(), vec![[0.0; 3]]);
-        statistics.finish_progression();
+        let film = Film::new([1, 1], Filter::Box(BoxFilter::new([0.5, 0.5]).unwrap())).unwrap();
+        statistics.end_progression(&film, true);
         assert_eq!(statistics.variance_of_mean(), vec![[0.0; 3]]);
     }
 }
