@@ -140,6 +140,10 @@ pub struct LqmcArgs {
     /// LQMC: tiles per time dimension (default 1).
     #[arg(long, value_name = "K")]
     pub time_tiles: Option<u32>,
+    /// LQMC: tiles across the image width when the camera is inside a
+    /// medium, for every class (default 12).
+    #[arg(long, value_name = "K")]
+    pub medium_image_tiles: Option<u32>,
     /// LQMC: a class whose paths are splatted without exploration; may be
     /// repeated.
     #[arg(long, value_name = "CLASS")]
@@ -237,6 +241,9 @@ fn lqmc_settings(args: &LqmcArgs) -> Result<render::integrators::lqmc::LqmcSetti
     }
     if let Some(tiles) = args.time_tiles {
         settings.time_tiles = tiles.max(1);
+    }
+    if let Some(tiles) = args.medium_image_tiles {
+        settings.medium_image_tiles = tiles.max(1);
     }
     settings.jitter_tiles = !args.no_jitter;
     settings.scramble_dimensions = !args.no_scramble;

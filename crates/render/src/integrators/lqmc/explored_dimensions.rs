@@ -104,7 +104,13 @@ pub fn explored_dimensions(
     if breakup >= 1 {
         if effects.image {
             let [width, height] = camera.resolution();
-            let across = parameters.image_tiles.max(1);
+            // The notes' image tiles: the class's, or 12 when the first
+            // segment is in a medium (the same for every member of a set).
+            let across = if scene.camera_medium.is_some() {
+                settings.medium_image_tiles.max(1)
+            } else {
+                parameters.image_tiles.max(1)
+            };
             let down = ((across as f64 * height as f64 / width as f64).round() as u32).max(1);
             for (axis, tiles) in [across, down].into_iter().enumerate() {
                 dimensions.push(ExploredDimension {

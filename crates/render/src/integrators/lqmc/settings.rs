@@ -140,6 +140,11 @@ pub struct LqmcSettings {
     pub time_tiles: u32,
     /// Tiles per free-flight dimension (default 1000, the authors' value).
     pub free_flight_tiles: u32,
+    /// Tiles across the image width, for every class, when the camera is
+    /// inside a medium, so that the first segment is (default 12, the
+    /// authors' value: a member's first free flight moves it far more than
+    /// a pixel step does).
+    pub medium_image_tiles: u32,
     /// A first hit whose circle of confusion exceeds this many pixels makes
     /// the path a depth-of-field path (default 2).
     pub depth_of_field_threshold_pixels: f32,
@@ -187,6 +192,7 @@ impl Default for LqmcSettings {
             wavelength_tiles: 1,
             time_tiles: 1,
             free_flight_tiles: 1000,
+            medium_image_tiles: 12,
             depth_of_field_threshold_pixels: 2.0,
             depth_of_field_camera_weight: 16.0,
             caustic_roughness: 0.05,
