@@ -196,12 +196,14 @@ pub fn radiance(
 
         // Russian roulette on the throughput without the refraction scaling.
         let roulette_throughput = (throughput * eta_scale).max_component();
-        if depth + 1 >= settings.russian_roulette_depth && roulette_throughput < 1.0 {
-            let survival = roulette_throughput.max(0.05);
-            if sampler.get(layout::vertex(depth as usize, layout::RUSSIAN_ROULETTE)) >= survival {
-                break;
-            }
-            throughput /= survival;
+        match russian_roulette(
+            roulette_throughput,
+            depth,
+            settings.russian_roulette_depth,
+            || sampler.get(layout::vertex(depth as usize, layout::RUSSIAN_ROULETTE)),
+        ) {
+            Some(survival) => throughput /= survival,
+            None => break,
         }
         depth += 1;
     }
@@ -283,6 +285,27 @@ fn sample_light(
             .weight(light_pdf, bsdf.pdf(wo, sample.wi))
     };
     value * sample.radiance * (weight / light_pdf)
+}
+
+/// Russian roulette at vertex `depth` (pbrt-v4's rule): from
+/// `start_depth` on, a path whose `roulette_throughput` is below 1 survives
+/// with probability max(throughput, 0.05), decided by the number `u` gives
+/// (read only then). Returns the probability to divide the throughput by (1
+/// without roulette), or `None` when the path ends. Every integrator and
+/// LQMC's walks decide here, so a rebuilt path takes its seed's decision
+/// from the same number.
+pub(crate) fn russian_roulette(
+    roulette_throughput: f32,
+    depth: u32,
+    start_depth: u32,
+    u: impl FnOnce() -> f32,
+) -> Option<f32> {
+    if depth + 1 >= start_depth && roulette_throughput < 1.0 {
+        let survival = roulette_throughput.max(0.05);
+        (u() < survival).then_some(survival)
+    } else {
+        Some(1.0)
+    }
 }
 
 /// A light chosen for next-event estimation at a path vertex and the point

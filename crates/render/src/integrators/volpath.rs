@@ -323,12 +323,14 @@ pub fn radiance(
             break;
         }
         let roulette_throughput = (state.beta * (eta_scale / r_u_mean)).max_component();
-        if depth + 1 >= settings.russian_roulette_depth && roulette_throughput < 1.0 {
-            let survival = roulette_throughput.max(0.05);
-            if sampler.get(layout::vertex(block as usize, layout::RUSSIAN_ROULETTE)) >= survival {
-                break;
-            }
-            state.beta /= survival;
+        match crate::integrators::path::russian_roulette(
+            roulette_throughput,
+            depth,
+            settings.russian_roulette_depth,
+            || sampler.get(layout::vertex(block as usize, layout::RUSSIAN_ROULETTE)),
+        ) {
+            Some(survival) => state.beta /= survival,
+            None => break,
         }
         if state.beta.is_black() {
             break;

@@ -6,6 +6,7 @@
 //! through the same code.
 
 use crate::geometry::SurfaceHit;
+use crate::integrators::path::VertexLightSample;
 use crate::material::BsdfFlags;
 use glam::{Vec2, Vec3};
 
@@ -125,6 +126,42 @@ pub struct LightConnection {
     pub u_primitive: f32,
     /// The light-position numbers.
     pub u_position: [f32; 2],
+}
+
+impl LightConnection {
+    /// The connection to next-event estimation's light sample (once it is
+    /// known to arrive): the light's stored normal undoes an area light's
+    /// flip, so reconnection can sample the same light again.
+    pub(crate) fn from_sample(
+        scene: &crate::scene::Scene,
+        light_sample: VertexLightSample,
+    ) -> Self {
+        let VertexLightSample {
+            light_index,
+            selection_probability,
+            u_primitive,
+            u_position,
+            sample,
+        } = light_sample;
+        let stored_normal = match &scene.lights[light_index] {
+            crate::light::Light::Area {
+                flip_normals: true, ..
+            } => -sample.normal,
+            _ => sample.normal,
+        };
+        LightConnection {
+            light_index,
+            selection_probability,
+            point: sample.point,
+            stored_normal,
+            front_normal: sample.normal,
+            direction: sample.wi,
+            is_delta: sample.is_delta,
+            is_infinite: sample.is_infinite,
+            u_primitive,
+            u_position,
+        }
+    }
 }
 
 /// How a path of a splat event ends.

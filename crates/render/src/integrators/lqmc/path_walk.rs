@@ -278,13 +278,13 @@ pub fn walk(
         previous_bsdf_pdf = pdf;
         previous_reference = reference;
         let roulette_throughput = (throughput * eta_scale).max_component();
-        if m as u32 + 1 >= settings.russian_roulette_depth && roulette_throughput < 1.0 {
-            let survival = roulette_throughput.max(0.05);
-            if numbers.get(layout::vertex(m, layout::RUSSIAN_ROULETTE)) >= survival {
-                return Err(FailureReason::RussianRoulette);
-            }
-            throughput /= survival;
-        }
+        throughput /= crate::integrators::path::russian_roulette(
+            roulette_throughput,
+            m as u32,
+            settings.russian_roulette_depth,
+            || numbers.get(layout::vertex(m, layout::RUSSIAN_ROULETTE)),
+        )
+        .ok_or(FailureReason::RussianRoulette)?;
     }
 
     let contribution = match input.terminal {

@@ -10,7 +10,6 @@ use super::path_record::{CameraVertex, LightConnection, SplatEvent, SurfaceVerte
 use crate::geometry::{Ray, offset_ray_origin, spawn_ray, spawn_ray_to_point};
 use crate::integrators::TraceCounters;
 use crate::integrators::path::{PathSettings, oriented_hit};
-use crate::light::Light;
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -128,12 +127,14 @@ pub fn trace_seed_path(
         }
         ray = spawn_ray(&raw_hit, sample.wi);
         let roulette_throughput = (throughput * eta_scale).max_component();
-        if depth + 1 >= settings.russian_roulette_depth && roulette_throughput < 1.0 {
-            let survival = roulette_throughput.max(0.05);
-            if sampler.get(layout::vertex(depth as usize, layout::RUSSIAN_ROULETTE)) >= survival {
-                break;
-            }
-            throughput /= survival;
+        match crate::integrators::path::russian_roulette(
+            roulette_throughput,
+            depth,
+            settings.russian_roulette_depth,
+            || sampler.get(layout::vertex(depth as usize, layout::RUSSIAN_ROULETTE)),
+        ) {
+            Some(survival) => throughput /= survival,
+            None => break,
         }
         depth += 1;
     }
@@ -150,20 +151,14 @@ pub(super) fn sample_light(
     sampler: &mut dyn SampleSource,
     counters: &mut TraceCounters,
 ) -> Option<LightConnection> {
-    let crate::integrators::path::VertexLightSample {
-        light_index,
-        selection_probability,
-        u_primitive,
-        u_position,
-        sample,
-    } = crate::integrators::path::sample_vertex_light(
+    let light_sample = crate::integrators::path::sample_vertex_light(
         scene,
         reference,
         depth,
         wavelengths,
         sampler,
     )?;
-    let light = &scene.lights[light_index];
+    let sample = &light_sample.sample;
     counters.shadow_rays += 1;
     let visible = if sample.is_infinite {
         let ray = spawn_ray(hit, sample.wi);
@@ -174,25 +169,5 @@ pub(super) fn sample_light(
             None => false,
         }
     };
-    if !visible {
-        return None;
-    }
-    let stored_normal = match light {
-        Light::Area {
-            flip_normals: true, ..
-        } => -sample.normal,
-        _ => sample.normal,
-    };
-    Some(LightConnection {
-        light_index,
-        selection_probability,
-        point: sample.point,
-        stored_normal,
-        front_normal: sample.normal,
-        direction: sample.wi,
-        is_delta: sample.is_delta,
-        is_infinite: sample.is_infinite,
-        u_primitive,
-        u_position,
-    })
+    visible.then(|| LightConnection::from_sample(scene, light_sample))
 }

@@ -17,7 +17,6 @@ use crate::geometry::{Ray, SurfaceHit, offset_ray_origin, spawn_ray};
 use crate::integrators::TraceCounters;
 use crate::integrators::path::{PathSettings, oriented_hit};
 use crate::integrators::volpath::{shadow_ray, shadow_transmittance};
-use crate::light::Light;
 use crate::medium::medium_after;
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
@@ -187,12 +186,14 @@ pub fn trace_volumetric_seed_path(
             break;
         }
         let roulette_throughput = (beta * (eta_scale / r_u_mean)).max_component();
-        if depth + 1 >= settings.russian_roulette_depth && roulette_throughput < 1.0 {
-            let survival = roulette_throughput.max(0.05);
-            if sampler.get(layout::vertex(depth as usize, layout::RUSSIAN_ROULETTE)) >= survival {
-                break;
-            }
-            beta /= survival;
+        match crate::integrators::path::russian_roulette(
+            roulette_throughput,
+            depth,
+            settings.russian_roulette_depth,
+            || sampler.get(layout::vertex(depth as usize, layout::RUSSIAN_ROULETTE)),
+        ) {
+            Some(survival) => beta /= survival,
+            None => break,
         }
         if beta.is_black() {
             break;
@@ -214,44 +215,22 @@ fn sample_light(
     sampler: &mut dyn SampleSource,
     counters: &mut TraceCounters,
 ) -> Option<LightConnection> {
-    let crate::integrators::path::VertexLightSample {
-        light_index,
-        selection_probability,
-        u_primitive,
-        u_position,
-        sample,
-    } = crate::integrators::path::sample_vertex_light(
+    let light_sample = crate::integrators::path::sample_vertex_light(
         scene,
         reference,
         depth,
         wavelengths,
         sampler,
     )?;
-    let (ray, t_max) = shadow_ray(reference, hit, &sample)?;
+    let sample = &light_sample.sample;
+    let (ray, t_max) = shadow_ray(reference, hit, sample)?;
     let start_medium = start_medium(scene, hit, medium, sample.wi);
     let transmittance =
         shadow_transmittance(scene, ray, t_max, start_medium, wavelengths, counters);
     if transmittance.is_black() {
         return None;
     }
-    let stored_normal = match &scene.lights[light_index] {
-        Light::Area {
-            flip_normals: true, ..
-        } => -sample.normal,
-        _ => sample.normal,
-    };
-    Some(LightConnection {
-        light_index,
-        selection_probability,
-        point: sample.point,
-        stored_normal,
-        front_normal: sample.normal,
-        direction: sample.wi,
-        is_delta: sample.is_delta,
-        is_infinite: sample.is_infinite,
-        u_primitive,
-        u_position,
-    })
+    Some(LightConnection::from_sample(scene, light_sample))
 }
 
 /// The medium a ray leaving a vertex along `direction` starts in: at a

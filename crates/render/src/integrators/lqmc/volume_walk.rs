@@ -410,13 +410,13 @@ pub fn walk_volumetric(
             return Err(FailureReason::Evaluation);
         }
         let roulette_throughput = (state.beta * (eta_scale / r_u_mean)).max_component();
-        if m as u32 + 1 >= settings.russian_roulette_depth && roulette_throughput < 1.0 {
-            let survival = roulette_throughput.max(0.05);
-            if numbers.get(layout::vertex(m, layout::RUSSIAN_ROULETTE)) >= survival {
-                return Err(FailureReason::RussianRoulette);
-            }
-            state.beta /= survival;
-        }
+        state.beta /= crate::integrators::path::russian_roulette(
+            roulette_throughput,
+            m as u32,
+            settings.russian_roulette_depth,
+            || numbers.get(layout::vertex(m, layout::RUSSIAN_ROULETTE)),
+        )
+        .ok_or(FailureReason::RussianRoulette)?;
         if state.beta.is_black() {
             return Err(FailureReason::Evaluation);
         }
