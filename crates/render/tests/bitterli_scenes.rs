@@ -88,6 +88,15 @@ impl OurRender {
     }
 }
 
+/// `samples` per pixel, or `LQMC_BITTERLI_SPP` if set (to measure the
+/// figures more precisely than the tests need).
+fn samples_or_override(samples: u64) -> u64 {
+    std::env::var("LQMC_BITTERLI_SPP")
+        .ok()
+        .and_then(|value| value.parse().ok())
+        .unwrap_or(samples)
+}
+
 /// Renders `scene` at `width` × `height` with `samples` per pixel.
 fn render_scene(scene: &str, width: u32, height: u32, samples: u64) -> OurRender {
     render_patched(scene, width, height, samples, |_| {})
@@ -110,7 +119,7 @@ fn render_patched(
     let scene = Scene::build(&description).expect("the scene builds");
     let settings = RenderSettings {
         sampler: SamplerKind::Independent,
-        samples_per_pixel: samples,
+        samples_per_pixel: samples_or_override(samples),
         max_depth: description.max_depth.unwrap_or(u32::MAX),
         threads: 2,
         seed: 7,
