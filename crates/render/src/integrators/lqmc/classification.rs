@@ -305,6 +305,52 @@ mod tests {
         }
     }
 
+    /// `--breakup k` puts all mass on the last vertex, and the full-path
+    /// term is left out where the light vertex cannot be sampled again
+    /// (escapes to the environment) or when switched off.
+    #[test]
+    fn full_path_breakup_weights() {
+        let camera = CameraVertex {
+            raster: Vec2::ZERO,
+            u_lens: [0.5; 2],
+            u_time: 0.5,
+            u_wavelength: 0.5,
+            origin: Vec3::ZERO,
+        };
+        let vertices = [SurfaceVertex::in_medium(Vec3::ONE, 0.0, 0, 1.0); 2];
+        let weights_of = |settings: &LqmcSettings, terminal: Terminal| {
+            let event = SplatEvent {
+                vertex_count: vertices.len(),
+                terminal,
+            };
+            let path = EventPath {
+                camera: &camera,
+                vertices: &vertices,
+                event: &event,
+            };
+            let mut weights = Vec::new();
+            breakup_weights(settings, &path, PathClass::Normal, |_| true, &mut weights);
+            weights
+        };
+        let emission = Terminal::Emission { light_index: 0 };
+        let full = LqmcSettings {
+            breakup: BreakupChoice::FullPath,
+            ..LqmcSettings::default()
+        };
+        assert_eq!(weights_of(&full, emission), vec![0.0, 0.0, 1.0]);
+        assert_eq!(
+            weights_of(&LqmcSettings::default(), emission),
+            vec![1.0, 1.0, 1.0]
+        );
+        let without = LqmcSettings {
+            full_path_breakup: false,
+            ..LqmcSettings::default()
+        };
+        assert_eq!(weights_of(&without, emission), vec![1.0, 1.0, 0.0]);
+        let escape = Terminal::Environment { direction: Vec3::Z };
+        assert_eq!(weights_of(&full, escape), vec![0.0, 0.0, 0.0, 0.0]);
+    }
+
     #[test]
     fn breakup_draw_follows_the_weights() {
         let weights = [0.0, 1.0, 0.0, 3.0];

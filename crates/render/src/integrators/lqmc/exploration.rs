@@ -356,10 +356,9 @@ fn explore(
                 DimensionKind::FreeFlight { vertex } => scratch
                     .overrides
                     .push((layout::vertex(vertex, layout::FREE_FLIGHT), value)),
-                DimensionKind::LightPosition { vertex, axis } => scratch.overrides.push((
-                    layout::vertex(vertex, layout::LIGHT_POSITION + axis),
-                    value,
-                )),
+                DimensionKind::LightPosition { vertex, axis } => scratch
+                    .overrides
+                    .push((layout::vertex(vertex, layout::LIGHT_POSITION + axis), value)),
             }
         }
         if image_numbers != seed_image_numbers {
