@@ -330,6 +330,33 @@ fn volumetric_caustic_media_roughness_breakup() {
     );
 }
 
+/// An emitting index-matched boundary (issue 5): the first sphere of
+/// `translucent-spheres` becomes a `null`-bounded emitter filled with its
+/// medium, whose emission volpath adds as rays pass through it (seen
+/// directly, through the medium inside, and after scattering); LQMC seeds
+/// record it as an emission event of its own.
+#[test]
+fn index_matched_emitter_in_media() {
+    let mut description = small(builtin_scene("translucent-spheres").unwrap());
+    let sphere = description
+        .shapes
+        .iter_mut()
+        .find(|shape| shape.interior_medium == Some(0))
+        .expect("the first sphere");
+    sphere.material = MaterialDescription::Interface;
+    sphere.emission = Some(SpectrumDescription::Rgb([2.0, 1.5, 1.0]));
+    let scene = Scene::build(&description).unwrap();
+    let statistics = assert_scene_converges(
+        "translucent-spheres (emitting null sphere)",
+        &scene,
+        IntegratorKind::VolPath,
+        LqmcSettings::default(),
+        LQMC_SPP,
+        256,
+    );
+    assert!(statistics.medium_explorations > 100, "{statistics:?}");
+}
+
 /// Multi-lobe BSDFs (issue 5): the Cornell box with rough plastic (GGX
 /// coating α = 0.2 over a diffuse base, two non-delta lobes) and smooth
 /// plastic (a delta coating over a diffuse base) in place of its diffuse

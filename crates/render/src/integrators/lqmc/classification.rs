@@ -271,6 +271,7 @@ mod tests {
         specular.sampled = BsdfFlags::SPECULAR | BsdfFlags::REFLECTION;
         let vertices = [vertex(0.6), glossy, vertex(1.0), specular, vertex(1.0)];
         let event = SplatEvent {
+            first_vertex: 0,
             vertex_count: vertices.len(),
             terminal: Terminal::Emission { light_index: 0 },
         };
@@ -320,6 +321,7 @@ mod tests {
         let vertices = [SurfaceVertex::in_medium(Vec3::ONE, 0.0, 0, 1.0); 2];
         let weights_of = |settings: &LqmcSettings, terminal: Terminal| {
             let event = SplatEvent {
+                first_vertex: 0,
                 vertex_count: vertices.len(),
                 terminal,
             };

@@ -137,7 +137,7 @@ fn handle_event(
     let scene = context.scene;
     let settings = context.settings;
     let camera = seed_path.camera.as_ref().expect("traced");
-    let vertices = &seed_path.vertices[..event.vertex_count];
+    let vertices = &seed_path.vertices[event.vertex_range()];
     let Ok(walked) = walk(
         scene,
         &context.path_settings,
@@ -233,7 +233,7 @@ fn explore(
     let scene = context.scene;
     let settings = context.settings;
     let camera = seed_path.camera.as_ref().expect("traced");
-    let vertices = &seed_path.vertices[..event.vertex_count];
+    let vertices = &seed_path.vertices[event.vertex_range()];
     let parameters = *settings.class_parameters(class);
     let path = EventPath {
         camera,

@@ -92,6 +92,16 @@ pub fn explored_dimensions(
     dimensions: &mut Vec<ExploredDimension>,
 ) {
     dimensions.clear();
+    // An index-matched emitting boundary is passed, not hit: no rebuilt
+    // ray ends there, so its emission events have no full-path breakup.
+    if breakup >= path.event.last_vertex()
+        && let Terminal::Emission { .. } = path.event.terminal
+        && path.vertices.last().is_some_and(|emitter| {
+            !emitter.is_medium() && scene.shapes[emitter.raw_hit.shape_index as usize].is_interface
+        })
+    {
+        return;
+    }
     let effects = settings.effects;
     let camera = &scene.camera;
     if effects.aperture && camera.lens_radius() > 0.0 {

@@ -190,6 +190,7 @@ fn rebuild_volumetric_prefix(
             &mut ray,
             &mut medium,
             || source.get(layout::vertex(m, layout::FREE_FLIGHT)),
+            &mut |_, _| {},
             wavelengths,
             &mut counters.closest_hit_rays,
         );
@@ -277,7 +278,7 @@ pub fn rebuild_member(
     vertices: &mut Vec<SurfaceVertex>,
 ) -> Result<CameraVertex, FailureReason> {
     vertices.clear();
-    let seed_vertices = &seed_vertices[..event.vertex_count];
+    let seed_vertices = &seed_vertices[event.vertex_range()];
     if breakup == 0 {
         let first = seed_vertices.first().ok_or(FailureReason::Evaluation)?;
         let projection = scene
