@@ -330,6 +330,17 @@ fn volumetric_caustic_media_roughness_breakup() {
     );
 }
 
+/// Makes the shape around medium 0 an emitting index-matched boundary.
+fn make_first_medium_sphere_an_emitting_boundary(description: &mut SceneDescription) {
+    let sphere = description
+        .shapes
+        .iter_mut()
+        .find(|shape| shape.interior_medium == Some(0))
+        .expect("a shape around medium 0");
+    sphere.material = MaterialDescription::Interface;
+    sphere.emission = Some(SpectrumDescription::Rgb([2.0, 1.5, 1.0]));
+}
+
 /// An emitting index-matched boundary (issue 5): the first sphere of
 /// `translucent-spheres` becomes a `null`-bounded emitter filled with its
 /// medium, whose emission volpath adds as rays pass through it (seen
@@ -338,13 +349,7 @@ fn volumetric_caustic_media_roughness_breakup() {
 #[test]
 fn index_matched_emitter_in_media() {
     let mut description = small(builtin_scene("translucent-spheres").unwrap());
-    let sphere = description
-        .shapes
-        .iter_mut()
-        .find(|shape| shape.interior_medium == Some(0))
-        .expect("the first sphere");
-    sphere.material = MaterialDescription::Interface;
-    sphere.emission = Some(SpectrumDescription::Rgb([2.0, 1.5, 1.0]));
+    make_first_medium_sphere_an_emitting_boundary(&mut description);
     let scene = Scene::build(&description).unwrap();
     let statistics = assert_scene_converges(
         "translucent-spheres (emitting null sphere)",
@@ -476,9 +481,11 @@ fn environment<T: std::str::FromStr>(name: &str, default: T) -> T {
 /// `translucent-spheres`), `LQMC_BIAS_WIDTH` (16), `LQMC_BIAS_REPLICATIONS`
 /// (64), `LQMC_BIAS_SPP` (4), `LQMC_BIAS_REFERENCE_SPP` (1024),
 /// `LQMC_BIAS_REFERENCE_REPLICATIONS` (8), `LQMC_BIAS_BREAKUP` (`cdf` or a
-/// vertex), `LQMC_BIAS_EXPLORE` (an effect list), `LQMC_BIAS_SKIP` (class
-/// names: normal, caustic, dof, nee). Prints the difference ± standard
-/// error per channel.
+/// vertex or `k`), `LQMC_BIAS_EXPLORE` (an effect list), `LQMC_BIAS_SKIP`
+/// (class names: normal, caustic, dof, nee), `LQMC_BIAS_EMITTING_SPHERE`
+/// (set: the shape around medium 0 becomes an emitting `null` boundary),
+/// `LQMC_BIAS_FIRST_SEED` (0; LQMC's replications use the following seeds).
+/// Prints the difference ± standard error per channel.
 ///
 /// `LQMC_BIAS_REPLICATIONS=256 cargo test -p render --test
 /// lqmc_convergence -- --ignored --nocapture bias_experiment` (the test
@@ -492,9 +499,11 @@ fn bias_experiment() {
     let spp: u64 = environment("LQMC_BIAS_SPP", 4);
     let reference_spp: u64 = environment("LQMC_BIAS_REFERENCE_SPP", 1024);
     let reference_replications: u64 = environment("LQMC_BIAS_REFERENCE_REPLICATIONS", 8);
+    let first_seed: u64 = environment("LQMC_BIAS_FIRST_SEED", 0);
     let mut lqmc = LqmcSettings::default();
     match std::env::var("LQMC_BIAS_BREAKUP").as_deref() {
         Ok("cdf") | Err(_) => {}
+        Ok("k") => lqmc.breakup = BreakupChoice::FullPath,
         Ok(vertex) => lqmc.breakup = BreakupChoice::Fixed(vertex.parse().expect("a vertex")),
     }
     if let Ok(list) = std::env::var("LQMC_BIAS_EXPLORE") {
@@ -510,6 +519,9 @@ fn bias_experiment() {
         }
     }
     let mut description = builtin_scene(&name).unwrap();
+    if std::env::var_os("LQMC_BIAS_EMITTING_SPHERE").is_some() {
+        make_first_medium_sphere_an_emitting_boundary(&mut description);
+    }
     let [w, h] = description.camera.resolution;
     description.camera.resolution = [
         width,
@@ -536,7 +548,7 @@ fn bias_experiment() {
         })
         .collect();
     let mut statistics = LqmcStatistics::default();
-    let means: Vec<[f64; 3]> = (0..replications)
+    let means: Vec<[f64; 3]> = (first_seed..first_seed + replications)
         .map(|seed| {
             let (image, _, counters) = render_once(&scene, IntegratorKind::Lqmc, lqmc, spp, seed);
             statistics.add(&counters);
