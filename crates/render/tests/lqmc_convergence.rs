@@ -484,7 +484,9 @@ fn environment<T: std::str::FromStr>(name: &str, default: T) -> T {
 /// vertex or `k`), `LQMC_BIAS_EXPLORE` (an effect list), `LQMC_BIAS_SKIP`
 /// (class names: normal, caustic, dof, nee), `LQMC_BIAS_EMITTING_SPHERE`
 /// (set: the shape around medium 0 becomes an emitting `null` boundary),
-/// `LQMC_BIAS_FIRST_SEED` (0; LQMC's replications use the following seeds).
+/// `LQMC_BIAS_FIRST_SEED` (0; LQMC's replications use the following seeds),
+/// `LQMC_BIAS_PAIRED` (set: also the paired difference against the
+/// reference integrator rendered with LQMC's seeds and sample count).
 /// Prints the difference ± standard error per channel.
 ///
 /// `LQMC_BIAS_REPLICATIONS=256 cargo test -p render --test
@@ -555,6 +557,28 @@ fn bias_experiment() {
             image_mean(&image)
         })
         .collect();
+    if std::env::var_os("LQMC_BIAS_PAIRED").is_some() {
+        // The reference integrator with the same seeds and samples traces
+        // LQMC's seed paths: the per-replication difference cancels the
+        // seeds' noise and leaves what the exploration adds.
+        let differences: Vec<[f64; 3]> = (first_seed..first_seed + replications)
+            .zip(&means)
+            .map(|(seed, lqmc_mean)| {
+                let path_mean =
+                    image_mean(&render_once(&scene, reference_integrator, lqmc, spp, seed).0);
+                std::array::from_fn(|channel| lqmc_mean[channel] - path_mean[channel])
+            })
+            .collect();
+        let (difference, error) = mean_and_standard_error(&differences);
+        for channel in 0..3 {
+            eprintln!(
+                "{name} channel {channel}: paired difference LQMC − same-seed {reference_integrator:?} {:+.6} ± {:.6} ({:+.2} standard errors)",
+                difference[channel],
+                error[channel],
+                difference[channel] / error[channel].max(1e-30)
+            );
+        }
+    }
     let (reference_mean, reference_error) = mean_and_standard_error(&references);
     let (mean, error) = mean_and_standard_error(&means);
     for channel in 0..3 {
