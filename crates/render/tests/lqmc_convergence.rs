@@ -36,6 +36,9 @@ const RESOLUTION: u32 = 32;
 const REPLICATIONS: u64 = 32;
 /// LQMC samples per pixel of one replication.
 const LQMC_SPP: u64 = 1;
+/// Student's t with REPLICATIONS − 1 = 31 degrees of freedom at the
+/// two-sided level of a 4σ normal test (6.33e-5).
+const T_CRITICAL: f64 = 4.62;
 
 fn scene(name: &str) -> Scene {
     Scene::build(&small(builtin_scene(name).unwrap())).unwrap()
@@ -115,17 +118,21 @@ fn assert_scene_converges(
     // variance of the image mean must come from whole replications, not
     // from the sum of per-pixel variances.
     let mut replication_means = Vec::with_capacity(REPLICATIONS as usize);
+    // LQMC's image mean minus that of the reference integrator with the
+    // same seed and sample count, which traces LQMC's seed paths: the
+    // seeds' noise cancels and what the exploration adds remains.
+    let mut paired_differences = Vec::with_capacity(REPLICATIONS as usize);
     for replication in 0..REPLICATIONS {
         let (image, _, counters) =
             render_once(scene, IntegratorKind::Lqmc, lqmc, lqmc_spp, replication);
         statistics.add(&counters);
-        let mut image_mean = [0.0f64; 3];
-        for value in image.pixels() {
-            for channel in 0..3 {
-                image_mean[channel] += value[channel] as f64 / pixel_count as f64;
-            }
-        }
-        replication_means.push(image_mean);
+        let lqmc_mean = image_mean(&image);
+        let same_seed =
+            image_mean(&render_once(scene, reference_integrator, lqmc, lqmc_spp, replication).0);
+        paired_differences.push(std::array::from_fn::<f64, 3, _>(|c| {
+            lqmc_mean[c] - same_seed[c]
+        }));
+        replication_means.push(lqmc_mean);
         for (pixel, value) in image.pixels().iter().enumerate() {
             for channel in 0..3 {
                 let value = value[channel] as f64;
@@ -177,9 +184,6 @@ fn assert_scene_converges(
             .sum::<f64>()
             / (count * count);
         let standard_error = (replication_variance / r + reference_variance_of_mean).sqrt();
-        // Student's t with REPLICATIONS − 1 = 31 degrees of freedom at the
-        // two-sided level of a 4σ normal test (6.33e-5): 4.62.
-        const T_CRITICAL: f64 = 4.62;
         let bound = T_CRITICAL * standard_error + 1e-6;
         eprintln!(
             "{name} channel {channel}: image mean difference {:.3} standard errors ({:.3} from per-pixel variances)",
@@ -190,6 +194,19 @@ fn assert_scene_converges(
             (image_difference / count).abs() < bound,
             "{name}: channel {channel}: LQMC mean differs from the path tracer's by {} (bound {bound})",
             image_difference / count
+        );
+    }
+    let (paired, paired_error) = mean_and_standard_error(&paired_differences);
+    for channel in 0..3 {
+        let bound = T_CRITICAL * paired_error[channel] + 1e-6;
+        eprintln!(
+            "{name} channel {channel}: paired difference from the same-seed {reference_integrator:?} {:+.3} standard errors",
+            paired[channel] / paired_error[channel].max(1e-30)
+        );
+        assert!(
+            paired[channel].abs() < bound,
+            "{name}: channel {channel}: LQMC's mean differs from its own seeds' by {} (bound {bound})",
+            paired[channel]
         );
     }
     eprintln!(
