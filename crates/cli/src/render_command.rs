@@ -117,9 +117,10 @@ pub struct LqmcArgs {
     /// aperture,wavelength,image,direction).
     #[arg(long, value_name = "LIST")]
     pub explore: Option<String>,
-    /// LQMC: the breakup vertex, a number (0: the camera) or `cdf` for the
-    /// roughness CDF (default cdf).
-    #[arg(long, value_name = "B|cdf")]
+    /// LQMC: the breakup vertex, a number (0: the camera), `k` for the
+    /// full path (the light vertex sampled again) or `cdf` for the
+    /// roughness CDF (default cdf, which includes b = k).
+    #[arg(long, value_name = "B|k|cdf")]
     pub breakup: Option<String>,
     /// LQMC: lattice size N ∈ {7, 23, 97, 313} of a class (normal, caustic,
     /// dof, nee), e.g. `normal=23`; may be repeated.
@@ -204,10 +205,12 @@ fn lqmc_settings(args: &LqmcArgs) -> Result<render::integrators::lqmc::LqmcSetti
     if let Some(breakup) = &args.breakup {
         settings.breakup = if breakup == "cdf" {
             BreakupChoice::Roughness
+        } else if breakup == "k" {
+            BreakupChoice::FullPath
         } else {
             BreakupChoice::Fixed(breakup.parse().map_err(|_| {
                 usage(format!(
-                    "--breakup: expected a vertex number or `cdf`, got `{breakup}`"
+                    "--breakup: expected a vertex number, `k` (the full path) or `cdf`, got `{breakup}`"
                 ))
             })?)
         };

@@ -4,7 +4,7 @@
 //! exploration can evaluate them for itself: the estimator needs `P(b | X_j)`
 //! and class membership of each member to stay unbiased.
 
-use super::path_record::{CameraVertex, SplatEvent, SurfaceVertex};
+use super::path_record::{CameraVertex, SplatEvent, SurfaceVertex, Terminal};
 use super::settings::{BreakupChoice, LqmcSettings};
 use crate::material::{BsdfFlags, SurfaceBsdf};
 use crate::scene::Scene;
@@ -145,9 +145,24 @@ pub fn classify(scene: &Scene, settings: &LqmcSettings, path: &EventPath<'_>) ->
     }
 }
 
-/// The breakup weights `w_b`, b = 0 .. k − 1: the roughness CDF's
-/// unnormalised masses (min roughness of `x_b` and `x_{b+1}`, b = 0 weighted
-/// up for depth-of-field paths), or the fixed choice; `explorable(b)` says
+/// Whether the full-path breakup b = k can explore `path`: its light
+/// vertex is sampled again, by tracing the last scattering's direction to
+/// an emitter or by next-event estimation's light-position numbers (not
+/// for a delta light, whose point no number places, nor for an escape to
+/// the environment, whose direction the walk takes from the record).
+pub fn full_path_explorable(path: &EventPath<'_>) -> bool {
+    match path.event.terminal {
+        Terminal::Emission { .. } => true,
+        Terminal::NextEvent(connection) => !connection.is_delta,
+        Terminal::Environment { .. } => false,
+    }
+}
+
+/// The breakup weights `w_b`, b = 0 .. k: the roughness CDF's unnormalised
+/// masses (min roughness of `x_b` and `x_{b+1}`, the light vertex `x_k` and
+/// the `x_{k+1}` beyond it counting 1, b = 0 weighted up for depth-of-field
+/// paths; b = k only with [`LqmcSettings::full_path_breakup`] and where
+/// [`full_path_explorable`]), or the fixed choice; `explorable(b)` says
 /// whether `b` has between 1 and 21 explored dimensions.
 pub fn breakup_weights(
     settings: &LqmcSettings,
@@ -158,7 +173,12 @@ pub fn breakup_weights(
 ) {
     weights.clear();
     let last = path.event.last_vertex();
-    for b in 0..last {
+    let full_path = full_path_explorable(path);
+    for b in 0..=last {
+        if b == last && !full_path {
+            weights.push(0.0);
+            continue;
+        }
         let roughness = path.roughness(b).min(path.roughness(b + 1)) as f64;
         let mut weight = match settings.breakup {
             BreakupChoice::Fixed(fixed) => {
@@ -168,7 +188,20 @@ pub fn breakup_weights(
                     0.0
                 }
             }
-            BreakupChoice::Roughness => roughness,
+            BreakupChoice::FullPath => {
+                if b == last {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+            BreakupChoice::Roughness => {
+                if b == last && !settings.full_path_breakup {
+                    0.0
+                } else {
+                    roughness
+                }
+            }
         };
         if b == 0 && class == PathClass::DepthOfField {
             weight *= settings.depth_of_field_camera_weight as f64;
@@ -215,7 +248,6 @@ pub fn draw_breakup(weights: &[f64], u: f64) -> Option<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrators::lqmc::path_record::Terminal;
     use glam::{Vec2, Vec3};
 
     /// The CDF's masses are min(roughness(x_b), roughness(x_{b+1})) with the
@@ -239,6 +271,7 @@ mod tests {
         specular.sampled = BsdfFlags::SPECULAR | BsdfFlags::REFLECTION;
         let vertices = [vertex(0.6), glossy, vertex(1.0), specular, vertex(1.0)];
         let event = SplatEvent {
+            first_vertex: 0,
             vertex_count: vertices.len(),
             terminal: Terminal::Emission { light_index: 0 },
         };
@@ -255,13 +288,14 @@ mod tests {
             |_| true,
             &mut weights,
         );
-        let expected = [0.6, 0.1, 0.1, 0.0, 0.0];
+        // b = 0 .. 4, and the full path b = k = 5 (light and beyond count 1).
+        let expected = [0.6, 0.1, 0.1, 0.0, 0.0, 1.0];
         assert_eq!(weights.len(), expected.len());
         for (weight, expected) in weights.iter().zip(expected) {
             assert!((weight - expected).abs() < 1e-6, "{weights:?}");
         }
         let draws = 100_000;
-        let mut counts = [0usize; 5];
+        let mut counts = [0usize; 6];
         for i in 0..draws {
             let b = draw_breakup(&weights, (i as f64 + 0.5) / draws as f64).unwrap();
             counts[b] += 1;
@@ -270,6 +304,53 @@ mod tests {
         for (count, expected) in counts.iter().zip(expected) {
             assert!((*count as f64 / draws as f64 - expected / total).abs() < 1e-3);
         }
+    }
+
+    /// `--breakup k` puts all mass on the last vertex, and the full-path
+    /// term is left out where the light vertex cannot be sampled again
+    /// (escapes to the environment) or when switched off.
+    #[test]
+    fn full_path_breakup_weights() {
+        let camera = CameraVertex {
+            raster: Vec2::ZERO,
+            u_lens: [0.5; 2],
+            u_time: 0.5,
+            u_wavelength: 0.5,
+            origin: Vec3::ZERO,
+        };
+        let vertices = [SurfaceVertex::in_medium(Vec3::ONE, 0.0, 0, 1.0); 2];
+        let weights_of = |settings: &LqmcSettings, terminal: Terminal| {
+            let event = SplatEvent {
+                first_vertex: 0,
+                vertex_count: vertices.len(),
+                terminal,
+            };
+            let path = EventPath {
+                camera: &camera,
+                vertices: &vertices,
+                event: &event,
+            };
+            let mut weights = Vec::new();
+            breakup_weights(settings, &path, PathClass::Normal, |_| true, &mut weights);
+            weights
+        };
+        let emission = Terminal::Emission { light_index: 0 };
+        let full = LqmcSettings {
+            breakup: BreakupChoice::FullPath,
+            ..LqmcSettings::default()
+        };
+        assert_eq!(weights_of(&full, emission), vec![0.0, 0.0, 1.0]);
+        assert_eq!(
+            weights_of(&LqmcSettings::default(), emission),
+            vec![1.0, 1.0, 1.0]
+        );
+        let without = LqmcSettings {
+            full_path_breakup: false,
+            ..LqmcSettings::default()
+        };
+        assert_eq!(weights_of(&without, emission), vec![1.0, 1.0, 0.0]);
+        let escape = Terminal::Environment { direction: Vec3::Z };
+        assert_eq!(weights_of(&full, escape), vec![0.0, 0.0, 0.0, 0.0]);
     }
 
     #[test]

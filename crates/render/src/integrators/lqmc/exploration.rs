@@ -137,7 +137,7 @@ fn handle_event(
     let scene = context.scene;
     let settings = context.settings;
     let camera = seed_path.camera.as_ref().expect("traced");
-    let vertices = &seed_path.vertices[..event.vertex_count];
+    let vertices = &seed_path.vertices[event.vertex_range()];
     let Ok(walked) = walk(
         scene,
         &context.path_settings,
@@ -193,8 +193,10 @@ fn handle_event(
         return direct(splats, statistics);
     };
     debug_assert!(
-        matches!(settings.breakup, BreakupChoice::Roughness)
-            || settings.breakup == BreakupChoice::Fixed(breakup)
+        matches!(
+            settings.breakup,
+            BreakupChoice::Roughness | BreakupChoice::FullPath
+        ) || settings.breakup == BreakupChoice::Fixed(breakup)
     );
     explore(
         context,
@@ -231,7 +233,7 @@ fn explore(
     let scene = context.scene;
     let settings = context.settings;
     let camera = seed_path.camera.as_ref().expect("traced");
-    let vertices = &seed_path.vertices[..event.vertex_count];
+    let vertices = &seed_path.vertices[event.vertex_range()];
     let parameters = *settings.class_parameters(class);
     let path = EventPath {
         camera,
@@ -267,6 +269,9 @@ fn explore(
             }
             DimensionKind::FreeFlight { vertex } => {
                 sampler.get(layout::vertex(vertex, layout::FREE_FLIGHT))
+            }
+            DimensionKind::LightPosition { vertex, axis } => {
+                sampler.get(layout::vertex(vertex, layout::LIGHT_POSITION + axis))
             }
         };
         scratch
@@ -351,6 +356,9 @@ fn explore(
                 DimensionKind::FreeFlight { vertex } => scratch
                     .overrides
                     .push((layout::vertex(vertex, layout::FREE_FLIGHT), value)),
+                DimensionKind::LightPosition { vertex, axis } => scratch
+                    .overrides
+                    .push((layout::vertex(vertex, layout::LIGHT_POSITION + axis), value)),
             }
         }
         if image_numbers != seed_image_numbers {

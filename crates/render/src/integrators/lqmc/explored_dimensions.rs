@@ -10,6 +10,7 @@
 //! seed's free-flight number, a discrete decision like Russian roulette.
 
 use super::classification::EventPath;
+use super::path_record::Terminal;
 use super::settings::{ClassParameters, LqmcSettings};
 use crate::sampler::layout;
 use crate::scene::Scene;
@@ -38,6 +39,15 @@ pub enum DimensionKind {
         /// The layout vertex.
         vertex: usize,
     },
+    /// Light-position number `axis` of next-event estimation at layout
+    /// vertex `vertex` (the full-path breakup b = k of a next-event path:
+    /// the light point is sampled again).
+    LightPosition {
+        /// The layout vertex.
+        vertex: usize,
+        /// The axis.
+        axis: usize,
+    },
 }
 
 impl DimensionKind {
@@ -54,6 +64,9 @@ impl DimensionKind {
             }
             DimensionKind::FreeFlight { vertex } => {
                 layout::vertex(vertex, layout::FREE_FLIGHT) as u64
+            }
+            DimensionKind::LightPosition { vertex, axis } => {
+                layout::vertex(vertex, layout::LIGHT_POSITION + axis) as u64
             }
         }
     }
@@ -79,6 +92,16 @@ pub fn explored_dimensions(
     dimensions: &mut Vec<ExploredDimension>,
 ) {
     dimensions.clear();
+    // An index-matched emitting boundary is passed, not hit: no rebuilt
+    // ray ends there, so its emission events have no full-path breakup.
+    if breakup >= path.event.last_vertex()
+        && let Terminal::Emission { .. } = path.event.terminal
+        && path.vertices.last().is_some_and(|emitter| {
+            !emitter.is_medium() && scene.shapes[emitter.raw_hit.shape_index as usize].is_interface
+        })
+    {
+        return;
+    }
     let effects = settings.effects;
     let camera = &scene.camera;
     if effects.aperture && camera.lens_radius() > 0.0 {
@@ -120,8 +143,14 @@ pub fn explored_dimensions(
             }
         }
         if effects.direction {
-            // Vertex x_{m+1} (layout vertex m) samples the direction to x_{m+2}.
-            for vertex in 0..breakup.saturating_sub(1) {
+            // Vertex x_{m+1} (layout vertex m) samples the direction to
+            // x_{m+2}; at the full-path breakup b = k of an emission path
+            // that includes the direction to the emitter, never a direction
+            // past the last recorded vertex.
+            let placing = breakup
+                .saturating_sub(1)
+                .min(path.vertices.len().saturating_sub(1));
+            for vertex in 0..placing {
                 if path.vertices[vertex].sampled.is_specular() {
                     continue;
                 }
@@ -131,6 +160,22 @@ pub fn explored_dimensions(
                         tiles: parameters.direction_tiles.max(1),
                     });
                 }
+            }
+        }
+        // The full-path breakup of a next-event path samples the light
+        // point again (with the class's direction tiles: it places the
+        // last segment's direction).
+        if effects.direction
+            && breakup > path.vertices.len()
+            && let Terminal::NextEvent(connection) = path.event.terminal
+            && !connection.is_delta
+        {
+            let vertex = path.vertices.len() - 1;
+            for axis in 0..2 {
+                dimensions.push(ExploredDimension {
+                    kind: DimensionKind::LightPosition { vertex, axis },
+                    tiles: parameters.direction_tiles.max(1),
+                });
             }
         }
         if effects.free_flight {

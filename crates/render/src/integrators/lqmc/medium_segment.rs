@@ -62,12 +62,15 @@ pub struct Flight {
 
 /// Samples the end of the segment along `ray` starting in `*medium` with
 /// free-flight number `u_free_flight` (asked for only when a medium is
-/// met); `ray` and `medium` are left at the last piece.
+/// met); `ray` and `medium` are left at the last piece. Every emitting
+/// index-matched boundary crossed is reported to `passed_emitter` (its hit
+/// and light), whose emission volpath adds as the ray passes.
 pub fn sample_flight(
     scene: &Scene,
     ray: &mut Ray,
     medium: &mut Option<u32>,
     mut u_free_flight: impl FnMut() -> f32,
+    passed_emitter: &mut dyn FnMut(&SurfaceHit, u32),
     wavelengths: &SampledWavelengths,
     closest_hit_rays: &mut u64,
 ) -> Flight {
@@ -126,6 +129,9 @@ pub fn sample_flight(
                 beta_factor,
                 probability_factor,
             };
+        }
+        if let Some(light_index) = info.light {
+            passed_emitter(&raw_hit, light_index);
         }
         let oriented = oriented_hit(scene, &raw_hit);
         *medium = medium_after(

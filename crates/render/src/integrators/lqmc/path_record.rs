@@ -186,6 +186,10 @@ pub enum Terminal {
 /// `vertex_count` surface vertices and `terminal`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SplatEvent {
+    /// Index in the seed's vertex list of this event's first vertex (0,
+    /// except for the emission of an index-matched boundary passed on the
+    /// way, whose path is stored as a copy after the seed's vertices).
+    pub first_vertex: usize,
     /// Surface vertices of this event's path.
     pub vertex_count: usize,
     /// How it ends.
@@ -193,6 +197,11 @@ pub struct SplatEvent {
 }
 
 impl SplatEvent {
+    /// The event's vertices in the seed's vertex list.
+    pub fn vertex_range(&self) -> std::ops::Range<usize> {
+        self.first_vertex..self.first_vertex + self.vertex_count
+    }
+
     /// Index `k` of the path's last vertex in the paper's numbering
     /// (`x_0` the camera, `x_k` on the light).
     pub fn last_vertex(&self) -> usize {

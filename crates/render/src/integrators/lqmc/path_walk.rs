@@ -93,6 +93,13 @@ pub struct WalkInput<'a> {
     pub tolerance: f32,
 }
 
+/// Whether `input` is a next-event path at its full-path breakup b = k
+/// (every vertex rebuilt, the light point sampled again).
+pub(super) fn full_path_next_event(input: &WalkInput<'_>) -> bool {
+    matches!(input.terminal, Terminal::NextEvent(connection) if !connection.is_delta)
+        && input.breakup.is_some_and(|b| b > input.vertices.len())
+}
+
 /// Evaluates the path; `numbers` answers the seed's numbers by dimension.
 pub fn walk(
     scene: &Scene,
@@ -154,7 +161,26 @@ pub fn walk(
 
         if last && let Terminal::NextEvent(connection) = input.terminal {
             let light = &scene.lights[connection.light_index];
-            let (radiance, wi, solid_angle_pdf) = if connection.is_delta {
+            // The full-path breakup b = k samples the light point again
+            // with the member's light-position numbers.
+            let resampled = if full_path_next_event(input) {
+                Some(
+                    light
+                        .sample_incident(
+                            &scene.geometry,
+                            reference,
+                            connection.u_primitive,
+                            numbers.get_2d(layout::vertex(m, layout::LIGHT_POSITION)),
+                            &wavelengths,
+                        )
+                        .ok_or(FailureReason::Evaluation)?,
+                )
+            } else {
+                None
+            };
+            let (radiance, wi, solid_angle_pdf) = if let Some(sample) = &resampled {
+                (sample.radiance, sample.wi, sample.pdf)
+            } else if connection.is_delta {
                 let sample = light
                     .sample_incident(
                         &scene.geometry,
@@ -193,12 +219,15 @@ pub fn walk(
                 return Err(FailureReason::Evaluation);
             }
             if m < input.rebuilt_vertices {
+                let (point, front_normal) = resampled
+                    .map_or((connection.point, connection.front_normal), |sample| {
+                        (sample.point, sample.normal)
+                    });
                 let visible = if connection.is_infinite {
                     let ray = spawn_ray(&vertex.hit, wi);
                     !scene.geometry.occluded(&ray, f32::INFINITY)
                 } else {
-                    match spawn_ray_to_point(&vertex.hit, connection.point, connection.front_normal)
-                    {
+                    match spawn_ray_to_point(&vertex.hit, point, front_normal) {
                         Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
                         None => false,
                     }

@@ -133,6 +133,38 @@ fn rebuilt_surface_vertex(
     }
 }
 
+/// At the full-path breakup b = k of an emission path, the rebuilt last
+/// vertex `x_k` (layout vertex `m`): `None` for any other vertex; the
+/// member's emitter if the ray landed on the seed's light, otherwise the
+/// failure `Misplaced` (the member would be an event of another light).
+fn rebuilt_emitter(
+    scene: &Scene,
+    event: &SplatEvent,
+    breakup: usize,
+    m: usize,
+    raw_hit: SurfaceHit,
+    hit: SurfaceHit,
+    seed_vertex: &SurfaceVertex,
+) -> Option<Result<SurfaceVertex, FailureReason>> {
+    let Terminal::Emission { light_index } = event.terminal else {
+        return None;
+    };
+    if breakup != event.vertex_count || m + 1 != event.vertex_count {
+        return None;
+    }
+    Some(
+        if scene.shapes[hit.shape_index as usize].light == Some(light_index) {
+            Ok(SurfaceVertex {
+                raw_hit,
+                hit,
+                ..*seed_vertex
+            })
+        } else {
+            Err(FailureReason::Misplaced)
+        },
+    )
+}
+
 /// Rebuilds `x_1 .. x_b` through media from the member's numbers (free
 /// flights from `FREE_FLIGHT`, directions from `SCATTER_DIRECTION`, the
 /// seed's component numbers), starting with the camera ray `ray`. A vertex
@@ -142,6 +174,7 @@ fn rebuilt_surface_vertex(
 fn rebuild_volumetric_prefix(
     scene: &Scene,
     seed_vertices: &[SurfaceVertex],
+    event: &SplatEvent,
     breakup: usize,
     mut ray: Ray,
     wavelengths: &mut SampledWavelengths,
@@ -150,12 +183,14 @@ fn rebuild_volumetric_prefix(
     vertices: &mut Vec<SurfaceVertex>,
 ) -> Result<(), FailureReason> {
     let mut medium = scene.camera_medium;
+    let rebuilt = breakup.min(seed_vertices.len());
     for (m, seed_vertex) in seed_vertices.iter().enumerate().take(breakup) {
         let flight = sample_flight(
             scene,
             &mut ray,
             &mut medium,
             || source.get(layout::vertex(m, layout::FREE_FLIGHT)),
+            &mut |_, _| {},
             wavelengths,
             &mut counters.closest_hit_rays,
         );
@@ -176,7 +211,7 @@ fn rebuild_volumetric_prefix(
                     medium_index,
                     medium_roughness(scene, medium_index),
                 ));
-                if m + 1 == breakup {
+                if m + 1 == rebuilt {
                     break;
                 }
                 let phase = scene.media[medium_index as usize].phase;
@@ -191,13 +226,19 @@ fn rebuild_volumetric_prefix(
                     return Err(FailureReason::ModeChange);
                 }
                 let hit = oriented_hit(scene, &raw_hit);
+                if let Some(emitter) =
+                    rebuilt_emitter(scene, event, breakup, m, raw_hit, hit, seed_vertex)
+                {
+                    vertices.push(emitter?);
+                    break;
+                }
                 let info = &scene.shapes[hit.shape_index as usize];
                 let Some(material) = &info.material else {
                     return Err(FailureReason::Escaped);
                 };
                 let bsdf = material.surface_bsdf_at(&hit, wavelengths);
                 vertices.push(rebuilt_surface_vertex(raw_hit, hit, &bsdf, seed_vertex));
-                if m + 1 == breakup {
+                if m + 1 == rebuilt {
                     break;
                 }
                 let u_component = source.get(layout::vertex(m, layout::SCATTER_COMPONENT));
@@ -237,7 +278,7 @@ pub fn rebuild_member(
     vertices: &mut Vec<SurfaceVertex>,
 ) -> Result<CameraVertex, FailureReason> {
     vertices.clear();
-    let seed_vertices = &seed_vertices[..event.vertex_count];
+    let seed_vertices = &seed_vertices[event.vertex_range()];
     if breakup == 0 {
         let first = seed_vertices.first().ok_or(FailureReason::Evaluation)?;
         let projection = scene
@@ -298,6 +339,7 @@ pub fn rebuild_member(
         rebuild_volumetric_prefix(
             scene,
             seed_vertices,
+            event,
             breakup,
             ray,
             &mut wavelengths,
@@ -306,9 +348,10 @@ pub fn rebuild_member(
             vertices,
         )?;
         // The walk traces (and checks) the reconnection through the media.
-        vertices.extend_from_slice(&seed_vertices[breakup..]);
+        vertices.extend_from_slice(&seed_vertices[breakup.min(seed_vertices.len())..]);
         return Ok(camera_vertex);
     }
+    let rebuilt = breakup.min(seed_vertices.len());
     for (m, seed_vertex) in seed_vertices.iter().enumerate().take(breakup) {
         counters.closest_hit_rays += 1;
         let raw_hit = scene
@@ -316,12 +359,17 @@ pub fn rebuild_member(
             .intersect(&ray, f32::INFINITY)
             .ok_or(FailureReason::Escaped)?;
         let hit = oriented_hit(scene, &raw_hit);
+        if let Some(emitter) = rebuilt_emitter(scene, event, breakup, m, raw_hit, hit, seed_vertex)
+        {
+            vertices.push(emitter?);
+            break;
+        }
         let Some(material) = &scene.shapes[hit.shape_index as usize].material else {
             return Err(FailureReason::Escaped);
         };
         let bsdf = material.surface_bsdf_at(&hit, &wavelengths);
         vertices.push(rebuilt_surface_vertex(raw_hit, hit, &bsdf, seed_vertex));
-        if m + 1 == breakup {
+        if m + 1 == rebuilt {
             break;
         }
         let u_component = source.get(layout::vertex(m, layout::SCATTER_COMPONENT));

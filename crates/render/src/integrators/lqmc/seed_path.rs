@@ -64,6 +64,7 @@ pub fn trace_seed_path(
         let Some(raw_hit) = scene.geometry.intersect(&ray, f32::INFINITY) else {
             if !scene.environment_lights.is_empty() {
                 path.events.push(SplatEvent {
+                    first_vertex: 0,
                     vertex_count: path.vertices.len(),
                     terminal: Terminal::Environment {
                         direction: ray.direction,
@@ -79,6 +80,7 @@ pub fn trace_seed_path(
             .push(SurfaceVertex::surface(raw_hit, hit, 1.0));
         if let Some(light_index) = info.light {
             path.events.push(SplatEvent {
+                first_vertex: 0,
                 vertex_count: path.vertices.len(),
                 terminal: Terminal::Emission { light_index },
             });
@@ -105,6 +107,7 @@ pub fn trace_seed_path(
             )
         {
             path.events.push(SplatEvent {
+                first_vertex: 0,
                 vertex_count: path.vertices.len(),
                 terminal: Terminal::NextEvent(connection),
             });

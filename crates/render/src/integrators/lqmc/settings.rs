@@ -111,6 +111,11 @@ pub enum BreakupChoice {
     /// Always this vertex (0: the camera); paths too short for it or whose
     /// vertex `b` or `b + 1` is specular are splatted unexplored.
     Fixed(usize),
+    /// Always the path's last vertex `x_k` (`--breakup k`): the full-path
+    /// breakup, where every explored dimension of the path is perturbed and
+    /// the light vertex is sampled again (paths ending in the environment
+    /// by BSDF sampling, or at a delta light, are splatted unexplored).
+    FullPath,
     /// Drawn from the roughness CDF of the paper (Sec. 3.3, 3.4).
     Roughness,
 }
@@ -157,6 +162,11 @@ pub struct LqmcSettings {
     /// Relative distance within which a reconnection must land on the
     /// seed's vertex (default 1e-3).
     pub reconnection_tolerance: f32,
+    /// Whether the roughness CDF includes the full-path breakup b = k
+    /// (default on: its mass is min(roughness(x_k), roughness(x_{k+1})) = 1,
+    /// the light vertex and the nothing after it counting as rough; the
+    /// paper's caustic paths mostly break up there, Sec. 3.4).
+    pub full_path_breakup: bool,
     /// Swap the two image-plane lattice dimensions with two random other
     /// ones per exploration (default on; the paper's Sec. 5 remedy).
     pub scramble_dimensions: bool,
@@ -197,6 +207,7 @@ impl Default for LqmcSettings {
             depth_of_field_camera_weight: 16.0,
             caustic_roughness: 0.05,
             reconnection_tolerance: 1e-3,
+            full_path_breakup: true,
             scramble_dimensions: true,
             jitter_tiles: true,
         }

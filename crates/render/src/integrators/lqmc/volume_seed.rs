@@ -6,8 +6,9 @@
 //! throughput), recording every vertex and splat event. Values are computed
 //! afterwards by [`super::volume_walk`].
 //!
-//! Not recorded: emission of index-matched boundaries that are themselves
-//! emitters (volpath adds it as the ray passes; no built-in scene has one).
+//! Emission of index-matched boundaries that are themselves emitters
+//! (volpath adds it as the ray passes) is recorded as an emission event of
+//! its own, whose path ends at the boundary point.
 
 use super::classification::lobe_roughness;
 use super::medium_segment::{FlightEnd, medium_roughness, sample_flight};
@@ -52,12 +53,16 @@ pub fn trace_volumetric_seed_path(
     let mut r_u = SampledSpectrum::splat(1.0);
     let mut eta_scale = 1.0f32;
     let mut depth = 0u32;
+    // Emitting index-matched boundaries passed: (vertices before, hit, light).
+    let mut passed_emitters: Vec<(usize, SurfaceHit, u32)> = Vec::new();
     loop {
+        let prefix = path.vertices.len();
         let flight = sample_flight(
             scene,
             &mut ray,
             &mut medium,
             || sampler.get(layout::vertex(depth as usize, layout::FREE_FLIGHT)),
+            &mut |hit, light_index| passed_emitters.push((prefix, *hit, light_index)),
             &wavelengths,
             &mut counters.closest_hit_rays,
         );
@@ -69,6 +74,7 @@ pub fn trace_volumetric_seed_path(
             FlightEnd::Escaped => {
                 if !scene.environment_lights.is_empty() {
                     path.events.push(SplatEvent {
+                        first_vertex: 0,
                         vertex_count: path.vertices.len(),
                         terminal: Terminal::Environment {
                             direction: ray.direction,
@@ -101,6 +107,7 @@ pub fn trace_volumetric_seed_path(
                     counters,
                 ) {
                     path.events.push(SplatEvent {
+                        first_vertex: 0,
                         vertex_count: path.vertices.len(),
                         terminal: Terminal::NextEvent(connection),
                     });
@@ -123,6 +130,7 @@ pub fn trace_volumetric_seed_path(
                     .push(SurfaceVertex::surface(raw_hit, hit, 1.0));
                 if let Some(light_index) = info.light {
                     path.events.push(SplatEvent {
+                        first_vertex: 0,
                         vertex_count: path.vertices.len(),
                         terminal: Terminal::Emission { light_index },
                     });
@@ -151,6 +159,7 @@ pub fn trace_volumetric_seed_path(
                     )
                 {
                     path.events.push(SplatEvent {
+                        first_vertex: 0,
                         vertex_count: path.vertices.len(),
                         terminal: Terminal::NextEvent(connection),
                     });
@@ -199,6 +208,34 @@ pub fn trace_volumetric_seed_path(
             break;
         }
         depth += 1;
+    }
+    record_passed_emitters(scene, &passed_emitters, path);
+}
+
+/// The emission events of the index-matched emitting boundaries the seed
+/// passed: each is the path of the vertices before it and the boundary
+/// point (copied after the seed's vertices, since the seed goes on through
+/// the boundary), ending there as an emitter reached by the last scattering.
+fn record_passed_emitters(
+    scene: &Scene,
+    passed_emitters: &[(usize, SurfaceHit, u32)],
+    path: &mut SeedPath,
+) {
+    for (prefix, raw_hit, light_index) in passed_emitters {
+        let first_vertex = path.vertices.len();
+        path.vertices.extend_from_within(..*prefix);
+        path.vertices.push(SurfaceVertex::surface(
+            *raw_hit,
+            oriented_hit(scene, raw_hit),
+            1.0,
+        ));
+        path.events.push(SplatEvent {
+            first_vertex,
+            vertex_count: prefix + 1,
+            terminal: Terminal::Emission {
+                light_index: *light_index,
+            },
+        });
     }
 }
 

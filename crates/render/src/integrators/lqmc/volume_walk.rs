@@ -20,7 +20,9 @@
 
 use super::medium_segment::{SegmentTarget, trace_segment};
 use super::path_record::{CameraVertex, SurfaceVertex, Terminal};
-use super::path_walk::{SPECULAR_DIRECTION_COSINE, WalkInput, WalkedPath, non_specular_eta};
+use super::path_walk::{
+    SPECULAR_DIRECTION_COSINE, WalkInput, WalkedPath, full_path_next_event, non_specular_eta,
+};
 use super::statistics::FailureReason;
 use super::volume_seed::start_medium;
 use crate::geometry::{Ray, offset_ray_origin, spawn_ray};
@@ -264,7 +266,19 @@ pub fn walk_volumetric(
 
         if last && let Terminal::NextEvent(connection) = input.terminal {
             let light = &scene.lights[connection.light_index];
-            let sample = if connection.is_delta {
+            // The full-path breakup b = k samples the light point again
+            // with the member's light-position numbers.
+            let sample = if full_path_next_event(input) {
+                light
+                    .sample_incident(
+                        &scene.geometry,
+                        reference,
+                        connection.u_primitive,
+                        numbers.get_2d(layout::vertex(m, layout::LIGHT_POSITION)),
+                        &wavelengths,
+                    )
+                    .ok_or(FailureReason::Evaluation)?
+            } else if connection.is_delta {
                 light
                     .sample_incident(
                         &scene.geometry,
