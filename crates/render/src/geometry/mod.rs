@@ -39,7 +39,10 @@ mod triangle;
 mod triangle_packet;
 mod wide_bvh;
 
-pub use accelerator::{Geometry, PrimitiveHit, PrimitiveReference};
+pub use accelerator::{
+    AcceleratorOptions, AcceleratorStatistics, Geometry, INDEXED_LEAVES_FROM_TRIANGLES,
+    PrimitiveHit, PrimitiveReference, TriangleLeafLayout,
+};
 pub use bounds::Bounds3;
 pub use disk::Disk;
 pub use error::GeometryError;
