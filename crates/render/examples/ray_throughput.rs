@@ -3,11 +3,11 @@
 //! `scripts/perf/embree_throughput.py`) can trace the same work.
 //!
 //! ```text
-//! cargo run --release -p render --example ray_throughput -- [--export DIR] [--threads T] [--rays N] [--runs R] [--scene NAME] [--diagnose] [--leaf-layout automatic|vertices|indexed] [--no-merge-leaves] [--layouts]
+//! cargo run --release -p render --example ray_throughput -- [--export DIR] [--threads T] [--rays N] [--runs R] [--scene NAME] [--diagnose] [--leaf-layout vertices|indexed] [--no-merge-leaves] [--layouts]
 //! ```
 //!
 //! `--leaf-layout` and `--no-merge-leaves` choose the BVH's
-//! [`AcceleratorOptions`] (default: automatic layout, merged leaves); with
+//! [`AcceleratorOptions`] (default: vertex packets, merged leaves); with
 //! `--layouts` every scene is measured with each of the four combinations of
 //! vertex/indexed leaves and merging off/on, interleaved, for A/B comparisons
 //! in one process. The BVH's size, packet fill and SAH cost are printed.
@@ -112,12 +112,11 @@ fn parse_options() -> Result<Options, String> {
             "--diagnose" => options.diagnose = true,
             "--leaf-layout" => {
                 options.accelerator.leaf_layout = match value("--leaf-layout")?.as_str() {
-                    "automatic" => TriangleLeafLayout::Automatic,
                     "vertices" => TriangleLeafLayout::Vertices,
                     "indexed" => TriangleLeafLayout::Indexed,
                     other => {
                         return Err(format!(
-                            "--leaf-layout needs automatic, vertices or indexed, got {other:?}"
+                            "--leaf-layout needs vertices or indexed, got {other:?}"
                         ));
                     }
                 }
@@ -127,7 +126,7 @@ fn parse_options() -> Result<Options, String> {
             "--help" | "-h" => {
                 return Err(
                     "usage: ray_throughput [--export DIR] [--threads T] [--rays N] [--runs R] \
-                     [--scene NAME] [--diagnose] [--leaf-layout automatic|vertices|indexed] \
+                     [--scene NAME] [--diagnose] [--leaf-layout vertices|indexed] \
                      [--no-merge-leaves] [--layouts]"
                         .into(),
                 );

@@ -1,4 +1,4 @@
-//! The scene's geometry: all shapes plus a 4-wide BVH over every primitive
+//! The scene's geometry: all shapes plus an 8-wide BVH over every primitive
 //! ([`super::wide_bvh`]: built by obvhs' PLOC, traversed with SIMD slab tests
 //! and packets of watertight triangle tests).
 
@@ -31,29 +31,24 @@ pub struct PrimitiveHit {
     pub barycentric: [f32; 3],
 }
 
-/// How the BVH's leaves store triangles.
+/// How the BVH's leaves store triangles. The hits are the same bit for bit;
+/// only speed and memory differ.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum TriangleLeafLayout {
-    /// [`TriangleLeafLayout::Indexed`] for scenes of at least
-    /// [`INDEXED_LEAVES_FROM_TRIANGLES`] triangles, whose vertex packets
-    /// (48 bytes a triangle before padding) would take over a third of this
-    /// machine's 32 MiB last-level cache; [`TriangleLeafLayout::Vertices`]
-    /// below. Measured with `examples/ray_throughput.rs` (README, "Ray
-    /// throughput").
+    /// Packets of four triangles with their vertices and ids (192 bytes, 48
+    /// a triangle): a leaf test reads nothing but its packet. The faster
+    /// layout on both scenes of `examples/ray_throughput.rs`, the 1M-triangle
+    /// one included (README, "Ray throughput").
     #[default]
-    Automatic,
-    /// Packets of four triangles with their vertices and ids (192 bytes):
-    /// no memory is read but the packet, the fastest while the scene fits
-    /// in cache.
     Vertices,
     /// Packets of four triangles' vertex indices and slots (64 bytes) into a
-    /// copy of all vertices (16 bytes each): a third of the memory for
-    /// closed meshes, at about 40 more instructions per packet tested.
+    /// copy of all vertices (16 bytes each): about a third of the memory for
+    /// closed meshes, but each packet test waits for a second, dependent
+    /// memory access (the vertices) and gathers them (about 40 more
+    /// instructions), which measured 20–30 % slower even on 1M triangles.
+    /// For scenes whose vertex packets would not fit in memory.
     Indexed,
 }
-
-/// From this many triangles [`TriangleLeafLayout::Automatic`] chooses indexed leaves.
-pub const INDEXED_LEAVES_FROM_TRIANGLES: usize = 1 << 18;
 
 /// Choices for the acceleration structure of [`Geometry::with_options`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -68,7 +63,7 @@ pub struct AcceleratorOptions {
 impl Default for AcceleratorOptions {
     fn default() -> Self {
         Self {
-            leaf_layout: TriangleLeafLayout::Automatic,
+            leaf_layout: TriangleLeafLayout::Vertices,
             merge_leaves: true,
         }
     }
@@ -77,7 +72,7 @@ impl Default for AcceleratorOptions {
 /// Size and quality of a [`Geometry`]'s BVH (see [`Geometry::accelerator_statistics`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AcceleratorStatistics {
-    /// 4-wide inner nodes (128 bytes each).
+    /// 8-wide inner nodes (256 bytes each).
     pub nodes: usize,
     /// Bytes of all nodes.
     pub node_bytes: usize,
@@ -126,7 +121,10 @@ impl std::fmt::Display for AcceleratorStatistics {
             if self.indexed { "indexed" } else { "vertex" },
             mib(self.packet_bytes),
             if self.indexed {
-                format!(" + {:.1} MiB shared vertices", mib(self.shared_vertex_bytes))
+                format!(
+                    " + {:.1} MiB shared vertices",
+                    mib(self.shared_vertex_bytes)
+                )
             } else {
                 String::new()
             },
@@ -173,8 +171,9 @@ impl std::fmt::Debug for Geometry {
 
 impl Geometry {
     /// Builds the BVH over every primitive of `shapes` (obvhs' PLOC with its
-    /// `medium_build` search distance and reinsertion, collapsed into a 4-wide
-    /// tree with up to 4 primitives per leaf). An empty list is allowed
+    /// `medium_build` search distance and reinsertion, collapsed into an
+    /// 8-wide tree with up to 4 primitives per leaf, vertex packets and
+    /// merged leaves: [`AcceleratorOptions::default`]). An empty list is allowed
     /// (nothing is ever hit). Fails if more than `u32::MAX` primitives are given.
     pub fn new(shapes: Vec<Shape>) -> Result<Self, GeometryError> {
         Self::with_options(shapes, AcceleratorOptions::default())
@@ -221,18 +220,7 @@ impl Geometry {
             // Every mesh's vertices, one after another, for indexed leaves.
             let mut vertex_offsets = vec![0u32; shapes.len()];
             let mut shared_vertices = Vec::new();
-            let triangle_count = shapes
-                .iter()
-                .map(|shape| match shape {
-                    Shape::Mesh(mesh) => mesh.triangle_count(),
-                    _ => 0,
-                })
-                .sum::<usize>();
-            let indexed = match options.leaf_layout {
-                TriangleLeafLayout::Automatic => triangle_count >= INDEXED_LEAVES_FROM_TRIANGLES,
-                TriangleLeafLayout::Vertices => false,
-                TriangleLeafLayout::Indexed => true,
-            };
+            let indexed = options.leaf_layout == TriangleLeafLayout::Indexed;
             if indexed {
                 for (shape, offset) in shapes.iter().zip(&mut vertex_offsets) {
                     if let Shape::Mesh(mesh) = shape {

@@ -2,7 +2,7 @@
 //! (triangle meshes, spheres, disks, and Mitsuba-style rectangles and cubes built
 //! as meshes), their ray intersection routines, robust spawning of secondary rays,
 //! uniform and solid-angle sampling of shapes for area lights, and the
-//! [`Geometry`] aggregate that owns all shapes and a 4-wide BVH (built with
+//! [`Geometry`] aggregate that owns all shapes and an 8-wide BVH (built with
 //! obvhs' PLOC, traversed by this crate with SIMD box and triangle tests) for
 //! closest-hit and any-hit queries.
 //!
@@ -40,8 +40,8 @@ mod triangle_packet;
 mod wide_bvh;
 
 pub use accelerator::{
-    AcceleratorOptions, AcceleratorStatistics, Geometry, INDEXED_LEAVES_FROM_TRIANGLES,
-    PrimitiveHit, PrimitiveReference, TriangleLeafLayout,
+    AcceleratorOptions, AcceleratorStatistics, Geometry, PrimitiveHit, PrimitiveReference,
+    TriangleLeafLayout,
 };
 pub use bounds::Bounds3;
 pub use disk::Disk;

@@ -287,9 +287,8 @@ mod tests {
         assert_eq!(x.le(y).and(x.eq(y)).bits(), 0b1000);
         assert_eq!(x.le(y).and_not(x.eq(y)).bits(), 0b0010);
         assert_eq!(F32x4::splat(2.0).to_array(), [2.0; 4]);
-        let rows: [F32x4; 4] = std::array::from_fn(|i| {
-            F32x4::load(&std::array::from_fn(|j| (4 * i + j) as f32))
-        });
+        let rows: [F32x4; 4] =
+            std::array::from_fn(|i| F32x4::load(&std::array::from_fn(|j| (4 * i + j) as f32)));
         let columns = F32x4::transpose(rows);
         for i in 0..4 {
             for j in 0..4 {

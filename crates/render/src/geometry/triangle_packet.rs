@@ -91,7 +91,6 @@ impl TrianglePacket {
             primitive_index: self.primitive_indices[lane],
         }
     }
-
 }
 
 /// Vertex coordinates of four triangles, lane by lane, as the test reads them.
@@ -181,7 +180,12 @@ impl IndexedTrianglePacket {
 
     /// The largest vertex index used (for the builder's check).
     pub(crate) fn max_vertex_index(&self) -> u32 {
-        self.vertex_indices.iter().flatten().copied().max().unwrap_or(0)
+        self.vertex_indices
+            .iter()
+            .flatten()
+            .copied()
+            .max()
+            .unwrap_or(0)
     }
 
     /// Loads the packet's vertices from `vertices` into lane-by-lane rows.
@@ -311,12 +315,7 @@ impl PacketRay {
 
     /// The scalar test of one lane (for lanes with a zero edge function).
     #[cold]
-    fn test_lane(
-        &self,
-        packet: &impl LaneVertices,
-        lane: usize,
-        t_max: f32,
-    ) -> Option<PacketHit> {
+    fn test_lane(&self, packet: &impl LaneVertices, lane: usize, t_max: f32) -> Option<PacketHit> {
         let [p0, p1, p2] = packet.lane_vertices(lane);
         self.scalar
             .intersect(p0, p1, p2, t_max)
