@@ -290,9 +290,9 @@ mod tests {
         let rows: [F32x4; 4] =
             std::array::from_fn(|i| F32x4::load(&std::array::from_fn(|j| (4 * i + j) as f32)));
         let columns = F32x4::transpose(rows);
-        for i in 0..4 {
-            for j in 0..4 {
-                assert_eq!(columns[i].to_array()[j], (4 * j + i) as f32);
+        for (i, column) in columns.iter().enumerate() {
+            for (j, &value) in column.to_array().iter().enumerate() {
+                assert_eq!(value, (4 * j + i) as f32);
             }
         }
     }
