@@ -23,6 +23,7 @@
 
 mod accelerator;
 mod bounds;
+mod bvh_memory;
 mod disk;
 mod error;
 mod hit;

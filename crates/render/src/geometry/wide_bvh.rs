@@ -41,6 +41,7 @@ use obvhs::ploc::PlocBuilder;
 
 use std::mem::MaybeUninit;
 
+use super::bvh_memory::vec_with_huge_pages;
 use super::simd::{F32x4, prefetch};
 use super::triangle::WatertightRay;
 use super::triangle_packet::{
@@ -458,20 +459,22 @@ impl WideBvh {
             parameters.search_depth_threshold,
         );
         ReinsertionOptimizer::default().run(&mut binary, parameters.reinsertion_batch_ratio, None);
+        // Every packet holds at least one primitive and every node at least
+        // two children, so neither array outgrows `aabbs.len()` (the unused
+        // capacity is never touched, so never backed by memory).
         let triangles = match options.shared_vertices {
-            None => Triangles::Vertices(VertexPackets(Vec::new())),
+            None => Triangles::Vertices(VertexPackets(vec_with_huge_pages(aabbs.len()))),
             Some(vertices) => {
                 assert!(
                     vertices.len() < u32::MAX as usize,
                     "too many shared vertices"
                 );
+                let mut shared = vec_with_huge_pages(vertices.len() + 1);
+                shared.extend(vertices.iter().map(|&v| SharedVertex::new(v)));
+                shared.push(SharedVertex::UNUSED);
                 Triangles::Indexed(IndexedPackets {
-                    packets: Vec::new(),
-                    vertices: vertices
-                        .iter()
-                        .map(|&v| SharedVertex::new(v))
-                        .chain([SharedVertex::UNUSED])
-                        .collect(),
+                    packets: vec_with_huge_pages(aabbs.len()),
+                    vertices: shared,
                     references: Vec::with_capacity(aabbs.len()),
                 })
             }
@@ -482,7 +485,7 @@ impl WideBvh {
             triangle: &triangle,
             merge_leaves: options.merge_leaves,
             bvh: WideBvh {
-                nodes: Vec::new(),
+                nodes: vec_with_huge_pages(aabbs.len()),
                 triangles,
                 general_leaves: Vec::new(),
                 analytic_slots: Vec::new(),
