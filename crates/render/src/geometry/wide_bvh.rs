@@ -26,12 +26,16 @@
 //!   packet; analytic primitives (spheres, disks) are listed by slot and
 //!   tested through a callback;
 //! * packets store their vertices ([`TrianglePacket`], three cache lines) or,
-//!   for scenes too large for the last-level cache, vertex indices into a
-//!   shared vertex array ([`IndexedTrianglePacket`], one cache line; see
-//!   [`BuildOptions::shared_vertices`]);
+//!   as an option for scenes short of memory, vertex indices into a shared
+//!   vertex array ([`IndexedTrianglePacket`], one cache line; see
+//!   [`BuildOptions::shared_vertices`]), a third of the memory but slower:
+//!   the vertex reads wait for the packet's;
 //! * the collapse can merge sibling leaves into one packet where the surface
 //!   area heuristic favours it ([`BuildOptions::merge_leaves`]): fewer, fuller
-//!   packets, and the freed child slot lets a deeper node move up.
+//!   packets, and the freed child slot lets a deeper node move up;
+//! * nodes and packets live in transparent huge pages
+//!   ([`super::bvh_memory`]), as Embree's do by default on Linux: with 4 KiB
+//!   pages most reads of a large BVH also miss the TLB.
 
 use glam::Vec3;
 use obvhs::aabb::Aabb;
