@@ -3,8 +3,14 @@
 //! `scripts/perf/embree_throughput.py`) can trace the same work.
 //!
 //! ```text
-//! cargo run --release -p render --example ray_throughput -- [--export DIR] [--threads T] [--rays N] [--runs R] [--scene NAME] [--diagnose]
+//! cargo run --release -p render --example ray_throughput -- [--export DIR] [--threads T] [--rays N] [--runs R] [--scene NAME] [--diagnose] [--leaf-layout vertices|indexed] [--no-merge-leaves] [--layouts]
 //! ```
+//!
+//! `--leaf-layout` and `--no-merge-leaves` choose the BVH's
+//! [`AcceleratorOptions`] (default: vertex packets, merged leaves); with
+//! `--layouts` every scene is measured with each of the four combinations of
+//! vertex/indexed leaves and merging off/on, interleaved, for A/B comparisons
+//! in one process. The BVH's size, packet fill and SAH cost are printed.
 //!
 //! Scenes (deterministic, one triangle mesh each):
 //! * `sphere_in_box`: a bumpy latitude–longitude sphere (128 segments × 128
@@ -50,7 +56,10 @@ use std::time::{Duration, Instant};
 use glam::{UVec2, Vec2, Vec3, Vec3A};
 use qmc::random::SeekablePcg;
 use rayon::prelude::*;
-use render::geometry::{Bounds3, Geometry, Ray, Transform, TriangleMesh, sample_uniform_sphere};
+use render::geometry::{
+    AcceleratorOptions, Bounds3, Geometry, Ray, Transform, TriangleLeafLayout, TriangleMesh,
+    sample_uniform_sphere,
+};
 
 /// Command-line options of the example.
 struct Options {
@@ -66,6 +75,10 @@ struct Options {
     scene: Option<String>,
     /// Also trace with obvhs' own traversal and triangles, and count visits.
     diagnose: bool,
+    /// The BVH's options.
+    accelerator: AcceleratorOptions,
+    /// Measure all four layout and merging combinations.
+    layouts: bool,
 }
 
 fn parse_options() -> Result<Options, String> {
@@ -76,6 +89,8 @@ fn parse_options() -> Result<Options, String> {
         runs: 5,
         scene: None,
         diagnose: false,
+        accelerator: AcceleratorOptions::default(),
+        layouts: false,
     };
     let mut arguments = std::env::args().skip(1);
     while let Some(argument) = arguments.next() {
@@ -95,9 +110,24 @@ fn parse_options() -> Result<Options, String> {
             "--runs" => options.runs = positive("--runs", value("--runs")?)?,
             "--scene" => options.scene = Some(value("--scene")?),
             "--diagnose" => options.diagnose = true,
+            "--leaf-layout" => {
+                options.accelerator.leaf_layout = match value("--leaf-layout")?.as_str() {
+                    "vertices" => TriangleLeafLayout::Vertices,
+                    "indexed" => TriangleLeafLayout::Indexed,
+                    other => {
+                        return Err(format!(
+                            "--leaf-layout needs vertices or indexed, got {other:?}"
+                        ));
+                    }
+                }
+            }
+            "--no-merge-leaves" => options.accelerator.merge_leaves = false,
+            "--layouts" => options.layouts = true,
             "--help" | "-h" => {
                 return Err(
-                    "usage: ray_throughput [--export DIR] [--threads T] [--rays N] [--runs R]"
+                    "usage: ray_throughput [--export DIR] [--threads T] [--rays N] [--runs R] \
+                     [--scene NAME] [--diagnose] [--leaf-layout vertices|indexed] \
+                     [--no-merge-leaves] [--layouts]"
                         .into(),
                 );
             }
@@ -466,6 +496,56 @@ fn diagnose(mesh: &SceneMesh, rays: &[Ray], runs: usize) {
     );
 }
 
+/// Measures single-threaded throughput for each leaf layout with and without
+/// leaf merging, the four BVHs traced in turn within each of `runs` rounds
+/// (so that load from other processes affects them alike); prints medians of
+/// wall-clock and CPU-time rates and checks that all find the same hits.
+fn compare_layouts(
+    triangles: &TriangleMesh,
+    rays: &[Ray],
+    runs: usize,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let mut variants = Vec::new();
+    for leaf_layout in [TriangleLeafLayout::Vertices, TriangleLeafLayout::Indexed] {
+        for merge_leaves in [false, true] {
+            let options = AcceleratorOptions {
+                leaf_layout,
+                merge_leaves,
+            };
+            let geometry = Geometry::with_options(vec![triangles.clone().into()], options)?;
+            if let Some(statistics) = geometry.accelerator_statistics() {
+                println!("  {leaf_layout:?}, merge {merge_leaves}: {statistics}");
+            }
+            variants.push((options, geometry, Vec::new(), Vec::new()));
+        }
+    }
+    let mut reference = None;
+    for _ in 0..runs {
+        for (_, geometry, wall_rates, cpu_rates) in &mut variants {
+            let (rate, sum) = measure(1, rays.len(), || trace_single_threaded(geometry, rays));
+            wall_rates.push(rate.wall);
+            cpu_rates.push(rate.cpu.unwrap_or(f64::NAN));
+            if *reference.get_or_insert(sum) != sum {
+                return Err("the layouts' checksums differ".into());
+            }
+        }
+    }
+    let median = |values: &mut Vec<f64>| {
+        values.sort_by(f64::total_cmp);
+        values[values.len() / 2]
+    };
+    for (options, _, wall_rates, cpu_rates) in &mut variants {
+        println!(
+            "  {:?}, merge {}: {:8.3} Mrays/s ({:.3} per CPU-second), median of {runs}, 1 thread",
+            options.leaf_layout,
+            options.merge_leaves,
+            median(wall_rates),
+            median(cpu_rates)
+        );
+    }
+    Ok(())
+}
+
 fn run(options: &Options) -> Result<(), Box<dyn std::error::Error>> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.threads)
@@ -496,7 +576,7 @@ fn run(options: &Options) -> Result<(), Box<dyn std::error::Error>> {
             mesh.indices.clone(),
             &Transform::IDENTITY,
         )?;
-        let geometry = Geometry::new(vec![triangles.into()])?;
+        let geometry = Geometry::with_options(vec![triangles.clone().into()], options.accelerator)?;
         let build_time = start.elapsed();
         let rays = incoherent_rays(geometry.bounds(), options.rays, seed);
         println!(
@@ -509,6 +589,13 @@ fn run(options: &Options) -> Result<(), Box<dyn std::error::Error>> {
         if let Some(directory) = &options.export {
             pool.install(|| export(directory, &mesh, &rays, &geometry))?;
             names.push(mesh.name);
+        }
+        if let Some(statistics) = geometry.accelerator_statistics() {
+            println!("  BVH: {statistics}");
+        }
+        if options.layouts {
+            compare_layouts(&triangles, &rays, options.runs)?;
+            continue;
         }
         // One untimed warm-up pass (page faults, caches).
         trace_parallel(&geometry, &rays);

@@ -2,7 +2,7 @@
 //! (triangle meshes, spheres, disks, and Mitsuba-style rectangles and cubes built
 //! as meshes), their ray intersection routines, robust spawning of secondary rays,
 //! uniform and solid-angle sampling of shapes for area lights, and the
-//! [`Geometry`] aggregate that owns all shapes and a 4-wide BVH (built with
+//! [`Geometry`] aggregate that owns all shapes and an 8-wide BVH (built with
 //! obvhs' PLOC, traversed by this crate with SIMD box and triangle tests) for
 //! closest-hit and any-hit queries.
 //!
@@ -23,6 +23,7 @@
 
 mod accelerator;
 mod bounds;
+mod bvh_memory;
 mod disk;
 mod error;
 mod hit;
@@ -39,7 +40,10 @@ mod triangle;
 mod triangle_packet;
 mod wide_bvh;
 
-pub use accelerator::{Geometry, PrimitiveHit, PrimitiveReference};
+pub use accelerator::{
+    AcceleratorOptions, AcceleratorStatistics, Geometry, PrimitiveHit, PrimitiveReference,
+    TriangleLeafLayout,
+};
 pub use bounds::Bounds3;
 pub use disk::Disk;
 pub use error::GeometryError;

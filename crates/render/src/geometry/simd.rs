@@ -44,6 +44,24 @@ impl F32x4 {
         unsafe { _mm_storeu_ps(out.as_mut_ptr(), self.0) };
         out
     }
+    /// The 4 × 4 transpose: lane `j` of row `i` of the result is lane `i`
+    /// of `rows[j]` (turns four loaded `[x, y, z, w]` points into x, y, z and w
+    /// rows).
+    #[inline(always)]
+    pub(crate) fn transpose(rows: [Self; 4]) -> [Self; 4] {
+        unsafe {
+            let low01 = _mm_unpacklo_ps(rows[0].0, rows[1].0);
+            let low23 = _mm_unpacklo_ps(rows[2].0, rows[3].0);
+            let high01 = _mm_unpackhi_ps(rows[0].0, rows[1].0);
+            let high23 = _mm_unpackhi_ps(rows[2].0, rows[3].0);
+            [
+                Self(_mm_movelh_ps(low01, low23)),
+                Self(_mm_movehl_ps(low23, low01)),
+                Self(_mm_movelh_ps(high01, high23)),
+                Self(_mm_movehl_ps(high23, high01)),
+            ]
+        }
+    }
     #[inline(always)]
     pub(crate) fn add(self, other: Self) -> Self {
         unsafe { Self(_mm_add_ps(self.0, other.0)) }
@@ -161,6 +179,9 @@ impl F32x4 {
     pub(crate) fn to_array(self) -> [f32; 4] {
         self.0
     }
+    pub(crate) fn transpose(rows: [Self; 4]) -> [Self; 4] {
+        std::array::from_fn(|i| Self(std::array::from_fn(|j| rows[j].0[i])))
+    }
     #[inline(always)]
     pub(crate) fn add(self, other: Self) -> Self {
         self.map2(other, |a, b| a + b)
@@ -266,5 +287,13 @@ mod tests {
         assert_eq!(x.le(y).and(x.eq(y)).bits(), 0b1000);
         assert_eq!(x.le(y).and_not(x.eq(y)).bits(), 0b0010);
         assert_eq!(F32x4::splat(2.0).to_array(), [2.0; 4]);
+        let rows: [F32x4; 4] =
+            std::array::from_fn(|i| F32x4::load(&std::array::from_fn(|j| (4 * i + j) as f32)));
+        let columns = F32x4::transpose(rows);
+        for (i, column) in columns.iter().enumerate() {
+            for (j, &value) in column.to_array().iter().enumerate() {
+                assert_eq!(value, (4 * j + i) as f32);
+            }
+        }
     }
 }

@@ -7,6 +7,14 @@
 //! bit and edges shared by triangles in different packets stay watertight.
 //! Where an edge function is exactly zero the scalar routine (with its
 //! double-precision recomputation) decides that lane.
+//!
+//! Two storage layouts feed the same test: [`TrianglePacket`] carries the
+//! vertices themselves (three cache lines, no further memory access), and
+//! [`IndexedTrianglePacket`] only vertex indices into a shared array of
+//! [`SharedVertex`] (one cache line; the vertices, shared by about six
+//! triangles in a closed mesh, are gathered and transposed when tested). The
+//! second needs a third of the memory, which is what counts once the scene no
+//! longer fits in the last-level cache.
 
 use glam::Vec3;
 
@@ -83,16 +91,127 @@ impl TrianglePacket {
             primitive_index: self.primitive_indices[lane],
         }
     }
+}
+
+/// Vertex coordinates of four triangles, lane by lane, as the test reads them.
+trait LaneVertices {
+    /// Coordinate `axis` of vertex `k` of the four lanes.
+    fn row(&self, k: usize, axis: usize) -> F32x4;
 
     /// The three vertices of `lane`'s triangle.
     fn lane_vertices(&self, lane: usize) -> [Vec3; 3] {
         std::array::from_fn(|k| {
             Vec3::new(
-                self.vertices[k][0][lane],
-                self.vertices[k][1][lane],
-                self.vertices[k][2][lane],
+                self.row(k, 0).to_array()[lane],
+                self.row(k, 1).to_array()[lane],
+                self.row(k, 2).to_array()[lane],
             )
         })
+    }
+}
+
+impl LaneVertices for TrianglePacket {
+    #[inline(always)]
+    fn row(&self, k: usize, axis: usize) -> F32x4 {
+        F32x4::load(&self.vertices[k][axis])
+    }
+}
+
+/// A vertex of the shared array indexed by [`IndexedTrianglePacket`]s:
+/// `x, y, z` and an unused fourth lane, 16-byte aligned so that one load
+/// fetches it (and it never straddles a cache line).
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(16))]
+pub(crate) struct SharedVertex([f32; 4]);
+
+impl SharedVertex {
+    /// The vertex of unused lanes: NaN coordinates never report a hit.
+    pub(crate) const UNUSED: Self = Self([f32::NAN; 4]);
+
+    pub(crate) fn new(position: Vec3) -> Self {
+        Self([position.x, position.y, position.z, 0.0])
+    }
+}
+
+/// Up to four triangles as indices into a shared [`SharedVertex`] array, and
+/// their slots: 64 bytes, one cache line. Unused lanes index a
+/// [`SharedVertex::UNUSED`] vertex and hold slot `u32::MAX`. Shape and
+/// triangle indices are not stored: the accelerator looks them up by slot
+/// once the closest hit is known.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+pub(crate) struct IndexedTrianglePacket {
+    /// `vertex_indices[k][lane]`: the shared vertex that is vertex `k` of the lane's triangle.
+    vertex_indices: [[u32; PACKET_LANES]; 3],
+    /// Each lane's primitive slot; `u32::MAX` for unused lanes.
+    slots: [u32; PACKET_LANES],
+}
+
+/// One triangle given to [`IndexedTrianglePacket::new`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct IndexedPacketTriangle {
+    pub(crate) vertex_indices: [u32; 3],
+    pub(crate) slot: u32,
+}
+
+impl IndexedTrianglePacket {
+    /// A packet of one to four triangles; unused lanes get `unused_vertex`
+    /// (the index of a [`SharedVertex::UNUSED`] vertex).
+    pub(crate) fn new(triangles: &[IndexedPacketTriangle], unused_vertex: u32) -> Self {
+        assert!((1..=PACKET_LANES).contains(&triangles.len()));
+        let mut packet = Self {
+            vertex_indices: [[unused_vertex; PACKET_LANES]; 3],
+            slots: [u32::MAX; PACKET_LANES],
+        };
+        for (lane, triangle) in triangles.iter().enumerate() {
+            for k in 0..3 {
+                packet.vertex_indices[k][lane] = triangle.vertex_indices[k];
+            }
+            packet.slots[lane] = triangle.slot;
+        }
+        packet
+    }
+
+    /// The primitive slot of `lane`.
+    #[inline(always)]
+    pub(crate) fn slot(&self, lane: usize) -> u32 {
+        self.slots[lane]
+    }
+
+    /// The largest vertex index used (for the builder's check).
+    pub(crate) fn max_vertex_index(&self) -> u32 {
+        self.vertex_indices
+            .iter()
+            .flatten()
+            .copied()
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// Loads the packet's vertices from `vertices` into lane-by-lane rows.
+    #[inline(always)]
+    fn gather(&self, vertices: &[SharedVertex]) -> GatheredVertices {
+        GatheredVertices {
+            rows: std::array::from_fn(|k| {
+                let [x, y, z, _] = F32x4::transpose(
+                    self.vertex_indices[k].map(|index| F32x4::load(&vertices[index as usize].0)),
+                );
+                [x, y, z]
+            }),
+        }
+    }
+}
+
+/// The vertices of an [`IndexedTrianglePacket`] after gathering.
+struct GatheredVertices {
+    /// `rows[k][axis]`.
+    rows: [[F32x4; 3]; 3],
+}
+
+impl LaneVertices for GatheredVertices {
+    #[inline(always)]
+    fn row(&self, k: usize, axis: usize) -> F32x4 {
+        self.rows[k][axis]
     }
 }
 
@@ -152,13 +271,12 @@ impl PacketRay {
 
     /// The lane-wise test, the same operations as [`WatertightRay::intersect`].
     #[inline(always)]
-    fn test(&self, packet: &TrianglePacket, t_max: f32) -> LaneResults {
+    fn test(&self, packet: &impl LaneVertices, t_max: f32) -> LaneResults {
         let [kx, ky, kz] = self.scalar.axes;
         let relative = |k: usize| {
-            let vertex = &packet.vertices[k];
-            let x = F32x4::load(&vertex[kx]).sub(self.origin[0]);
-            let y = F32x4::load(&vertex[ky]).sub(self.origin[1]);
-            let z = F32x4::load(&vertex[kz]).sub(self.origin[2]);
+            let x = packet.row(k, kx).sub(self.origin[0]);
+            let y = packet.row(k, ky).sub(self.origin[1]);
+            let z = packet.row(k, kz).sub(self.origin[2]);
             (x.sub(self.shear_x.mul(z)), y.sub(self.shear_y.mul(z)), z)
         };
         let (ax, ay, az) = relative(0);
@@ -197,7 +315,7 @@ impl PacketRay {
 
     /// The scalar test of one lane (for lanes with a zero edge function).
     #[cold]
-    fn test_lane(&self, packet: &TrianglePacket, lane: usize, t_max: f32) -> Option<PacketHit> {
+    fn test_lane(&self, packet: &impl LaneVertices, lane: usize, t_max: f32) -> Option<PacketHit> {
         let [p0, p1, p2] = packet.lane_vertices(lane);
         self.scalar
             .intersect(p0, p1, p2, t_max)
@@ -212,6 +330,33 @@ impl PacketRay {
     /// (the lowest lane among equal distances).
     #[inline(always)]
     pub(crate) fn closest_hit(&self, packet: &TrianglePacket, t_max: f32) -> Option<PacketHit> {
+        self.closest_hit_in(packet, t_max)
+    }
+
+    /// [`PacketRay::closest_hit`] for an indexed packet over `vertices`.
+    #[inline(always)]
+    pub(crate) fn closest_hit_indexed(
+        &self,
+        packet: &IndexedTrianglePacket,
+        vertices: &[SharedVertex],
+        t_max: f32,
+    ) -> Option<PacketHit> {
+        self.closest_hit_in(&packet.gather(vertices), t_max)
+    }
+
+    /// [`PacketRay::any_hit`] for an indexed packet over `vertices`.
+    #[inline(always)]
+    pub(crate) fn any_hit_indexed(
+        &self,
+        packet: &IndexedTrianglePacket,
+        vertices: &[SharedVertex],
+        t_max: f32,
+    ) -> bool {
+        self.any_hit_in(&packet.gather(vertices), t_max)
+    }
+
+    #[inline(always)]
+    fn closest_hit_in(&self, packet: &impl LaneVertices, t_max: f32) -> Option<PacketHit> {
         let lanes = self.test(packet, t_max);
         let mut best: Option<PacketHit> = None;
         if lanes.hits != 0 {
@@ -255,6 +400,11 @@ impl PacketRay {
     /// Whether any of the packet's triangles is hit with `0 < t < t_max`.
     #[inline(always)]
     pub(crate) fn any_hit(&self, packet: &TrianglePacket, t_max: f32) -> bool {
+        self.any_hit_in(packet, t_max)
+    }
+
+    #[inline(always)]
+    fn any_hit_in(&self, packet: &impl LaneVertices, t_max: f32) -> bool {
         let lanes = self.test(packet, t_max);
         if lanes.hits != 0 {
             return true;
@@ -276,9 +426,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn packet_is_three_cache_lines() {
+    fn packets_are_whole_cache_lines() {
         assert_eq!(std::mem::size_of::<TrianglePacket>(), 192);
         assert_eq!(std::mem::align_of::<TrianglePacket>(), 64);
+        assert_eq!(std::mem::size_of::<IndexedTrianglePacket>(), 64);
+        assert_eq!(std::mem::align_of::<IndexedTrianglePacket>(), 64);
+        assert_eq!(std::mem::size_of::<SharedVertex>(), 16);
     }
 
     /// SplitMix64 in [0, 1).
@@ -343,6 +496,37 @@ mod tests {
             let actual = ray.closest_hit(&packet, t_max);
             assert_eq!(actual, expected, "round {round}");
             assert_eq!(ray.any_hit(&packet, t_max), expected.is_some());
+            // The same triangles as indices into a shared array (vertices in
+            // reverse order, the unused vertex first): the same answers, bit
+            // for bit.
+            let mut shared = vec![SharedVertex::UNUSED];
+            let indexed: Vec<IndexedPacketTriangle> = triangles
+                .iter()
+                .map(|triangle| IndexedPacketTriangle {
+                    vertex_indices: std::array::from_fn(|_| 0),
+                    slot: triangle.slot,
+                })
+                .collect();
+            let mut indexed = indexed;
+            for (lane, triangle) in triangles.iter().enumerate().rev() {
+                for k in (0..3).rev() {
+                    indexed[lane].vertex_indices[k] = shared.len() as u32;
+                    shared.push(SharedVertex::new(triangle.vertices[k]));
+                }
+            }
+            let indexed_packet = IndexedTrianglePacket::new(&indexed, 0);
+            assert_eq!(
+                ray.closest_hit_indexed(&indexed_packet, &shared, t_max),
+                expected,
+                "round {round}"
+            );
+            assert_eq!(
+                ray.any_hit_indexed(&indexed_packet, &shared, t_max),
+                expected.is_some()
+            );
+            if let Some(hit) = expected {
+                assert_eq!(indexed_packet.slot(hit.lane), hit.lane as u32 * 7);
+            }
             if let Some(hit) = actual {
                 assert_eq!(packet.slot(hit.lane), hit.lane as u32 * 7);
                 assert_eq!(packet.reference(hit.lane).shape_index, hit.lane as u32 * 3);

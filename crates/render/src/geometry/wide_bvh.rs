@@ -1,7 +1,7 @@
-//! A 4-wide BVH with SIMD traversal: obvhs builds a binary BVH (PLOC, Meister
+//! An 8-wide BVH with SIMD traversal: obvhs builds a binary BVH (PLOC, Meister
 //! & Bittner 2018, plus parallel reinsertion), which is collapsed here into
-//! nodes of four children whose boxes are tested against a ray in one SIMD
-//! slab test, with leaves of triangle packets ([`TrianglePacket`]) tested four
+//! nodes of eight children whose boxes are tested against a ray in two 4-lane
+//! SIMD slab tests, with leaves of triangle packets ([`TrianglePacket`]) tested four
 //! at a time with the watertight test.
 //!
 //! Why not obvhs' own traversal: its compressed 8-wide nodes are decoded child
@@ -9,8 +9,12 @@
 //! on a surface can miss the triangle next to their origin) and its callback
 //! per primitive keeps triangles out of registers. Here:
 //!
-//! * a node is 128 bytes (two cache lines): the six slab planes of the four
-//!   children as `[f32; 4]` rows, and four child references;
+//! * a node is 256 bytes (four cache lines): for each group of four children
+//!   the six slab planes as `[f32; 4]` rows, and eight child references.
+//!   Eight children instead of four (the same SSE code per group) make the
+//!   tree shallower: on the 1M-triangle scene of `examples/ray_throughput.rs`
+//!   the traversal waits for memory at each level, and 8-wide nodes traced
+//!   about 15 % more rays per CPU-second (README, "Ray throughput");
 //! * the slab test follows Ize, "Robust BVH Ray Traversal" (JCGT 2(2), 2013):
 //!   `t_far` is scaled by `1 + 2γ₃` (pbrt-v4's `Bounds3::IntersectP` uses the
 //!   same bound), so rounding can never make a ray miss a box it passes
@@ -20,7 +24,18 @@
 //!   any-hit traversal (shadow rays) stops at the first hit;
 //! * leaves hold up to [`MAX_LEAF_PRIMITIVES`] primitives, triangles in one
 //!   packet; analytic primitives (spheres, disks) are listed by slot and
-//!   tested through a callback.
+//!   tested through a callback;
+//! * packets store their vertices ([`TrianglePacket`], three cache lines) or,
+//!   as an option for scenes short of memory, vertex indices into a shared
+//!   vertex array ([`IndexedTrianglePacket`], one cache line; see
+//!   [`BuildOptions::shared_vertices`]), a third of the memory but slower:
+//!   the vertex reads wait for the packet's;
+//! * the collapse can merge sibling leaves into one packet where the surface
+//!   area heuristic favours it ([`BuildOptions::merge_leaves`]): fewer, fuller
+//!   packets, and the freed child slot lets a deeper node move up;
+//! * nodes and packets live in transparent huge pages
+//!   ([`super::bvh_memory`]), as Embree's do by default on Linux: with 4 KiB
+//!   pages most reads of a large BVH also miss the TLB.
 
 use glam::Vec3;
 use obvhs::aabb::Aabb;
@@ -30,13 +45,19 @@ use obvhs::ploc::PlocBuilder;
 
 use std::mem::MaybeUninit;
 
+use super::bvh_memory::vec_with_huge_pages;
 use super::simd::{F32x4, prefetch};
 use super::triangle::WatertightRay;
-use super::triangle_packet::{PACKET_LANES, PacketRay, PacketTriangle, TrianglePacket};
+use super::triangle_packet::{
+    IndexedPacketTriangle, IndexedTrianglePacket, PACKET_LANES, PacketHit, PacketRay,
+    PacketTriangle, SharedVertex, TrianglePacket,
+};
 use super::{PrimitiveReference, Ray};
 
+/// Groups of four children per node, each tested with one 4-lane slab test.
+const GROUPS: usize = 2;
 /// Children per node.
-const WIDTH: usize = 4;
+const WIDTH: usize = 4 * GROUPS;
 
 /// A subtree of the binary BVH with at most this many primitives becomes a
 /// leaf (one packet of triangles).
@@ -62,36 +83,43 @@ const ROBUST_FAR_SCALE: f32 =
 const MIN_DIRECTION_COMPONENT: f32 = 1e-20;
 
 /// Traversal stack entries kept inline; deeper trees use a heap stack.
-const INLINE_STACK: usize = 96;
+const INLINE_STACK: usize = 128;
 
-/// Four children: their boxes as slab planes (`bounds[plane][child]`, planes
-/// 0–2 the minima of x, y, z and 3–5 the maxima) and their references.
+/// [`WIDTH`] children: their boxes as slab planes in groups of four
+/// (`bounds[group][plane][lane]` for child `4 · group + lane`; planes 0–2 the
+/// minima of x, y, z and 3–5 the maxima) and their references.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 struct WideNode {
-    bounds: [[f32; WIDTH]; 6],
+    bounds: [[[f32; 4]; 6]; GROUPS],
     children: [u32; WIDTH],
 }
 
 impl WideNode {
     const EMPTY: Self = Self {
-        bounds: [
-            [f32::INFINITY; WIDTH],
-            [f32::INFINITY; WIDTH],
-            [f32::INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-            [f32::NEG_INFINITY; WIDTH],
-        ],
+        bounds: [[
+            [f32::INFINITY; 4],
+            [f32::INFINITY; 4],
+            [f32::INFINITY; 4],
+            [f32::NEG_INFINITY; 4],
+            [f32::NEG_INFINITY; 4],
+            [f32::NEG_INFINITY; 4],
+        ]; GROUPS],
         children: [EMPTY_CHILD; WIDTH],
     };
 
     fn set_child(&mut self, index: usize, aabb: &Aabb, reference: u32) {
+        let bounds = &mut self.bounds[index / 4];
         for axis in 0..3 {
-            self.bounds[axis][index] = aabb.min[axis];
-            self.bounds[axis + 3][index] = aabb.max[axis];
+            bounds[axis][index % 4] = aabb.min[axis];
+            bounds[axis + 3][index % 4] = aabb.max[axis];
         }
         self.children[index] = reference;
+    }
+
+    /// Plane `plane` of child `index`'s box.
+    fn plane(&self, plane: usize, index: usize) -> f32 {
+        self.bounds[index / 4][plane][index % 4]
     }
 }
 
@@ -119,11 +147,162 @@ pub(crate) struct ClosestPrimitive {
     pub(crate) barycentric: [f32; 3],
 }
 
-/// The 4-wide BVH (see the module documentation).
+/// Where the leaves' triangles live, and how the traversal tests a packet.
+trait TriangleStore {
+    /// Starts loading packet `index` (see [`WideBvh::prefetch_children`]).
+    fn prefetch(&self, index: usize);
+    fn closest_hit(&self, ray: &PacketRay, index: usize, t_max: f32) -> Option<PacketHit>;
+    fn any_hit(&self, ray: &PacketRay, index: usize, t_max: f32) -> bool;
+    /// The slot and reference of `lane` of packet `index`.
+    fn primitive(&self, index: usize, lane: usize) -> (u32, PrimitiveReference);
+    fn packet_count(&self) -> usize;
+    fn packet_bytes(&self) -> usize;
+    /// Bytes of data besides the packets that the traversal reads.
+    fn shared_bytes(&self) -> usize;
+    /// Triangles (used lanes) in packet `index`.
+    fn lanes_used(&self, index: usize) -> usize;
+}
+
+/// Packets carrying their vertices and ids.
+#[derive(Debug)]
+struct VertexPackets(Vec<TrianglePacket>);
+
+impl TriangleStore for VertexPackets {
+    #[inline(always)]
+    fn prefetch(&self, index: usize) {
+        let address = self.0.as_ptr().wrapping_add(index).cast::<u8>();
+        prefetch(address);
+        prefetch(address.wrapping_add(64));
+        prefetch(address.wrapping_add(128));
+    }
+    #[inline(always)]
+    fn closest_hit(&self, ray: &PacketRay, index: usize, t_max: f32) -> Option<PacketHit> {
+        ray.closest_hit(&self.0[index], t_max)
+    }
+    #[inline(always)]
+    fn any_hit(&self, ray: &PacketRay, index: usize, t_max: f32) -> bool {
+        ray.any_hit(&self.0[index], t_max)
+    }
+    #[inline(always)]
+    fn primitive(&self, index: usize, lane: usize) -> (u32, PrimitiveReference) {
+        let packet = &self.0[index];
+        (packet.slot(lane), packet.reference(lane))
+    }
+    fn packet_count(&self) -> usize {
+        self.0.len()
+    }
+    fn packet_bytes(&self) -> usize {
+        std::mem::size_of_val(self.0.as_slice())
+    }
+    fn shared_bytes(&self) -> usize {
+        0
+    }
+    fn lanes_used(&self, index: usize) -> usize {
+        (0..PACKET_LANES)
+            .filter(|&lane| self.0[index].slot(lane) != u32::MAX)
+            .count()
+    }
+}
+
+/// Packets of vertex indices into a shared vertex array.
+#[derive(Debug)]
+struct IndexedPackets {
+    packets: Vec<IndexedTrianglePacket>,
+    /// The shared vertices, with one [`SharedVertex::UNUSED`] at the end.
+    vertices: Vec<SharedVertex>,
+    /// Each slot's shape and primitive index (unused entries for analytic
+    /// slots), read once per closest-hit query.
+    references: Vec<PrimitiveReference>,
+}
+
+impl TriangleStore for IndexedPackets {
+    #[inline(always)]
+    fn prefetch(&self, index: usize) {
+        prefetch(self.packets.as_ptr().wrapping_add(index));
+    }
+    #[inline(always)]
+    fn closest_hit(&self, ray: &PacketRay, index: usize, t_max: f32) -> Option<PacketHit> {
+        ray.closest_hit_indexed(&self.packets[index], &self.vertices, t_max)
+    }
+    #[inline(always)]
+    fn any_hit(&self, ray: &PacketRay, index: usize, t_max: f32) -> bool {
+        ray.any_hit_indexed(&self.packets[index], &self.vertices, t_max)
+    }
+    #[inline(always)]
+    fn primitive(&self, index: usize, lane: usize) -> (u32, PrimitiveReference) {
+        let slot = self.packets[index].slot(lane);
+        (slot, self.references[slot as usize])
+    }
+    fn packet_count(&self) -> usize {
+        self.packets.len()
+    }
+    fn packet_bytes(&self) -> usize {
+        std::mem::size_of_val(self.packets.as_slice())
+    }
+    fn shared_bytes(&self) -> usize {
+        std::mem::size_of_val(self.vertices.as_slice())
+    }
+    fn lanes_used(&self, index: usize) -> usize {
+        (0..PACKET_LANES)
+            .filter(|&lane| self.packets[index].slot(lane) != u32::MAX)
+            .count()
+    }
+}
+
+/// The triangles of a [`WideBvh`] in one of the two layouts.
+#[derive(Debug)]
+enum Triangles {
+    Vertices(VertexPackets),
+    Indexed(IndexedPackets),
+}
+
+/// A triangle given to [`WideBvh::build`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BuildTriangle {
+    pub(crate) vertices: [Vec3; 3],
+    /// Indices of the vertices in [`BuildOptions::shared_vertices`] (only
+    /// read if those are given).
+    pub(crate) vertex_indices: [u32; 3],
+    pub(crate) reference: PrimitiveReference,
+}
+
+/// Choices of [`WideBvh::build`].
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct BuildOptions<'a> {
+    /// With shared vertices, leaves hold [`IndexedTrianglePacket`]s indexing
+    /// them (`vertices[vertex_indices[k]]` must equal `vertices[k]` of every
+    /// [`BuildTriangle`]); without, [`TrianglePacket`]s.
+    pub(crate) shared_vertices: Option<&'a [Vec3]>,
+    /// Merge sibling leaves whose primitives fit one packet when the merged
+    /// box's surface area is below the sum of theirs (see
+    /// [`Collapser::merge_best_leaf_pair`]).
+    pub(crate) merge_leaves: bool,
+}
+
+/// Size and quality figures of a [`WideBvh`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct WideBvhStatistics {
+    pub(crate) nodes: usize,
+    pub(crate) node_bytes: usize,
+    pub(crate) leaves: usize,
+    pub(crate) packets: usize,
+    pub(crate) packet_bytes: usize,
+    /// The shared vertex array of indexed packets (0 otherwise).
+    pub(crate) shared_vertex_bytes: usize,
+    /// Triangles per packet over [`PACKET_LANES`].
+    pub(crate) packet_fill: f64,
+    /// Surface area heuristic cost with unit cost per node test and per
+    /// packet test: `1 + Σ_children A(child)/A(root) · (1 for a node, its
+    /// packet count for a leaf)`.
+    pub(crate) sah_cost: f64,
+    pub(crate) indexed: bool,
+}
+
+/// The 8-wide BVH (see the module documentation).
 #[derive(Debug)]
 pub(crate) struct WideBvh {
     nodes: Vec<WideNode>,
-    packets: Vec<TrianglePacket>,
+    triangles: Triangles,
     general_leaves: Vec<GeneralLeaf>,
     analytic_slots: Vec<u32>,
     /// For each slot, the index of the primitive (in the order given to
@@ -164,21 +343,36 @@ impl NodeRay {
     /// The children whose boxes the ray enters within `[0, t_max]` (bit `i`
     /// for child `i`) and their entry distances.
     #[inline(always)]
-    fn intersect(&self, node: &WideNode, t_max: f32) -> (u32, F32x4) {
-        let slab = |plane: usize, axis: usize| {
-            F32x4::load(&node.bounds[plane])
-                .sub(self.origin[axis])
-                .mul(self.inverse_direction[axis])
-        };
-        let near = slab(self.near_plane[0], 0)
-            .max(slab(self.near_plane[1], 1))
-            .max(slab(self.near_plane[2], 2).max(F32x4::splat(0.0)));
-        let far = slab(self.far_plane[0], 0)
-            .min(slab(self.far_plane[1], 1))
-            .min(slab(self.far_plane[2], 2).min(F32x4::splat(t_max)))
-            .mul(F32x4::splat(ROBUST_FAR_SCALE));
-        (near.le(far).bits(), near)
+    fn intersect(&self, node: &WideNode, t_max: f32) -> (u32, [f32; WIDTH]) {
+        let mut bits = 0;
+        let mut distances = [0.0; WIDTH];
+        for (group, bounds) in node.bounds.iter().enumerate() {
+            let slab = |plane: usize, axis: usize| {
+                F32x4::load(&bounds[plane])
+                    .sub(self.origin[axis])
+                    .mul(self.inverse_direction[axis])
+            };
+            let near = slab(self.near_plane[0], 0)
+                .max(slab(self.near_plane[1], 1))
+                .max(slab(self.near_plane[2], 2).max(F32x4::splat(0.0)));
+            let far = slab(self.far_plane[0], 0)
+                .min(slab(self.far_plane[1], 1))
+                .min(slab(self.far_plane[2], 2).min(F32x4::splat(t_max)))
+                .mul(F32x4::splat(ROBUST_FAR_SCALE));
+            bits |= near.le(far).bits() << (4 * group);
+            distances[4 * group..4 * group + 4].copy_from_slice(&near.to_array());
+        }
+        (bits, distances)
     }
+}
+
+/// The closest hit found so far during a traversal; a triangle's slot and
+/// reference are looked up once at the end (for indexed packets they are not
+/// in the packet).
+enum Closest {
+    Nothing,
+    Triangle { packet: usize, hit: PacketHit },
+    Analytic(ClosestPrimitive),
 }
 
 /// A stacked child: its reference and the distance at which the ray enters it.
@@ -252,7 +446,8 @@ impl WideBvh {
     /// `aabbs` must not be empty.
     pub(crate) fn build(
         aabbs: &[Aabb],
-        triangle: impl Fn(usize) -> Option<([Vec3; 3], PrimitiveReference)>,
+        triangle: impl Fn(usize) -> Option<BuildTriangle>,
+        options: BuildOptions,
     ) -> Self {
         assert!(!aabbs.is_empty());
         // Search distance 24 instead of 14 or a reinsertion ratio of 0.2
@@ -268,13 +463,34 @@ impl WideBvh {
             parameters.search_depth_threshold,
         );
         ReinsertionOptimizer::default().run(&mut binary, parameters.reinsertion_batch_ratio, None);
+        // Every packet holds at least one primitive and every node at least
+        // two children, so neither array outgrows `aabbs.len()` (the unused
+        // capacity is never touched, so never backed by memory).
+        let triangles = match options.shared_vertices {
+            None => Triangles::Vertices(VertexPackets(vec_with_huge_pages(aabbs.len()))),
+            Some(vertices) => {
+                assert!(
+                    vertices.len() < u32::MAX as usize,
+                    "too many shared vertices"
+                );
+                let mut shared = vec_with_huge_pages(vertices.len() + 1);
+                shared.extend(vertices.iter().map(|&v| SharedVertex::new(v)));
+                shared.push(SharedVertex::UNUSED);
+                Triangles::Indexed(IndexedPackets {
+                    packets: vec_with_huge_pages(aabbs.len()),
+                    vertices: shared,
+                    references: Vec::with_capacity(aabbs.len()),
+                })
+            }
+        };
         Collapser {
             binary: &binary,
             counts: subtree_primitive_counts(&binary),
             triangle: &triangle,
+            merge_leaves: options.merge_leaves,
             bvh: WideBvh {
-                nodes: Vec::new(),
-                packets: Vec::new(),
+                nodes: vec_with_huge_pages(aabbs.len()),
+                triangles,
                 general_leaves: Vec::new(),
                 analytic_slots: Vec::new(),
                 slot_primitives: Vec::with_capacity(aabbs.len()),
@@ -287,6 +503,63 @@ impl WideBvh {
     /// For each slot, the index of its primitive in the build order.
     pub(crate) fn slot_primitives(&self) -> &[u32] {
         &self.slot_primitives
+    }
+
+    /// Size and quality figures (see [`WideBvhStatistics`]).
+    pub(crate) fn statistics(&self) -> WideBvhStatistics {
+        match &self.triangles {
+            Triangles::Vertices(triangles) => self.statistics_with(triangles, false),
+            Triangles::Indexed(triangles) => self.statistics_with(triangles, true),
+        }
+    }
+
+    fn statistics_with(&self, triangles: &impl TriangleStore, indexed: bool) -> WideBvhStatistics {
+        let half_area = |node: &WideNode, child: usize| {
+            let extent: [f32; 3] =
+                std::array::from_fn(|axis| node.plane(axis + 3, child) - node.plane(axis, child));
+            extent[0] * extent[1] + extent[1] * extent[2] + extent[2] * extent[0]
+        };
+        let root = &self.nodes[0];
+        let mut root_box = Aabb::empty();
+        for child in 0..WIDTH {
+            if root.children[child] != EMPTY_CHILD {
+                root_box = root_box.union(&Aabb::new(
+                    std::array::from_fn::<f32, 3, _>(|axis| root.plane(axis, child)).into(),
+                    std::array::from_fn::<f32, 3, _>(|axis| root.plane(axis + 3, child)).into(),
+                ));
+            }
+        }
+        let root_area = root_box.half_area().max(f32::MIN_POSITIVE) as f64;
+        let mut sah_cost = 1.0;
+        let mut leaves = 0;
+        for node in &self.nodes {
+            for child in 0..WIDTH {
+                let reference = node.children[child];
+                if reference == EMPTY_CHILD {
+                    continue;
+                }
+                let weight = if reference & LEAF_BIT == 0 {
+                    1.0
+                } else {
+                    leaves += 1;
+                    self.leaf_contents(reference).packets.len() as f64
+                };
+                sah_cost += weight * half_area(node, child) as f64 / root_area;
+            }
+        }
+        let packets = triangles.packet_count();
+        let used: usize = (0..packets).map(|index| triangles.lanes_used(index)).sum();
+        WideBvhStatistics {
+            nodes: self.nodes.len(),
+            node_bytes: std::mem::size_of_val(self.nodes.as_slice()),
+            leaves,
+            packets,
+            packet_bytes: triangles.packet_bytes(),
+            shared_vertex_bytes: triangles.shared_bytes(),
+            packet_fill: used as f64 / (packets.max(1) * PACKET_LANES) as f64,
+            sah_cost,
+            indexed,
+        }
     }
 
     #[inline(always)]
@@ -313,20 +586,21 @@ impl WideBvh {
     /// the first packet of compact leaves) while the nearest is visited: on
     /// large scenes the traversal waits for memory more than it computes.
     #[inline(always)]
-    fn prefetch_children(&self, node: &WideNode, mut bits: u32) {
+    fn prefetch_children(&self, triangles: &impl TriangleStore, node: &WideNode, mut bits: u32) {
         while bits != 0 {
             let reference = node.children[bits.trailing_zeros() as usize];
             bits &= bits - 1;
             if reference & LEAF_BIT == 0 {
-                let address = self.nodes.as_ptr().wrapping_add(reference as usize);
-                prefetch(address);
-                prefetch(address.cast::<u8>().wrapping_add(64));
+                let address = self
+                    .nodes
+                    .as_ptr()
+                    .wrapping_add(reference as usize)
+                    .cast::<u8>();
+                for line in 0..std::mem::size_of::<WideNode>() / 64 {
+                    prefetch(address.wrapping_add(64 * line));
+                }
             } else if reference & GENERAL_LEAF_BIT == 0 {
-                let packet = (reference & COMPACT_START_MASK) as usize;
-                let address = self.packets.as_ptr().wrapping_add(packet).cast::<u8>();
-                prefetch(address);
-                prefetch(address.wrapping_add(64));
-                prefetch(address.wrapping_add(128));
+                triangles.prefetch((reference & COMPACT_START_MASK) as usize);
             }
         }
     }
@@ -341,10 +615,19 @@ impl WideBvh {
         t_max: f32,
         analytic: impl FnMut(u32, f32) -> Option<(f32, PrimitiveReference)>,
     ) -> Option<ClosestPrimitive> {
-        if self.deep {
-            self.closest_hit_with(ray, t_max, analytic, Vec::new())
-        } else {
-            self.closest_hit_with(ray, t_max, analytic, InlineStack::new())
+        match (&self.triangles, self.deep) {
+            (Triangles::Vertices(triangles), false) => {
+                self.closest_hit_with(triangles, ray, t_max, analytic, InlineStack::new())
+            }
+            (Triangles::Vertices(triangles), true) => {
+                self.closest_hit_with(triangles, ray, t_max, analytic, Vec::new())
+            }
+            (Triangles::Indexed(triangles), false) => {
+                self.closest_hit_with(triangles, ray, t_max, analytic, InlineStack::new())
+            }
+            (Triangles::Indexed(triangles), true) => {
+                self.closest_hit_with(triangles, ray, t_max, analytic, Vec::new())
+            }
         }
     }
 
@@ -356,16 +639,26 @@ impl WideBvh {
         t_max: f32,
         analytic: impl FnMut(u32, f32) -> bool,
     ) -> bool {
-        if self.deep {
-            self.any_hit_with(ray, t_max, analytic, Vec::new())
-        } else {
-            self.any_hit_with(ray, t_max, analytic, InlineStack::new())
+        match (&self.triangles, self.deep) {
+            (Triangles::Vertices(triangles), false) => {
+                self.any_hit_with(triangles, ray, t_max, analytic, InlineStack::new())
+            }
+            (Triangles::Vertices(triangles), true) => {
+                self.any_hit_with(triangles, ray, t_max, analytic, Vec::new())
+            }
+            (Triangles::Indexed(triangles), false) => {
+                self.any_hit_with(triangles, ray, t_max, analytic, InlineStack::new())
+            }
+            (Triangles::Indexed(triangles), true) => {
+                self.any_hit_with(triangles, ray, t_max, analytic, Vec::new())
+            }
         }
     }
 
     #[inline(always)]
     fn closest_hit_with(
         &self,
+        triangles: &impl TriangleStore,
         ray: &Ray,
         mut t_max: f32,
         mut analytic: impl FnMut(u32, f32) -> Option<(f32, PrimitiveReference)>,
@@ -373,15 +666,14 @@ impl WideBvh {
     ) -> Option<ClosestPrimitive> {
         let node_ray = NodeRay::new(ray);
         let packet_ray = PacketRay::new(WatertightRay::new(ray.origin, ray.direction));
-        let mut closest = None;
+        let mut closest = Closest::Nothing;
         let mut current = 0u32;
         loop {
             if current & LEAF_BIT == 0 {
                 let node = &self.nodes[current as usize];
                 let (mut bits, distances) = node_ray.intersect(node, t_max);
                 if bits != 0 {
-                    self.prefetch_children(node, bits);
-                    let distances = distances.to_array();
+                    self.prefetch_children(triangles, node, bits);
                     let first = bits.trailing_zeros() as usize;
                     bits &= bits - 1;
                     if bits == 0 {
@@ -405,7 +697,7 @@ impl WideBvh {
                         current = node.children[near];
                         continue;
                     }
-                    // Three or four children: order them far to near, push all
+                    // Three or more children: order them far to near, push all
                     // but the nearest, descend into the nearest.
                     let mut order = [StackEntry {
                         reference: node.children[first],
@@ -435,21 +727,16 @@ impl WideBvh {
                 }
             } else {
                 let contents = self.leaf_contents(current);
-                for packet in &self.packets[contents.packets] {
-                    if let Some(hit) = packet_ray.closest_hit(packet, t_max) {
+                for packet in contents.packets {
+                    if let Some(hit) = triangles.closest_hit(&packet_ray, packet, t_max) {
                         t_max = hit.t;
-                        closest = Some(ClosestPrimitive {
-                            slot: packet.slot(hit.lane),
-                            reference: packet.reference(hit.lane),
-                            t: hit.t,
-                            barycentric: hit.barycentric,
-                        });
+                        closest = Closest::Triangle { packet, hit };
                     }
                 }
                 for &slot in &self.analytic_slots[contents.analytic] {
                     if let Some((t, reference)) = analytic(slot, t_max) {
                         t_max = t;
-                        closest = Some(ClosestPrimitive {
+                        closest = Closest::Analytic(ClosestPrimitive {
                             slot,
                             reference,
                             t,
@@ -461,7 +748,19 @@ impl WideBvh {
             // Next stacked child the ray can still reach before the closest hit.
             loop {
                 let Some(entry) = stack.pop() else {
-                    return closest;
+                    return match closest {
+                        Closest::Nothing => None,
+                        Closest::Triangle { packet, hit } => {
+                            let (slot, reference) = triangles.primitive(packet, hit.lane);
+                            Some(ClosestPrimitive {
+                                slot,
+                                reference,
+                                t: hit.t,
+                                barycentric: hit.barycentric,
+                            })
+                        }
+                        Closest::Analytic(primitive) => Some(primitive),
+                    };
                 };
                 if entry.distance <= t_max * ROBUST_FAR_SCALE {
                     current = entry.reference;
@@ -474,6 +773,7 @@ impl WideBvh {
     #[inline(always)]
     fn any_hit_with(
         &self,
+        triangles: &impl TriangleStore,
         ray: &Ray,
         t_max: f32,
         mut analytic: impl FnMut(u32, f32) -> bool,
@@ -500,8 +800,8 @@ impl WideBvh {
                 }
             } else {
                 let contents = self.leaf_contents(current);
-                for packet in &self.packets[contents.packets] {
-                    if packet_ray.any_hit(packet, t_max) {
+                for packet in contents.packets {
+                    if triangles.any_hit(&packet_ray, packet, t_max) {
                         return true;
                     }
                 }
@@ -543,17 +843,78 @@ fn subtree_primitive_counts(binary: &Bvh2) -> Vec<u32> {
     counts
 }
 
+/// A child of a wide node being formed: one binary subtree, or (merged leaves)
+/// up to [`MAX_LEAF_PRIMITIVES`] subtrees that become one leaf.
+#[derive(Clone, Copy, Debug)]
+struct Candidate {
+    subtrees: [usize; MAX_LEAF_PRIMITIVES as usize],
+    subtree_count: usize,
+    aabb: Aabb,
+    primitives: u32,
+}
+
 /// Turns the binary BVH into the wide one.
 struct Collapser<'a, F> {
     binary: &'a Bvh2,
     counts: Vec<u32>,
     triangle: &'a F,
+    merge_leaves: bool,
     bvh: WideBvh,
 }
 
-impl<F: Fn(usize) -> Option<([Vec3; 3], PrimitiveReference)>> Collapser<'_, F> {
-    fn becomes_leaf(&self, index: usize) -> bool {
-        self.binary.nodes[index].is_leaf() || self.counts[index] <= MAX_LEAF_PRIMITIVES
+impl<F: Fn(usize) -> Option<BuildTriangle>> Collapser<'_, F> {
+    fn candidate(&self, index: usize) -> Candidate {
+        let mut subtrees = [0; MAX_LEAF_PRIMITIVES as usize];
+        subtrees[0] = index;
+        Candidate {
+            subtrees,
+            subtree_count: 1,
+            aabb: *self.binary.nodes[index].aabb(),
+            primitives: self.counts[index],
+        }
+    }
+
+    fn becomes_leaf(&self, candidate: &Candidate) -> bool {
+        candidate.subtree_count > 1
+            || self.binary.nodes[candidate.subtrees[0]].is_leaf()
+            || candidate.primitives <= MAX_LEAF_PRIMITIVES
+    }
+
+    /// Merges the two leaf candidates whose primitives fit one packet and
+    /// whose merged box saves the most surface area (the expected number of
+    /// packet tests, by the surface area heuristic, falls from
+    /// `A(a) + A(b)` to `A(a ∪ b)` in units of the parent's area); whether a
+    /// pair was merged.
+    fn merge_best_leaf_pair(&self, children: &mut Vec<Candidate>) -> bool {
+        let mut best: Option<(usize, usize, f32)> = None;
+        for a in 0..children.len() {
+            for b in a + 1..children.len() {
+                let (first, second) = (&children[a], &children[b]);
+                if !self.becomes_leaf(first)
+                    || !self.becomes_leaf(second)
+                    || first.primitives + second.primitives > MAX_LEAF_PRIMITIVES
+                {
+                    continue;
+                }
+                let saving = first.aabb.half_area() + second.aabb.half_area()
+                    - first.aabb.union(&second.aabb).half_area();
+                if saving > 0.0 && best.is_none_or(|(_, _, most)| saving > most) {
+                    best = Some((a, b, saving));
+                }
+            }
+        }
+        let Some((a, b, _)) = best else {
+            return false;
+        };
+        let second = children.swap_remove(b);
+        let first = &mut children[a];
+        for &subtree in &second.subtrees[..second.subtree_count] {
+            first.subtrees[first.subtree_count] = subtree;
+            first.subtree_count += 1;
+        }
+        first.aabb = first.aabb.union(&second.aabb);
+        first.primitives += second.primitives;
+        true
     }
 
     fn collapse(mut self) -> WideBvh {
@@ -561,37 +922,50 @@ impl<F: Fn(usize) -> Option<([Vec3; 3], PrimitiveReference)>> Collapser<'_, F> {
         // (binary node, wide node it fills, depth of the wide node)
         let mut pending = vec![(0usize, 0usize, 1usize)];
         let mut max_depth = 1;
-        if self.becomes_leaf(0) {
-            let reference = self.leaf(0);
-            self.bvh.nodes[0].set_child(0, self.binary.nodes[0].aabb(), reference);
+        let root = self.candidate(0);
+        if self.becomes_leaf(&root) {
+            let reference = self.leaf(&root);
+            self.bvh.nodes[0].set_child(0, &root.aabb, reference);
             pending.clear();
         }
         while let Some((binary_index, wide_index, depth)) = pending.pop() {
             max_depth = max_depth.max(depth);
-            // Open the largest inner child until there are four children.
+            // Open the largest inner child until there are WIDTH children;
+            // merging leaves frees slots for more.
             let first = self.binary.nodes[binary_index].first_index as usize;
-            let mut children = vec![first, first + 1];
-            while children.len() < WIDTH {
-                let area = |i: usize| self.binary.nodes[i].aabb().half_area();
-                let largest = (0..children.len())
-                    .filter(|&position| !self.becomes_leaf(children[position]))
-                    .max_by(|&a, &b| area(children[a]).total_cmp(&area(children[b])));
-                let Some(position) = largest else { break };
-                let opened = children.swap_remove(position);
-                let first = self.binary.nodes[opened].first_index as usize;
-                children.extend([first, first + 1]);
+            let mut children = vec![self.candidate(first), self.candidate(first + 1)];
+            loop {
+                if children.len() < WIDTH {
+                    let largest = (0..children.len())
+                        .filter(|&position| !self.becomes_leaf(&children[position]))
+                        .max_by(|&a, &b| {
+                            children[a]
+                                .aabb
+                                .half_area()
+                                .total_cmp(&children[b].aabb.half_area())
+                        });
+                    if let Some(position) = largest {
+                        let opened = children.swap_remove(position).subtrees[0];
+                        let first = self.binary.nodes[opened].first_index as usize;
+                        children.extend([self.candidate(first), self.candidate(first + 1)]);
+                        continue;
+                    }
+                }
+                if !(self.merge_leaves && self.merge_best_leaf_pair(&mut children)) {
+                    break;
+                }
             }
             let mut node = WideNode::EMPTY;
-            for (slot, &child) in children.iter().enumerate() {
+            for (slot, child) in children.iter().enumerate() {
                 let reference = if self.becomes_leaf(child) {
                     self.leaf(child)
                 } else {
                     let index = self.bvh.nodes.len();
                     self.bvh.nodes.push(WideNode::EMPTY);
-                    pending.push((child, index, depth + 1));
+                    pending.push((child.subtrees[0], index, depth + 1));
                     index as u32
                 };
-                node.set_child(slot, self.binary.nodes[child].aabb(), reference);
+                node.set_child(slot, &child.aabb, reference);
             }
             self.bvh.nodes[wide_index] = node;
         }
@@ -600,10 +974,14 @@ impl<F: Fn(usize) -> Option<([Vec3; 3], PrimitiveReference)>> Collapser<'_, F> {
         self.bvh
     }
 
-    /// Emits the primitives below binary node `index` as a leaf and returns its reference.
-    fn leaf(&mut self, index: usize) -> u32 {
+    /// Emits the primitives below the candidate's subtrees as a leaf and returns its reference.
+    fn leaf(&mut self, candidate: &Candidate) -> u32 {
         let mut primitives = Vec::new();
-        let mut pending = vec![index];
+        let mut pending: Vec<usize> = candidate.subtrees[..candidate.subtree_count]
+            .iter()
+            .rev()
+            .copied()
+            .collect();
         while let Some(index) = pending.pop() {
             let node = &self.binary.nodes[index];
             if node.is_leaf() {
@@ -617,34 +995,71 @@ impl<F: Fn(usize) -> Option<([Vec3; 3], PrimitiveReference)>> Collapser<'_, F> {
             }
         }
         let bvh = &mut self.bvh;
-        let packet_start = bvh.packets.len();
+        let packet_start = match &bvh.triangles {
+            Triangles::Vertices(packets) => packets.0.len(),
+            Triangles::Indexed(packets) => packets.packets.len(),
+        };
         let analytic_start = bvh.analytic_slots.len();
         let mut triangles = Vec::with_capacity(PACKET_LANES);
-        let flush = |triangles: &mut Vec<PacketTriangle>, packets: &mut Vec<TrianglePacket>| {
-            if !triangles.is_empty() {
-                packets.push(TrianglePacket::new(triangles));
-                triangles.clear();
+        let flush = |triangles: &mut Vec<(BuildTriangle, u32)>, store: &mut Triangles| {
+            if triangles.is_empty() {
+                return;
             }
+            match store {
+                Triangles::Vertices(packets) => {
+                    let lanes: Vec<PacketTriangle> = triangles
+                        .iter()
+                        .map(|(triangle, slot)| PacketTriangle {
+                            vertices: triangle.vertices,
+                            slot: *slot,
+                            reference: triangle.reference,
+                        })
+                        .collect();
+                    packets.0.push(TrianglePacket::new(&lanes));
+                }
+                Triangles::Indexed(packets) => {
+                    let lanes: Vec<IndexedPacketTriangle> = triangles
+                        .iter()
+                        .map(|(triangle, slot)| IndexedPacketTriangle {
+                            vertex_indices: triangle.vertex_indices,
+                            slot: *slot,
+                        })
+                        .collect();
+                    let unused_vertex = packets.vertices.len() as u32 - 1;
+                    let packet = IndexedTrianglePacket::new(&lanes, unused_vertex);
+                    assert!(
+                        packet.max_vertex_index() <= unused_vertex,
+                        "vertex index out of range"
+                    );
+                    packets.packets.push(packet);
+                }
+            }
+            triangles.clear();
         };
         for &primitive in &primitives {
             let slot = bvh.slot_primitives.len() as u32;
             bvh.slot_primitives.push(primitive);
-            match (self.triangle)(primitive as usize) {
-                Some((vertices, reference)) => {
-                    triangles.push(PacketTriangle {
-                        vertices,
-                        slot,
-                        reference,
-                    });
+            let triangle = (self.triangle)(primitive as usize);
+            if let Triangles::Indexed(packets) = &mut bvh.triangles {
+                packets
+                    .references
+                    .push(triangle.map_or(UNUSED_REFERENCE, |triangle| triangle.reference));
+            }
+            match triangle {
+                Some(triangle) => {
+                    triangles.push((triangle, slot));
                     if triangles.len() == PACKET_LANES {
-                        flush(&mut triangles, &mut bvh.packets);
+                        flush(&mut triangles, &mut bvh.triangles);
                     }
                 }
                 None => bvh.analytic_slots.push(slot),
             }
         }
-        flush(&mut triangles, &mut bvh.packets);
-        let packet_count = bvh.packets.len() - packet_start;
+        flush(&mut triangles, &mut bvh.triangles);
+        let packet_count = match &bvh.triangles {
+            Triangles::Vertices(packets) => packets.0.len(),
+            Triangles::Indexed(packets) => packets.packets.len(),
+        } - packet_start;
         let analytic_count = bvh.analytic_slots.len() - analytic_start;
         if analytic_count == 0
             && (1..=COMPACT_MAX_PACKETS).contains(&packet_count)
@@ -664,6 +1079,13 @@ impl<F: Fn(usize) -> Option<([Vec3; 3], PrimitiveReference)>> Collapser<'_, F> {
         }
     }
 }
+
+/// The reference stored for analytic slots among indexed packets' references
+/// (never returned: analytic hits carry their own).
+const UNUSED_REFERENCE: PrimitiveReference = PrimitiveReference {
+    shape_index: u32::MAX,
+    primitive_index: u32::MAX,
+};
 
 #[cfg(test)]
 mod tests {
@@ -685,34 +1107,64 @@ mod tests {
 
     /// Random small triangles: the closest hit and the any-hit answer agree
     /// with testing every triangle, with the inline stack and with the heap
-    /// stack of deep trees, and every primitive has exactly one slot.
+    /// stack of deep trees, for both packet layouts with and without leaf
+    /// merging, and every primitive has exactly one slot.
     #[test]
     fn traversal_matches_testing_every_triangle() {
         let mut state = 9u64;
-        let triangles: Vec<[Vec3; 3]> = (0..3000)
-            .map(|_| {
+        // Vertices shared in a pool, as in a mesh (the pool is shuffled
+        // relative to the triangles).
+        let pool: Vec<Vec3> = (0..3000)
+            .flat_map(|_| {
                 let centre = point(&mut state);
-                std::array::from_fn(|_| centre + 0.05 * point(&mut state))
+                [0; 3].map(|_| centre + 0.05 * point(&mut state))
             })
+            .collect();
+        let vertex_indices: Vec<[u32; 3]> = (0..3000u32)
+            .map(|i| [0, 1, 2].map(|k| (3 * i + k) * 7 % 9000))
+            .collect();
+        let triangles: Vec<[Vec3; 3]> = vertex_indices
+            .iter()
+            .map(|indices| indices.map(|i| pool[i as usize]))
             .collect();
         let aabbs: Vec<Aabb> = triangles
             .iter()
             .map(|t| Bounds3::from_points(*t).to_aabb())
             .collect();
-        let mut bvh = WideBvh::build(&aabbs, |i| {
-            Some((
-                triangles[i],
-                PrimitiveReference {
+        let build_triangle = |i: usize| {
+            Some(BuildTriangle {
+                vertices: triangles[i],
+                vertex_indices: vertex_indices[i],
+                reference: PrimitiveReference {
                     shape_index: 7,
                     primitive_index: i as u32,
                 },
-            ))
-        });
-        assert!(!bvh.deep);
-        let mut slots = bvh.slot_primitives().to_vec();
-        slots.sort_unstable();
-        assert_eq!(slots, (0..3000).collect::<Vec<u32>>());
-        for deep in [false, true] {
+            })
+        };
+        for (shared_vertices, merge_leaves, deep) in [
+            (None, false, false),
+            (None, true, false),
+            (None, true, true),
+            (Some(pool.as_slice()), false, false),
+            (Some(pool.as_slice()), true, false),
+            (Some(pool.as_slice()), true, true),
+        ] {
+            let mut bvh = WideBvh::build(
+                &aabbs,
+                build_triangle,
+                BuildOptions {
+                    shared_vertices,
+                    merge_leaves,
+                },
+            );
+            assert!(!bvh.deep);
+            let statistics = bvh.statistics();
+            assert_eq!(statistics.indexed, shared_vertices.is_some());
+            assert!(statistics.packet_fill > 0.5, "{statistics:?}");
+            assert!(statistics.sah_cost > 1.0, "{statistics:?}");
+            let mut slots = bvh.slot_primitives().to_vec();
+            slots.sort_unstable();
+            assert_eq!(slots, (0..3000).collect::<Vec<u32>>());
             bvh.deep = deep;
             let mut hits = 0;
             for i in 0..5000 {
@@ -755,12 +1207,60 @@ mod tests {
         }
     }
 
+    /// Merging leaves on a regular grid of small quads fills packets better
+    /// and does not raise the surface area heuristic cost.
+    #[test]
+    fn merging_leaves_fills_packets() {
+        let mut triangles = Vec::new();
+        for i in 0..40 {
+            for j in 0..40 {
+                let corner = |di: i32, dj: i32| {
+                    let (x, y) = ((i + di) as f32 / 40.0, (j + dj) as f32 / 40.0);
+                    Vec3::new(x, y, 0.1 * (7.0 * x).sin() * (5.0 * y).cos())
+                };
+                triangles.push([corner(0, 0), corner(1, 0), corner(1, 1)]);
+                triangles.push([corner(0, 0), corner(1, 1), corner(0, 1)]);
+            }
+        }
+        let aabbs: Vec<Aabb> = triangles
+            .iter()
+            .map(|t| Bounds3::from_points(*t).to_aabb())
+            .collect();
+        let build = |merge_leaves| {
+            WideBvh::build(
+                &aabbs,
+                |i| {
+                    Some(BuildTriangle {
+                        vertices: triangles[i],
+                        vertex_indices: [0; 3],
+                        reference: PrimitiveReference {
+                            shape_index: 0,
+                            primitive_index: i as u32,
+                        },
+                    })
+                },
+                BuildOptions {
+                    shared_vertices: None,
+                    merge_leaves,
+                },
+            )
+            .statistics()
+        };
+        let (plain, merged) = (build(false), build(true));
+        assert!(
+            merged.packet_fill > plain.packet_fill,
+            "{plain:?} {merged:?}"
+        );
+        assert!(merged.packets < plain.packets, "{plain:?} {merged:?}");
+        assert!(merged.sah_cost <= plain.sah_cost, "{plain:?} {merged:?}");
+    }
+
     /// A single primitive (the root is a leaf) and analytic primitives, which
     /// go through the callbacks with their slots.
     #[test]
     fn single_and_analytic_primitives() {
         let aabbs = [Bounds3::new(Vec3::splat(-1.0), Vec3::splat(1.0)).to_aabb()];
-        let bvh = WideBvh::build(&aabbs, |_| None);
+        let bvh = WideBvh::build(&aabbs, |_| None, BuildOptions::default());
         let ray = Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
         let reference = PrimitiveReference {
             shape_index: 3,
