@@ -386,7 +386,7 @@ fn furnace_sphere(name: &str, material: &str, expected: f64, tolerance: f64) -> 
                 mean[channel]
             );
             assert!(
-                (f64::from(mean[channel]) - expected).abs() < 4.0 * f64::from(sigma) + tolerance,
+                (mean[channel] - expected).abs() < 4.0 * sigma + tolerance,
                 "{name} pixel ({x}, {y}) channel {channel}: {} ± {sigma} vs {expected}",
                 mean[channel]
             );
@@ -427,7 +427,11 @@ fn a_white_coated_diffuse_sphere_in_a_furnace_reflects_everything() {
     let bsdf = CoatedDiffuseBsdf::new(
         SampledSpectrum::splat(1.0),
         1.5,
-        Some(MicrofacetDistribution::new(MicrofacetKind::Ggx, alpha, alpha)),
+        Some(MicrofacetDistribution::new(
+            MicrofacetKind::Ggx,
+            alpha,
+            alpha,
+        )),
         0.0,
         SampledSpectrum::splat(0.0),
         0.0,

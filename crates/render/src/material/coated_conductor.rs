@@ -38,7 +38,10 @@ pub(super) enum ConductorBase {
 impl ConductorBase {
     /// A conductor of Fresnel `reflectance` (relative to the coating),
     /// rough with `distribution` unless it is `None` or effectively smooth.
-    fn new(reflectance: ConductorReflectance, distribution: Option<MicrofacetDistribution>) -> Self {
+    fn new(
+        reflectance: ConductorReflectance,
+        distribution: Option<MicrofacetDistribution>,
+    ) -> Self {
         match distribution.filter(|d| !d.is_effectively_smooth()) {
             Some(distribution) => ConductorBase::Rough(RoughConductorBsdf::new(
                 distribution,
@@ -275,8 +278,8 @@ mod tests {
                     }
                 };
                 let t2 = f64::from((-2.0 * thickness.max(f32::MIN_POSITIVE) / mu_t).exp());
-                let exact = reflected
-                    + (1.0 - reflected).powi(2) * fc * t2 / (1.0 - reflected * fc * t2);
+                let exact =
+                    reflected + (1.0 - reflected).powi(2) * fc * t2 / (1.0 - reflected * fc * t2);
                 let (albedo, error) = sampled_integral(&bsdf.layered, wo, 20_000, 7, |_| 1.0);
                 eprintln!(
                     "{conductor:?}, τ {thickness}, cos θo {cos}: albedo {albedo:.5} ± {error:.5}, closed form {exact:.5}"
@@ -399,7 +402,15 @@ mod tests {
                 }
             }
         }
-        let rough = coated(Some(0.3), gold_under_coating(), Some(0.5), 0.01, 0.0, 0.0, 10);
+        let rough = coated(
+            Some(0.3),
+            gold_under_coating(),
+            Some(0.5),
+            0.01,
+            0.0,
+            0.0,
+            10,
+        );
         assert!((rough.roughness() - 0.3).abs() < 1e-6);
         assert!(rough.interface_distribution().is_some());
     }

@@ -607,9 +607,7 @@ impl<B: LayerBase> LayeredBsdf<B> {
                         };
                         f += beta
                             * self.base.evaluate(-w, -exit.wi)
-                            * (abs_cos_theta(exit.wi)
-                                * weight
-                                * transmittance(thickness, exit.wi)
+                            * (abs_cos_theta(exit.wi) * weight * transmittance(thickness, exit.wi)
                                 / exit.pdf)
                             * exit.value;
                     }
@@ -1036,7 +1034,10 @@ pub(super) mod test_support {
             })
             .collect();
         let (mean, error) = mean_and_error(&values);
-        (mean + specular_albedo(bsdf, wo) * g(reflect_about_normal(wo)), error)
+        (
+            mean + specular_albedo(bsdf, wo) * g(reflect_about_normal(wo)),
+            error,
+        )
     }
 
     /// The albedo of the delta paths, all leaving along the mirror
@@ -1375,7 +1376,10 @@ mod tests {
         let total: f64 = expected.iter().sum();
         eprintln!("expected total {:.5} of the samples", total / count as f64);
         let result = chi_square_test(&observed, &expected);
-        eprintln!("χ² {:.1} on {} dof, p = {:.3e}", result.statistic, result.degrees_of_freedom, result.p_value);
+        eprintln!(
+            "χ² {:.1} on {} dof, p = {:.3e}",
+            result.statistic, result.degrees_of_freedom, result.p_value
+        );
         assert!(result.p_value > P_VALUE_THRESHOLD, "{result:?}");
     }
 
@@ -1415,7 +1419,10 @@ mod tests {
                 );
                 let sigma = (error.powi(2) + evaluated_error.powi(2)).sqrt();
                 assert!((albedo - evaluated).abs() < 4.0 * sigma + 2e-3);
-                assert!(albedo <= previous + 4.0 * error, "{albedo} after {previous}");
+                assert!(
+                    albedo <= previous + 4.0 * error,
+                    "{albedo} after {previous}"
+                );
                 assert!(albedo > 0.3, "α {alpha}: {albedo}");
                 if alpha == 0.05 {
                     assert!(albedo > 0.95, "α {alpha}: {albedo}");

@@ -265,8 +265,7 @@ impl Loader {
                 exterior_ior: 1.0,
             },
             "coateddiffuse" => {
-                let (max_depth, samples, thickness) =
-                    layer_parameters(parameters, position, kind)?;
+                let (max_depth, samples, thickness) = layer_parameters(parameters, position, kind)?;
                 MaterialDescription::CoatedDiffuse {
                     reflectance: self
                         .spectrum_texture(parameters, "reflectance")?
@@ -287,8 +286,7 @@ impl Loader {
                 }
             }
             "coatedconductor" => {
-                let (max_depth, samples, thickness) =
-                    layer_parameters(parameters, position, kind)?;
+                let (max_depth, samples, thickness) = layer_parameters(parameters, position, kind)?;
                 let reflectance = self.spectrum_texture(parameters, "reflectance")?;
                 let (conductor_eta, conductor_k) = match reflectance {
                     Some(reflectance) => {

@@ -720,8 +720,14 @@ fn coated_conductors_read_prefixed_parameters_with_pbrts_defaults() {
     };
     assert_eq!(*interface_ior, 1.5);
     assert!(interface_roughness.is_none() && conductor_roughness.is_none());
-    assert_eq!(*conductor_eta, SpectrumDescription::Named("metal-Cu-eta".into()));
-    assert_eq!(*conductor_k, SpectrumDescription::Named("metal-Cu-k".into()));
+    assert_eq!(
+        *conductor_eta,
+        SpectrumDescription::Named("metal-Cu-eta".into())
+    );
+    assert_eq!(
+        *conductor_k,
+        SpectrumDescription::Named("metal-Cu-k".into())
+    );
     assert_eq!((*thickness, *g, *max_depth, *samples), (0.01, 0.0, 10, 1));
     assert_eq!(
         *albedo,
@@ -747,7 +753,10 @@ fn coated_conductors_read_prefixed_parameters_with_pbrts_defaults() {
         interface.alpha_u,
         TextureDescription::Constant(SpectrumDescription::Constant(0.04))
     );
-    assert_eq!(*conductor_eta, SpectrumDescription::Named("metal-Au-eta".into()));
+    assert_eq!(
+        *conductor_eta,
+        SpectrumDescription::Named("metal-Au-eta".into())
+    );
     assert_eq!(
         (&conductor.alpha_u, &conductor.alpha_v),
         (
