@@ -244,9 +244,12 @@ mod tests {
                 "rough coating, rough gold, scattering",
                 coated(Some(0.25), gold, Some(0.3), 0.4, 0.7, 0.4, 10),
             ),
+            // Deep walks: light leaving at grazing angles makes many round
+            // trips, which evaluation (next-event estimates plus the summed
+            // delta chains) counts beyond `max_depth` and sampling does not.
             (
                 "smooth coating, smooth gold, scattering",
-                coated(None, gold, None, 0.4, 0.7, -0.3, 10),
+                coated(None, gold, None, 0.4, 0.7, -0.3, 100),
             ),
         ]
     }

@@ -10,7 +10,9 @@
 //! it at cosine μ keeps e^(−thickness/μ)) lies between two interfaces: at its
 //! top (z = thickness) a dielectric of relative index η, smooth or rough
 //! (Trowbridge–Reitz/GGX, [`super::RoughDielectricBsdf`]), and at its bottom
-//! (z = 0) a Lambertian reflector of albedo `reflectance`. The slab's medium
+//! (z = 0) a Lambertian reflector of albedo `reflectance` — or, for
+//! `coatedconductor` ([`super::CoatedConductorBsdf`]), a smooth or rough
+//! conductor: the walk (`LayeredBsdf`) takes any `LayerBase`. The slab's medium
 //! scatters with single-scattering albedo `albedo` and a Henyey–Greenstein
 //! phase function of asymmetry `g`; with albedo 0 it only absorbs.
 //!
@@ -25,6 +27,15 @@
 //!   (for the adjoint transport mode), and, for a rough coating, once through
 //!   the direction the walk itself sampled, the two combined with the power
 //!   heuristic. The estimate is unbiased; its mean is the layered BSDF.
+//!   Two corrections to pbrt-v4's text make it so: the power heuristic of
+//!   the walk's own exit weighs the walk's density of the inside direction
+//!   against the presampled exit's density of the same inside direction
+//!   (pbrt-v4 takes the coating's density of wi given the inside direction,
+//!   a density of another variable, and its rough coatings come out a few
+//!   per cent off: see `LayeredBsdf::exit_weight`); and with a smooth
+//!   coating over a delta base a medium scattering event also adds the
+//!   delta chains towards wi that no walk can reach
+//!   (`LayeredBsdf::delta_chain`; pbrt-v4 drops them).
 //! - [`CoatedDiffuseBsdf::sample`]: samples the coating; a reflection is
 //!   returned as is, a transmission starts a walk that follows the sampled
 //!   interactions until it leaves through the top. The returned `value` and
@@ -1278,7 +1289,7 @@ mod tests {
     /// Formerly known wrong (6 % bias, not reciprocal): the MIS weight of
     /// the exit along the walk's own direction took the coating's density
     /// of `wi` given the inside direction, a density over another variable
-    /// than the presampled exit's (see [`LayeredBsdf::exit_weight`]). Here
+    /// than the presampled exit's (see `LayeredBsdf::exit_weight`). Here
     /// at three angles, grazing included.
     #[test]
     fn rough_coatings_sample_what_they_evaluate() {
