@@ -34,12 +34,12 @@
 use glam::Vec3;
 
 use super::bsdf_sample::BsdfSample;
+use super::coated_conductor::CoatedConductorBsdf;
 use super::conductor::ConductorBsdf;
 use super::dielectric::DielectricBsdf;
 use super::diffuse::DiffuseBsdf;
 use super::flags::{BsdfFlags, TransportMode};
 use super::layered::CoatedDiffuseBsdf;
-use super::microfacet::MicrofacetDistribution;
 use super::plastic::PlasticBsdf;
 use super::principled::PrincipledBsdf;
 use super::principled_thin::PrincipledThinBsdf;
@@ -77,6 +77,8 @@ pub enum BsdfModel {
     PrincipledThin(PrincipledThinBsdf),
     /// pbrt-v4's `coateddiffuse`: a stochastically evaluated layered BSDF.
     CoatedDiffuse(CoatedDiffuseBsdf),
+    /// pbrt-v4's `coatedconductor`: a stochastically evaluated layered BSDF.
+    CoatedConductor(CoatedConductorBsdf),
 }
 
 impl BsdfModel {
@@ -94,6 +96,7 @@ impl BsdfModel {
             BsdfModel::Principled(principled) => principled.evaluate(wo, wi, mode),
             BsdfModel::PrincipledThin(thin) => thin.evaluate(wo, wi),
             BsdfModel::CoatedDiffuse(coated) => coated.evaluate(wo, wi, mode),
+            BsdfModel::CoatedConductor(coated) => coated.evaluate(wo, wi, mode),
         }
     }
 
@@ -122,6 +125,7 @@ impl BsdfModel {
             BsdfModel::Principled(principled) => principled.sample(wo, u_component, u, mode),
             BsdfModel::PrincipledThin(thin) => thin.sample(wo, u_component, u),
             BsdfModel::CoatedDiffuse(coated) => coated.sample(wo, u_component, u, mode),
+            BsdfModel::CoatedConductor(coated) => coated.sample(wo, u_component, u, mode),
         }
     }
 
@@ -139,6 +143,7 @@ impl BsdfModel {
             BsdfModel::Principled(principled) => principled.pdf(wo, wi),
             BsdfModel::PrincipledThin(thin) => thin.pdf(wo, wi),
             BsdfModel::CoatedDiffuse(coated) => coated.pdf(wo, wi),
+            BsdfModel::CoatedConductor(coated) => coated.pdf(wo, wi),
         }
     }
 
@@ -156,6 +161,7 @@ impl BsdfModel {
             BsdfModel::Principled(principled) => principled.flags(),
             BsdfModel::PrincipledThin(thin) => thin.flags(),
             BsdfModel::CoatedDiffuse(coated) => coated.flags(),
+            BsdfModel::CoatedConductor(coated) => coated.flags(),
         }
     }
 
@@ -172,9 +178,8 @@ impl BsdfModel {
             BsdfModel::RoughPlastic(plastic) => plastic.distribution().roughness(),
             BsdfModel::Principled(principled) => principled.roughness(),
             BsdfModel::PrincipledThin(thin) => thin.roughness(),
-            BsdfModel::CoatedDiffuse(coated) => coated
-                .distribution()
-                .map_or(0.0, MicrofacetDistribution::roughness),
+            BsdfModel::CoatedDiffuse(coated) => coated.roughness(),
+            BsdfModel::CoatedConductor(coated) => coated.roughness(),
         }
     }
 }
@@ -279,7 +284,7 @@ impl Bsdf {
     ///
     /// For non-delta lobes the returned value and pdf equal
     /// `evaluate(wo, wi)` and `pdf(wo, wi)`, except for stochastic models
-    /// ([`CoatedDiffuseBsdf`]), whose samples carry a path throughput and
+    /// ([`CoatedDiffuseBsdf`], [`CoatedConductorBsdf`]), whose samples carry a path throughput and
     /// density with [`BsdfSample::pdf_is_proportional`] set: their ratio is
     /// the weight, and MIS must use [`Bsdf::pdf`].
     #[inline]
@@ -397,6 +402,12 @@ impl From<PrincipledThinBsdf> for Bsdf {
 impl From<CoatedDiffuseBsdf> for Bsdf {
     fn from(model: CoatedDiffuseBsdf) -> Self {
         Bsdf::new(BsdfModel::CoatedDiffuse(model))
+    }
+}
+
+impl From<CoatedConductorBsdf> for Bsdf {
+    fn from(model: CoatedConductorBsdf) -> Self {
+        Bsdf::new(BsdfModel::CoatedConductor(model))
     }
 }
 

@@ -11,7 +11,8 @@
 //!   ([`TransportMode`]); rough conductors and dielectrics on a
 //!   [`MicrofacetDistribution`] (GGX or Beckmann, anisotropic, visible-normal
 //!   sampling), thin dielectrics, and Mitsuba 3's plastic and rough plastic
-//!   (a diffuse base under a dielectric coating). [`SurfaceBsdf`] wraps one
+//!   (a diffuse base under a dielectric coating), and pbrt-v4's stochastic
+//!   layered `coateddiffuse` and `coatedconductor`. [`SurfaceBsdf`] wraps one
 //!   with its frame for world-space directions; [`Bsdf::roughness`] gives
 //!   LQMC each vertex's effective roughness.
 //! - Measured metals: [`measured_conductor`] gives η and κ spectra of the
@@ -25,6 +26,7 @@
 
 mod bsdf;
 mod bsdf_sample;
+mod coated_conductor;
 mod conductor;
 mod dielectric;
 mod diffuse;
@@ -50,6 +52,7 @@ mod thin_dielectric;
 
 pub use bsdf::{Bsdf, BsdfModel, SurfaceBsdf};
 pub use bsdf_sample::BsdfSample;
+pub use coated_conductor::CoatedConductorBsdf;
 pub use conductor::{ConductorBsdf, ConductorReflectance};
 pub use dielectric::DielectricBsdf;
 pub use diffuse::DiffuseBsdf;

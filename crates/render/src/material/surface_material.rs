@@ -2,6 +2,7 @@
 //! hit for the path's wavelengths.
 
 use super::bsdf::{Bsdf, SurfaceBsdf};
+use super::coated_conductor::CoatedConductorBsdf;
 use super::conductor::{ConductorBsdf, ConductorReflectance};
 use super::dielectric::DielectricBsdf;
 use super::diffuse::DiffuseBsdf;
@@ -164,6 +165,29 @@ pub enum Material {
         max_depth: u32,
         samples: u32,
     },
+    /// pbrt-v4's `coatedconductor` ([`CoatedConductorBsdf`]): a conductor
+    /// of index `conductor_eta` + i`conductor_k` (relative to the outside,
+    /// as in the scene file; negative values are clamped to 0 at each hit,
+    /// and both are divided by `interface_eta` for the conductor's
+    /// interface with the coating, as pbrt-v4 does), smooth when
+    /// `conductor_roughness` is `None`, under a dielectric coating of
+    /// relative index `interface_eta`, smooth when `interface_roughness` is
+    /// `None`, over a layer of optical thickness `thickness` whose medium
+    /// has albedo `albedo` (clamped to [0, 1]) and Henyey–Greenstein
+    /// asymmetry `g`; walks of at most `max_depth` events, `samples` per
+    /// evaluation. Two-sided.
+    CoatedConductor {
+        interface_eta: f32,
+        interface_roughness: Option<Roughness>,
+        conductor_eta: Spectrum,
+        conductor_k: Spectrum,
+        conductor_roughness: Option<Roughness>,
+        thickness: f32,
+        albedo: SpectrumTexture,
+        g: f32,
+        max_depth: u32,
+        samples: u32,
+    },
     /// `front` where light arrives from the side the normal points to,
     /// `back` (seen as its own front) where it arrives from behind
     /// (Mitsuba's `twosided` with two children). Bump maps and masks inside
@@ -243,28 +267,21 @@ impl Material {
             Material::RoughDielectric { eta, .. } => {
                 Material::Dielectric { eta: eta.clone() }.validate()
             }
+            Material::CoatedConductor {
+                interface_eta,
+                conductor_eta,
+                conductor_k,
+                thickness,
+                g,
+                ..
+            } => {
+                check_finite_non_negative("coated conductor eta", conductor_eta)?;
+                check_finite_non_negative("coated conductor k", conductor_k)?;
+                validate_layer(*interface_eta, *thickness, *g)
+            }
             Material::CoatedDiffuse {
                 eta, thickness, g, ..
-            } => {
-                if !(eta.is_finite() && *eta > 0.0) {
-                    return Err(MaterialError::NonPositiveIndexOfRefraction { value: *eta });
-                }
-                if !(thickness.is_finite() && *thickness >= 0.0) {
-                    return Err(MaterialError::InvalidValue {
-                        what: "coated diffuse thickness",
-                        requirement: "finite and non-negative",
-                        value: *thickness,
-                    });
-                }
-                if !g.is_finite() {
-                    return Err(MaterialError::InvalidValue {
-                        what: "coated diffuse g",
-                        requirement: "finite",
-                        value: *g,
-                    });
-                }
-                Ok(())
-            }
+            } => validate_layer(*eta, *thickness, *g),
             Material::ThinDielectric { eta } | Material::Plastic { eta, .. } => {
                 if eta.is_finite() && *eta > 0.0 {
                     Ok(())
@@ -435,6 +452,42 @@ impl Material {
                 *samples,
             )
             .into(),
+            Material::CoatedConductor {
+                interface_eta,
+                interface_roughness,
+                conductor_eta,
+                conductor_k,
+                conductor_roughness,
+                thickness,
+                albedo,
+                g,
+                max_depth,
+                samples,
+            } => {
+                // The conductor's index relative to the coating (pbrt-v4).
+                let relative = 1.0 / *interface_eta;
+                let conductor = ConductorReflectance::Fresnel {
+                    eta: conductor_eta.sample(wavelengths).clamp_zero() * relative,
+                    k: conductor_k.sample(wavelengths).clamp_zero() * relative,
+                };
+                let distribution = |roughness: &Option<Roughness>| {
+                    roughness
+                        .as_ref()
+                        .map(|roughness| roughness.distribution(context))
+                };
+                CoatedConductorBsdf::new(
+                    *interface_eta,
+                    distribution(interface_roughness),
+                    conductor,
+                    distribution(conductor_roughness),
+                    *thickness,
+                    albedo.evaluate(context, wavelengths).clamp(0.0, 1.0),
+                    *g,
+                    *max_depth,
+                    *samples,
+                )
+                .into()
+            }
             Material::TwoSided { front, back } => Bsdf::two_sided(
                 *front.bsdf_with_context(context, wavelengths).model(),
                 *back.bsdf_with_context(context, wavelengths).model(),
@@ -548,6 +601,29 @@ fn visible_wavelengths() -> impl Iterator<Item = f32> {
 
 /// [`MaterialError::InvalidSpectrumValue`] at the first visible wavelength
 /// where `spectrum` is NaN, infinite or negative.
+/// The checks shared by the layered materials: a positive finite coating
+/// index, a finite non-negative thickness, a finite asymmetry g.
+fn validate_layer(eta: f32, thickness: f32, g: f32) -> Result<(), MaterialError> {
+    if !(eta.is_finite() && eta > 0.0) {
+        return Err(MaterialError::NonPositiveIndexOfRefraction { value: eta });
+    }
+    if !(thickness.is_finite() && thickness >= 0.0) {
+        return Err(MaterialError::InvalidValue {
+            what: "layer thickness",
+            requirement: "finite and non-negative",
+            value: thickness,
+        });
+    }
+    if !g.is_finite() {
+        return Err(MaterialError::InvalidValue {
+            what: "layer g",
+            requirement: "finite",
+            value: g,
+        });
+    }
+    Ok(())
+}
+
 fn check_finite_non_negative(what: &'static str, spectrum: &Spectrum) -> Result<(), MaterialError> {
     for lambda in visible_wavelengths() {
         let value = spectrum.evaluate(lambda);

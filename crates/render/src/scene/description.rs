@@ -270,6 +270,28 @@ pub enum MaterialDescription {
         max_depth: u32,
         samples: u32,
     },
+    /// pbrt-v4's `coatedconductor` (a stochastically evaluated layered
+    /// BSDF): a conductor of index `conductor_eta` + i`conductor_k` (relative
+    /// to the outside; divided by `interface_ior` when built), smooth when
+    /// `conductor_roughness` is `None`, under a dielectric coating of index
+    /// `interface_ior`, smooth when `interface_roughness` is `None`, with a
+    /// medium of albedo `albedo` and asymmetry `g` in a layer of optical
+    /// thickness `thickness`; walks of at most `max_depth` events, `samples`
+    /// per evaluation (pbrt-v4's defaults: interface roughness 0, eta 1.5,
+    /// conductor `metal-Cu-eta` / `metal-Cu-k`, roughness 0, thickness 0.01,
+    /// albedo 0, g 0, maxdepth 10, nsamples 1).
+    CoatedConductor {
+        interface_ior: f32,
+        interface_roughness: Option<RoughnessDescription>,
+        conductor_eta: SpectrumDescription,
+        conductor_k: SpectrumDescription,
+        conductor_roughness: Option<RoughnessDescription>,
+        thickness: f32,
+        albedo: TextureDescription,
+        g: f32,
+        max_depth: u32,
+        samples: u32,
+    },
     /// Different materials on the front and back (Mitsuba `twosided` with two
     /// children).
     TwoSided {

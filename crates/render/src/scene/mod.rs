@@ -277,16 +277,6 @@ fn material(description: &MaterialDescription) -> Result<Option<Material>, Scene
             max_depth,
             samples,
         } => {
-            if coating_roughness.is_some() {
-                // The rough coating's estimator is biased (its evaluation and
-                // sampling disagree by about 6 %; see the ignored test in
-                // `material::layered`): refuse it rather than render wrong.
-                return Err(SceneError::Unsupported {
-                    what: "coateddiffuse with a rough coating (roughness > 0); \
-                           a smooth coating (roughness 0) is supported"
-                        .into(),
-                });
-            }
             let material = Material::CoatedDiffuse {
                 reflectance: spectrum_texture(
                     reflectance,
@@ -297,6 +287,40 @@ fn material(description: &MaterialDescription) -> Result<Option<Material>, Scene
                 roughness: coating_roughness.as_ref().map(roughness).transpose()?,
                 thickness: *thickness,
                 albedo: spectrum_texture(albedo, SpectrumUsage::Albedo, "coated diffuse albedo")?,
+                g: *g,
+                max_depth: *max_depth,
+                samples: *samples,
+            };
+            material.validate().map(|()| material)
+        }
+        MaterialDescription::CoatedConductor {
+            interface_ior,
+            interface_roughness,
+            conductor_eta,
+            conductor_k,
+            conductor_roughness,
+            thickness,
+            albedo,
+            g,
+            max_depth,
+            samples,
+        } => {
+            let material = Material::CoatedConductor {
+                interface_eta: relative_index(*interface_ior, 1.0, "coated conductor")?,
+                interface_roughness: interface_roughness.as_ref().map(roughness).transpose()?,
+                conductor_eta: build_spectrum(
+                    conductor_eta,
+                    SpectrumUsage::Unbounded,
+                    "coated conductor conductor.eta",
+                )?,
+                conductor_k: build_spectrum(
+                    conductor_k,
+                    SpectrumUsage::Unbounded,
+                    "coated conductor conductor.k",
+                )?,
+                conductor_roughness: conductor_roughness.as_ref().map(roughness).transpose()?,
+                thickness: *thickness,
+                albedo: spectrum_texture(albedo, SpectrumUsage::Albedo, "coated conductor albedo")?,
                 g: *g,
                 max_depth: *max_depth,
                 samples: *samples,

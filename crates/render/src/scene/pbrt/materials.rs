@@ -1,5 +1,6 @@
 //! `Material`, `MakeNamedMaterial` and `Texture`: pbrt-v4's `diffuse`,
-//! `conductor`, `dielectric`, `thindielectric`, `coateddiffuse`, `interface`
+//! `conductor`, `dielectric`, `thindielectric`, `coateddiffuse`,
+//! `coatedconductor`, `interface`
 //! (and `mix`, read as its first material), with the `displacement` (bump)
 //! and `normalmap` every material may have; textures `imagemap`,
 //! `checkerboard`, `constant` and `scale` (of constants).
@@ -8,8 +9,12 @@
 //! conductor `eta` = `metal-Cu-eta`, `k` = `metal-Cu-k`, roughness 0;
 //! dielectric `eta` 1.5; coateddiffuse reflectance 0.5, roughness 0,
 //! thickness 0.01, `eta` 1.5, albedo 0, g 0, maxdepth 10, nsamples 1;
-//! `remaproughness` true; `uroughness` and
-//! `vroughness` default to `roughness`.
+//! coatedconductor `interface.roughness` 0, `interface.eta` 1.5,
+//! `conductor.eta` = `metal-Cu-eta`, `conductor.k` = `metal-Cu-k` (or
+//! `reflectance`, as for `conductor`), `conductor.roughness` 0, thickness
+//! 0.01, albedo 0, g 0, maxdepth 10, nsamples 1; `remaproughness` true;
+//! `uroughness` and `vroughness` default to `roughness` (likewise with the
+//! `interface.` and `conductor.` prefixes).
 
 use super::parameters::{ParameterList, Position};
 use super::parser::Loader;
@@ -132,14 +137,25 @@ impl Loader {
         &self,
         parameters: &ParameterList,
     ) -> Result<Option<RoughnessDescription>, SceneFileError> {
+        self.prefixed_roughness(parameters, "")
+    }
+
+    /// [`Self::roughness`] of the parameters named with `prefix`
+    /// (`interface.`, `conductor.`: `interface.roughness`, ...); the
+    /// `remaproughness` flag has no prefix.
+    fn prefixed_roughness(
+        &self,
+        parameters: &ParameterList,
+        prefix: &str,
+    ) -> Result<Option<RoughnessDescription>, SceneFileError> {
         let roughness = self
-            .float_texture(parameters, "roughness")?
+            .float_texture(parameters, &format!("{prefix}roughness"))?
             .unwrap_or(constant(0.0));
         let alpha_u = self
-            .float_texture(parameters, "uroughness")?
+            .float_texture(parameters, &format!("{prefix}uroughness"))?
             .unwrap_or_else(|| roughness.clone());
         let alpha_v = self
-            .float_texture(parameters, "vroughness")?
+            .float_texture(parameters, &format!("{prefix}vroughness"))?
             .unwrap_or(roughness);
         let remap = parameters.bool("remaproughness", true)?;
         let effective = |texture: &TextureDescription| {
@@ -163,7 +179,19 @@ impl Loader {
         position: &Position,
         what: &str,
     ) -> Result<f32, SceneFileError> {
-        Ok(match self.plain_spectrum(parameters, "eta")? {
+        self.scalar_index(parameters, "eta", position, what)
+    }
+
+    /// The index of refraction called `name` as a single number (default
+    /// 1.5; a spectrum is warned about and replaced by 1.5).
+    fn scalar_index(
+        &mut self,
+        parameters: &ParameterList,
+        name: &str,
+        position: &Position,
+        what: &str,
+    ) -> Result<f32, SceneFileError> {
+        Ok(match self.plain_spectrum(parameters, name)? {
             None => 1.5,
             Some(SpectrumDescription::Constant(eta)) => eta,
             Some(_) => {
@@ -237,25 +265,7 @@ impl Loader {
                 exterior_ior: 1.0,
             },
             "coateddiffuse" => {
-                let count = |name: &str, default: i64| -> Result<u32, SceneFileError> {
-                    let value = parameters.integer(name, default)?;
-                    u32::try_from(value)
-                        .ok()
-                        .filter(|&v| v >= 1)
-                        .ok_or_else(|| {
-                            position.error(format!(
-                            "Material \"coateddiffuse\": \"{name}\" must be at least 1, got {value}"
-                        ))
-                        })
-                };
-                let max_depth = count("maxdepth", 10)?;
-                let samples = count("nsamples", 1)?;
-                let thickness = parameters.float("thickness", 0.01)?;
-                if !(thickness.is_finite() && thickness >= 0.0) {
-                    return Err(position.error(format!(
-                        "Material \"coateddiffuse\": \"thickness\" must be finite and non-negative, got {thickness}"
-                    )));
-                }
+                let (max_depth, samples, thickness) = layer_parameters(parameters, position, kind)?;
                 MaterialDescription::CoatedDiffuse {
                     reflectance: self
                         .spectrum_texture(parameters, "reflectance")?
@@ -266,6 +276,49 @@ impl Loader {
                         "Material \"coateddiffuse\"",
                     )?,
                     roughness: self.roughness(parameters)?,
+                    thickness,
+                    albedo: self
+                        .spectrum_texture(parameters, "albedo")?
+                        .unwrap_or(constant(0.0)),
+                    g: parameters.float("g", 0.0)?,
+                    max_depth,
+                    samples,
+                }
+            }
+            "coatedconductor" => {
+                let (max_depth, samples, thickness) = layer_parameters(parameters, position, kind)?;
+                let reflectance = self.spectrum_texture(parameters, "reflectance")?;
+                let (conductor_eta, conductor_k) = match reflectance {
+                    Some(reflectance) => {
+                        if parameters.has("conductor.eta") || parameters.has("conductor.k") {
+                            return Err(position.error(
+                                "Material \"coatedconductor\": give either \"reflectance\" or \"conductor.eta\" and \"conductor.k\", not both",
+                            ));
+                        }
+                        artist_conductor(&reflectance).ok_or_else(|| {
+                            position.error(
+                                "Material \"coatedconductor\": a textured \"reflectance\" is not supported (expected a constant rgb or spectrum)",
+                            )
+                        })?
+                    }
+                    None => (
+                        self.plain_spectrum(parameters, "conductor.eta")?
+                            .unwrap_or(SpectrumDescription::Named("metal-Cu-eta".into())),
+                        self.plain_spectrum(parameters, "conductor.k")?
+                            .unwrap_or(SpectrumDescription::Named("metal-Cu-k".into())),
+                    ),
+                };
+                MaterialDescription::CoatedConductor {
+                    interface_ior: self.scalar_index(
+                        parameters,
+                        "interface.eta",
+                        position,
+                        "Material \"coatedconductor\"",
+                    )?,
+                    interface_roughness: self.prefixed_roughness(parameters, "interface.")?,
+                    conductor_eta,
+                    conductor_k,
+                    conductor_roughness: self.prefixed_roughness(parameters, "conductor.")?,
                     thickness,
                     albedo: self
                         .spectrum_texture(parameters, "albedo")?
@@ -552,6 +605,36 @@ impl Loader {
         );
         Ok(Affine2::from_scale_angle_translation(scale, 0.0, delta))
     }
+}
+
+/// The parameters of pbrt-v4's layered materials (`coateddiffuse`,
+/// `coatedconductor`): `maxdepth` (default 10) and `nsamples` (1), at least
+/// 1, and `thickness` (0.01), finite and non-negative.
+fn layer_parameters(
+    parameters: &ParameterList,
+    position: &Position,
+    kind: &str,
+) -> Result<(u32, u32, f32), SceneFileError> {
+    let count = |name: &str, default: i64| -> Result<u32, SceneFileError> {
+        let value = parameters.integer(name, default)?;
+        u32::try_from(value)
+            .ok()
+            .filter(|&v| v >= 1)
+            .ok_or_else(|| {
+                position.error(format!(
+                    "Material \"{kind}\": \"{name}\" must be at least 1, got {value}"
+                ))
+            })
+    };
+    let max_depth = count("maxdepth", 10)?;
+    let samples = count("nsamples", 1)?;
+    let thickness = parameters.float("thickness", 0.01)?;
+    if !(thickness.is_finite() && thickness >= 0.0) {
+        return Err(position.error(format!(
+            "Material \"{kind}\": \"thickness\" must be finite and non-negative, got {thickness}"
+        )));
+    }
+    Ok((max_depth, samples, thickness))
 }
 
 /// pbrt-v4's conductor from a `reflectance` r: η = 1 and

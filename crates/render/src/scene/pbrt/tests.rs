@@ -687,3 +687,101 @@ fn brass_named_spectra_load_and_build() {
     assert!((k.evaluate(555.0) - 0.5 * (2.765 + 2.860)).abs() < 1e-5);
     assert!((eta.evaluate(890.0) - 0.515).abs() < 1e-6);
 }
+
+#[test]
+fn coated_conductors_read_prefixed_parameters_with_pbrts_defaults() {
+    let loaded = load_source(&format!(
+        "WorldBegin\n\
+         Material \"coatedconductor\"\n{TRIANGLE}\
+         Material \"coatedconductor\" \"float interface.roughness\" 0.04 \"float interface.eta\" 1.3 \
+         \"spectrum conductor.eta\" \"metal-Au-eta\" \"spectrum conductor.k\" \"metal-Au-k\" \
+         \"float conductor.uroughness\" 0.09 \"float conductor.vroughness\" 0.16 \
+         \"float thickness\" 0.2 \"rgb albedo\" [0.5 0.5 0.5] \"float g\" 0.3 \
+         \"integer maxdepth\" 20 \"integer nsamples\" 2\n{TRIANGLE}\
+         Material \"coatedconductor\" \"rgb reflectance\" [0.9 0.6 0.3] \"bool remaproughness\" false \
+         \"float conductor.roughness\" 0.2\n{TRIANGLE}"
+    ));
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    let shapes = &loaded.description.shapes;
+    let MaterialDescription::CoatedConductor {
+        interface_ior,
+        interface_roughness,
+        conductor_eta,
+        conductor_k,
+        conductor_roughness,
+        thickness,
+        albedo,
+        g,
+        max_depth,
+        samples,
+    } = &shapes[0].material
+    else {
+        panic!("{:?}", shapes[0].material)
+    };
+    assert_eq!(*interface_ior, 1.5);
+    assert!(interface_roughness.is_none() && conductor_roughness.is_none());
+    assert_eq!(
+        *conductor_eta,
+        SpectrumDescription::Named("metal-Cu-eta".into())
+    );
+    assert_eq!(
+        *conductor_k,
+        SpectrumDescription::Named("metal-Cu-k".into())
+    );
+    assert_eq!((*thickness, *g, *max_depth, *samples), (0.01, 0.0, 10, 1));
+    assert_eq!(
+        *albedo,
+        TextureDescription::Constant(SpectrumDescription::Constant(0.0))
+    );
+    let MaterialDescription::CoatedConductor {
+        interface_ior,
+        interface_roughness: Some(interface),
+        conductor_eta,
+        conductor_roughness: Some(conductor),
+        thickness: 0.2,
+        g: 0.3,
+        max_depth: 20,
+        samples: 2,
+        ..
+    } = &shapes[1].material
+    else {
+        panic!("{:?}", shapes[1].material)
+    };
+    assert_eq!(*interface_ior, 1.3);
+    assert!(interface.remap);
+    assert_eq!(
+        interface.alpha_u,
+        TextureDescription::Constant(SpectrumDescription::Constant(0.04))
+    );
+    assert_eq!(
+        *conductor_eta,
+        SpectrumDescription::Named("metal-Au-eta".into())
+    );
+    assert_eq!(
+        (&conductor.alpha_u, &conductor.alpha_v),
+        (
+            &TextureDescription::Constant(SpectrumDescription::Constant(0.09)),
+            &TextureDescription::Constant(SpectrumDescription::Constant(0.16))
+        )
+    );
+    // An artist's reflectance: η = 1, κ from r, as for `conductor`.
+    let MaterialDescription::CoatedConductor {
+        conductor_eta,
+        conductor_roughness: Some(conductor),
+        ..
+    } = &shapes[2].material
+    else {
+        panic!("{:?}", shapes[2].material)
+    };
+    assert_eq!(*conductor_eta, SpectrumDescription::Constant(1.0));
+    assert!(!conductor.remap);
+    let error = error_of(&format!(
+        "WorldBegin\nMaterial \"coatedconductor\" \"rgb reflectance\" [0.5 0.5 0.5] \
+         \"spectrum conductor.eta\" \"metal-Au-eta\"\n{TRIANGLE}"
+    ));
+    assert!(error.contains("not both"), "{error}");
+    let error = error_of(&format!(
+        "WorldBegin\nMaterial \"coatedconductor\" \"integer maxdepth\" 0\n{TRIANGLE}"
+    ));
+    assert!(error.contains("\"maxdepth\" must be at least 1"), "{error}");
+}
