@@ -200,7 +200,11 @@ mod tests {
             let lambda = 300.0 + step as f32 * 0.3;
             assert_eq!(
                 table.evaluate(lambda)[..3],
-                [x_bar.evaluate(lambda), y_bar.evaluate(lambda), z_bar.evaluate(lambda)],
+                [
+                    x_bar.evaluate(lambda),
+                    y_bar.evaluate(lambda),
+                    z_bar.evaluate(lambda)
+                ],
                 "{lambda}"
             );
         }

@@ -381,7 +381,11 @@ mod tests {
         let expected: Vec<f64> = (0..bins)
             .map(|bin| {
                 let low = VISIBLE_LAMBDA_MIN + bin as f32 * 10.0;
-                let high = if bin + 1 == bins { VISIBLE_LAMBDA_MAX } else { low + 10.0 };
+                let high = if bin + 1 == bins {
+                    VISIBLE_LAMBDA_MAX
+                } else {
+                    low + 10.0
+                };
                 f64::from(visible_wavelength_cdf(high) - visible_wavelength_cdf(low)) * count as f64
             })
             .collect();
