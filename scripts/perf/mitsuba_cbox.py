@@ -7,6 +7,14 @@ reproduces it: geometry, RGB diffuse materials, emitter radiance
 Both renderers run at the same resolution, depth and samples per pixel on the
 same number of threads; paths/s = width * height * spp / seconds.
 
+Russian roulette: the scene's `path` integrator sets no `rr_depth`, so
+Mitsuba uses its default 5 (roulette decides from the fifth bounce on, which
+with max_depth 6 only affects the last segment). lqmc's default is 3, which
+ends most paths earlier and so does less work per path than Mitsuba; the
+script passes `--rr-depth` (default 5, Mitsuba's) so both trace the same
+number of segments in expectation. Before 2026-12-02 it did not, and the
+comparison favoured lqmc.
+
 Mitsuba: only `mi.render` is timed (scene loading excluded), after one small
 warm-up render. lqmc: the render time printed by `lqmc render` (it excludes
 scene building and image writing); the wall time of the whole process is
@@ -58,6 +66,7 @@ def lqmc_paths_per_second(args):
         output = Path(directory) / "cbox.exr"
         command = [str(args.lqmc), "render", "builtin:cornell-box",
                    "--spp", str(args.spp), "--max-depth", str(args.max_depth),
+                   "--rr-depth", str(args.rr_depth),
                    "--sampler", args.sampler, "--threads", str(args.threads),
                    "--quiet", "-o", str(output)]
         for run in range(args.runs):
@@ -89,6 +98,8 @@ def main():
     parser.add_argument("--res", type=int, default=256,
                         help="square resolution (lqmc's built-in box is 256x256)")
     parser.add_argument("--max-depth", type=int, default=6)
+    parser.add_argument("--rr-depth", type=int, default=5,
+                        help="lqmc's --rr-depth (Mitsuba's path integrator default: 5)")
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--sampler", default="independent",

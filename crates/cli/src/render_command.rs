@@ -90,6 +90,10 @@ pub struct RenderArgs {
     /// Multiple importance sampling heuristic.
     #[arg(long, value_enum, default_value_t = HeuristicName::Power)]
     pub mis: HeuristicName,
+    /// The path depth from which Russian roulette may end paths, Mitsuba's
+    /// `rr_depth` convention (Mitsuba's default is 5; ours 3).
+    #[arg(long, value_name = "DEPTH", default_value_t = 3)]
+    pub rr_depth: u32,
     /// Output image (.exr, .pfm or .png); a PNG is also written beside an
     /// EXR or PFM.
     #[arg(short, long, default_value = "render.exr")]
@@ -359,6 +363,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             HeuristicName::Power => render::integrators::MisHeuristic::Power,
             HeuristicName::Balance => render::integrators::MisHeuristic::Balance,
         },
+        russian_roulette_depth: args.rr_depth,
         threads: args.threads,
         lqmc: lqmc_settings(&args.lqmc)?,
         lqmc_density: args.lqmc.density.is_some(),
@@ -412,6 +417,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     metadata.insert("renderTimeSeconds".into(), format!("{seconds:.3}"));
     metadata.insert("scene".into(), scene_name.to_string());
     metadata.insert("maxDepth".into(), settings.max_depth.to_string());
+    metadata.insert(
+        "rrDepth".into(),
+        settings.russian_roulette_depth.to_string(),
+    );
     let spp = output.statistics.samples as f64
         / (scene.camera.resolution()[0] as f64 * scene.camera.resolution()[1] as f64);
     let splat_scale = 1.0 / spp.max(1.0);

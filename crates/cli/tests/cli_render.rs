@@ -47,6 +47,8 @@ fn render_writes_exr_and_png_with_metadata_and_reports_rates() {
         "sobol",
         "--seed",
         "5",
+        "--rr-depth",
+        "5",
         "--quiet",
         "-o",
         exr.to_str().unwrap(),
@@ -78,6 +80,10 @@ fn render_writes_exr_and_png_with_metadata_and_reports_rates() {
         Some("path")
     );
     assert!(contents.metadata.contains_key("renderTimeSeconds"));
+    assert_eq!(
+        contents.metadata.get("rrDepth").map(String::as_str),
+        Some("5")
+    );
     // The furnace is 1 everywhere; 64 pixels × 4 samples average close to it.
     let mean = contents.image.mean();
     assert!(mean.iter().all(|&m| (m - 1.0).abs() < 0.1), "{mean:?}");

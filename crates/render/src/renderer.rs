@@ -34,6 +34,9 @@ pub struct RenderSettings {
     pub max_depth: u32,
     /// The MIS heuristic.
     pub heuristic: MisHeuristic,
+    /// The vertex index from which Russian roulette may end paths, counted
+    /// as Mitsuba's `rr_depth` (default 3; Mitsuba's own default is 5).
+    pub russian_roulette_depth: u32,
     /// Worker threads (0: all cores).
     pub threads: usize,
     /// Tile side in pixels (default 16).
@@ -54,6 +57,7 @@ impl Default for RenderSettings {
             seed: 0,
             max_depth: 6,
             heuristic: MisHeuristic::Power,
+            russian_roulette_depth: PathSettings::default().russian_roulette_depth,
             threads: 0,
             tile_size: 16,
             lqmc: LqmcSettings::default(),
@@ -181,7 +185,7 @@ fn render_in_pool(
     let path_settings = PathSettings {
         max_depth: settings.max_depth,
         heuristic: settings.heuristic,
-        ..PathSettings::default()
+        russian_roulette_depth: settings.russian_roulette_depth,
     };
     if settings.integrator == IntegratorKind::Path && scene.has_media() {
         log::warn!("the path integrator ignores participating media; use --integrator volpath");

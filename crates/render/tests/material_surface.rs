@@ -257,3 +257,49 @@ fn surface_bsdf_works_in_world_space() {
     }
     assert!(diffuse.flags().is_diffuse());
 }
+
+#[test]
+fn evaluate_with_pdf_equals_evaluate_and_pdf() {
+    let lambdas = wavelengths();
+    let normal = Vec3::new(0.3, -0.4, 0.5).normalize();
+    let hit = render::geometry::SurfaceHit {
+        t: 1.0,
+        point: Vec3::new(0.5, 1.0, -2.0),
+        geometric_normal: normal,
+        shading_normal: normal,
+        uv: glam::Vec2::new(0.3, 0.4),
+        dpdu: Vec3::X,
+        dpdv: normal.cross(Vec3::X),
+        shape_index: 0,
+        primitive_index: 0,
+        time: 0.0,
+    };
+    let materials = [
+        Material::diffuse(constant(0.5)).unwrap(),
+        Material::Mask {
+            opacity: render::texture::FloatTexture::Constant(0.3),
+            nested: Box::new(Material::diffuse(constant(0.7)).unwrap()),
+        },
+        Material::TwoSided {
+            front: Box::new(Material::diffuse(constant(0.2)).unwrap()),
+            back: Box::new(Material::diffuse(constant(0.9)).unwrap()),
+        },
+        Material::Mirror,
+    ];
+    let directions = [
+        Vec3::new(0.2, 0.1, 1.0).normalize(),
+        Vec3::new(-0.7, 0.2, 0.1).normalize(),
+        -normal,
+        Vec3::new(0.1, 0.9, -0.3).normalize(),
+    ];
+    for material in &materials {
+        let surface = material.surface_bsdf_at(&hit, &lambdas);
+        for wo in directions {
+            for wi in directions {
+                let (value, pdf) = surface.evaluate_with_pdf(wo, wi, &lambdas);
+                assert_eq!(value, surface.evaluate(wo, wi, &lambdas), "{material:?}");
+                assert_eq!(pdf, surface.pdf(wo, wi), "{material:?}");
+            }
+        }
+    }
+}

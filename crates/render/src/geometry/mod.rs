@@ -55,7 +55,10 @@ pub use sampling::{
     sample_uniform_disk_concentric, sample_uniform_sphere, sample_uniform_triangle,
 };
 pub use shape::Shape;
-pub use spawn::{SHADOW_EPSILON, offset_ray_origin, spawn_ray, spawn_ray_to, spawn_ray_to_point};
+pub use spawn::{
+    OffsetPoint, SHADOW_EPSILON, offset_ray_origin, spawn_ray, spawn_ray_to, spawn_ray_to_point,
+    spawn_segment_to_point,
+};
 pub use sphere::Sphere;
 pub use transform::Transform;
 pub use triangle::{TriangleIntersection, intersect_triangle};

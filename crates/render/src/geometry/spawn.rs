@@ -78,8 +78,63 @@ pub fn spawn_ray_to(hit: &SurfaceHit, target: Vec3) -> Option<(Ray, f32)> {
 /// area light. Returns the ray and its `t_max`, or `None` for coincident points.
 pub fn spawn_ray_to_point(hit: &SurfaceHit, point: Vec3, normal: Vec3) -> Option<(Ray, f32)> {
     let origin = offset_ray_origin(hit.point, hit.geometric_normal, point - hit.point);
+    spawn_segment_to_point(origin, hit.time, point, normal)
+}
+
+/// [`spawn_ray_to_point`] from an `origin` already offset off its surface
+/// (e.g. by [`OffsetPoint::towards`]).
+pub fn spawn_segment_to_point(
+    origin: Vec3,
+    time: f32,
+    point: Vec3,
+    normal: Vec3,
+) -> Option<(Ray, f32)> {
     let target = offset_ray_origin(point, normal, origin - point);
-    segment(origin, target, hit.time)
+    segment(origin, target, time)
+}
+
+/// A surface point and its ray origin offset to the side of one direction
+/// (`wo`, say), kept so that rays leaving to that side reuse it:
+/// [`offset_ray_origin`] depends on the direction only through the side it
+/// points to, so [`OffsetPoint::towards`] equals `offset_ray_origin(point,
+/// normal, direction)` bit for bit and computes it only for the other side.
+#[derive(Debug, Clone, Copy)]
+pub struct OffsetPoint {
+    point: Vec3,
+    normal: Vec3,
+    /// Whether the kept offset is below the normal (`normal · wo < 0`).
+    below: bool,
+    offset: Vec3,
+}
+
+impl OffsetPoint {
+    /// `point` on a surface with unit geometric normal `normal`, offset
+    /// towards `direction`.
+    #[inline]
+    pub fn new(point: Vec3, normal: Vec3, direction: Vec3) -> Self {
+        Self {
+            point,
+            normal,
+            below: normal.dot(direction) < 0.0,
+            offset: offset_ray_origin(point, normal, direction),
+        }
+    }
+
+    /// The origin offset towards the direction given to [`OffsetPoint::new`].
+    #[inline]
+    pub fn origin(&self) -> Vec3 {
+        self.offset
+    }
+
+    /// `offset_ray_origin(point, normal, direction)`.
+    #[inline]
+    pub fn towards(&self, direction: Vec3) -> Vec3 {
+        if (self.normal.dot(direction) < 0.0) == self.below {
+            self.offset
+        } else {
+            offset_ray_origin(self.point, self.normal, direction)
+        }
+    }
 }
 
 fn segment(origin: Vec3, target: Vec3, time: f32) -> Option<(Ray, f32)> {
@@ -110,6 +165,27 @@ mod tests {
             let below = offset_ray_origin(p, n, -n);
             assert!((above - p).dot(n) > 0.0, "{p}");
             assert!((below - p).dot(n) < 0.0, "{p}");
+        }
+    }
+
+    #[test]
+    fn offset_point_equals_offset_ray_origin() {
+        let point = Vec3::new(0.3, -12.0, 250.0);
+        let normal = Vec3::new(0.0, 0.6, -0.8);
+        for wo in [normal, -normal, Vec3::X + normal * 0.1] {
+            let offsets = OffsetPoint::new(point, normal, wo);
+            assert_eq!(offsets.origin(), offset_ray_origin(point, normal, wo));
+            for direction in [
+                normal,
+                -normal,
+                Vec3::new(0.3, 0.2, 0.9),
+                Vec3::new(-0.1, -0.7, 0.2),
+            ] {
+                assert_eq!(
+                    offsets.towards(direction),
+                    offset_ray_origin(point, normal, direction)
+                );
+            }
         }
     }
 }

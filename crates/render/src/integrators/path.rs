@@ -9,11 +9,11 @@
 
 use super::path_vertex::PathVertex;
 use super::{MisHeuristic, TraceCounters};
-use crate::geometry::{Ray, SurfaceHit, offset_ray_origin, spawn_ray, spawn_ray_to_point};
+use crate::geometry::{OffsetPoint, Ray, SurfaceHit, spawn_ray, spawn_segment_to_point};
 use crate::material::SurfaceBsdf;
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::Vec3;
 
 /// Settings of the path tracer.
@@ -35,6 +35,44 @@ impl Default for PathSettings {
             heuristic: MisHeuristic::Power,
             russian_roulette_depth: 3,
         }
+    }
+}
+
+/// An area light's radiance at one path's wavelengths, kept for the rest of
+/// the path: every next-event sample and every emitter hit of the path needs
+/// it, and evaluating an RGB illuminant spectrum at four wavelengths cost
+/// more than the rest of a light sample. One entry (scenes usually have one
+/// area light or a few); a miss evaluates and replaces it. The wavelengths
+/// never change along a path (terminating the secondary ones changes their
+/// densities, not the wavelengths), so entries stay valid.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct AreaRadianceCache {
+    light_index: usize,
+    radiance: SampledSpectrum,
+}
+
+impl AreaRadianceCache {
+    pub(crate) fn new() -> Self {
+        Self {
+            light_index: usize::MAX,
+            radiance: SampledSpectrum::zero(),
+        }
+    }
+
+    /// The radiance of light `light_index`, whose spectrum is `spectrum`, at
+    /// `wavelengths` (the path's).
+    #[inline]
+    pub(crate) fn radiance(
+        &mut self,
+        light_index: usize,
+        spectrum: &Spectrum,
+        wavelengths: &SampledWavelengths,
+    ) -> SampledSpectrum {
+        if self.light_index != light_index {
+            self.light_index = light_index;
+            self.radiance = spectrum.sample(wavelengths);
+        }
+        self.radiance
     }
 }
 
@@ -67,6 +105,7 @@ pub fn radiance(
     let mut previous_point = ray.origin;
     let mut previous_bsdf_pdf = 0.0f32;
     let mut depth = 0u32;
+    let mut area_radiance = AreaRadianceCache::new();
     loop {
         counters.closest_hit_rays += 1;
         let Some(raw_hit) = scene.geometry.intersect(&ray, f32::INFINITY) else {
@@ -94,7 +133,11 @@ pub fn radiance(
         // Emission seen by this segment.
         if let Some(light_index) = info.light {
             let light = &scene.lights[light_index as usize];
-            let emitted = light.emitted_radiance(raw_hit.geometric_normal, wo, wavelengths);
+            let emitted = light.emitted_radiance_with_area_radiance(
+                raw_hit.geometric_normal,
+                wo,
+                |spectrum| area_radiance.radiance(light_index as usize, spectrum, wavelengths),
+            );
             if !emitted.is_black() {
                 let weight = emission_weight(
                     scene,
@@ -129,7 +172,9 @@ pub fn radiance(
         // off the surface to the side of `wo`, so that a point on a sphere
         // light's own surface counts as inside or outside as seen from there
         // (pbrt-v4 does the same).
-        let reference = offset_ray_origin(hit.point, hit.geometric_normal, wo);
+        // Rays leaving to the side of `wo` start from the same offset point.
+        let offsets = OffsetPoint::new(hit.point, hit.geometric_normal, wo);
+        let reference = offsets.origin();
 
         // Next-event estimation.
         if flags.is_non_specular() {
@@ -138,13 +183,14 @@ pub fn radiance(
                     scene,
                     settings,
                     &hit,
-                    reference,
+                    &offsets,
                     &bsdf,
                     wo,
                     depth,
                     wavelengths,
                     sampler,
                     counters,
+                    &mut area_radiance,
                 );
         }
 
@@ -192,7 +238,7 @@ pub fn radiance(
         if sample.is_transmission() {
             eta_scale *= sample.eta * sample.eta;
         }
-        ray = spawn_ray(&raw_hit, sample.wi);
+        ray = Ray::with_time(offsets.towards(sample.wi), sample.wi, hit.time);
 
         // Russian roulette on the throughput without the refraction scaling.
         let roulette_throughput = (throughput * eta_scale).max_component();
@@ -236,39 +282,49 @@ pub(crate) fn emission_weight(
 }
 
 /// Next-event estimation at `hit`: one light sample, MIS-weighted against
-/// BSDF sampling (not weighted for delta lights).
+/// BSDF sampling (not weighted for delta lights). `offsets` is the hit point
+/// offset to the side of `wo` (the reference point of light sampling).
 #[allow(clippy::too_many_arguments)]
 fn sample_light(
     scene: &Scene,
     settings: &PathSettings,
     hit: &SurfaceHit,
-    reference: Vec3,
+    offsets: &OffsetPoint,
     bsdf: &SurfaceBsdf,
     wo: Vec3,
     depth: u32,
     wavelengths: &SampledWavelengths,
     sampler: &mut dyn SampleSource,
     counters: &mut TraceCounters,
+    area_radiance: &mut AreaRadianceCache,
 ) -> SampledSpectrum {
     let Some(VertexLightSample {
         selection_probability,
         sample,
         ..
-    }) = sample_vertex_light(scene, reference, depth, wavelengths, sampler)
+    }) = sample_vertex_light_with_cache(
+        scene,
+        offsets.origin(),
+        depth,
+        wavelengths,
+        sampler,
+        area_radiance,
+    )
     else {
         return SampledSpectrum::zero();
     };
-    let value =
-        bsdf.evaluate(wo, sample.wi, wavelengths) * sample.wi.dot(bsdf.frame.normal()).abs();
+    let (value, bsdf_pdf) = bsdf.evaluate_with_pdf(wo, sample.wi, wavelengths);
+    let value = value * sample.wi.dot(bsdf.frame.normal()).abs();
     if value.is_black() {
         return SampledSpectrum::zero();
     }
     counters.shadow_rays += 1;
+    let origin = offsets.towards(sample.wi);
     let visible = if sample.is_infinite {
-        let ray = spawn_ray(hit, sample.wi);
+        let ray = Ray::with_time(origin, sample.wi, hit.time);
         !scene.geometry.occluded(&ray, f32::INFINITY)
     } else {
-        match spawn_ray_to_point(hit, sample.point, sample.normal) {
+        match spawn_segment_to_point(origin, hit.time, sample.point, sample.normal) {
             Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
             None => false,
         }
@@ -280,9 +336,7 @@ fn sample_light(
     let weight = if sample.is_delta {
         1.0
     } else {
-        settings
-            .heuristic
-            .weight(light_pdf, bsdf.pdf(wo, sample.wi))
+        settings.heuristic.weight(light_pdf, bsdf_pdf)
     };
     value * sample.radiance * (weight / light_pdf)
 }
@@ -330,15 +384,36 @@ pub(crate) fn sample_vertex_light(
     wavelengths: &SampledWavelengths,
     sampler: &mut dyn SampleSource,
 ) -> Option<VertexLightSample> {
+    sample_vertex_light_with_cache(
+        scene,
+        reference,
+        depth,
+        wavelengths,
+        sampler,
+        &mut AreaRadianceCache::new(),
+    )
+}
+
+/// [`sample_vertex_light`] taking area lights' radiance from a path's
+/// `area_radiance` cache.
+fn sample_vertex_light_with_cache(
+    scene: &Scene,
+    reference: Vec3,
+    depth: u32,
+    wavelengths: &SampledWavelengths,
+    sampler: &mut dyn SampleSource,
+    area_radiance: &mut AreaRadianceCache,
+) -> Option<VertexLightSample> {
     let u_select = sampler.get(layout::vertex(depth as usize, layout::LIGHT_SELECTION));
     let u_position = sampler.get_2d(layout::vertex(depth as usize, layout::LIGHT_POSITION));
     let (light_index, selection_probability, u_primitive) = scene.light_sampler.sample(u_select)?;
-    let sample = scene.lights[light_index].sample_incident(
+    let sample = scene.lights[light_index].sample_incident_with_area_radiance(
         &scene.geometry,
         reference,
         u_primitive,
         u_position,
         wavelengths,
+        |spectrum| area_radiance.radiance(light_index, spectrum, wavelengths),
     )?;
     if sample.radiance.is_black() {
         return None;

@@ -173,6 +173,30 @@ impl Light {
         u: [f32; 2],
         wavelengths: &SampledWavelengths,
     ) -> Option<LightSample> {
+        self.sample_incident_with_area_radiance(
+            geometry,
+            reference,
+            u_primitive,
+            u,
+            wavelengths,
+            |radiance| radiance.sample(wavelengths),
+        )
+    }
+
+    /// [`Light::sample_incident`] with an area light's radiance spectrum (the
+    /// same at every point and direction of its front side) evaluated at
+    /// `wavelengths` by `area_radiance`, which may return a value a path
+    /// computed before for the same wavelengths (the path tracer's
+    /// per-path cache). Called only for samples that are kept.
+    pub fn sample_incident_with_area_radiance(
+        &self,
+        geometry: &Geometry,
+        reference: Vec3,
+        u_primitive: f32,
+        u: [f32; 2],
+        wavelengths: &SampledWavelengths,
+        area_radiance: impl FnOnce(&Spectrum) -> SampledSpectrum,
+    ) -> Option<LightSample> {
         match self {
             Light::Area {
                 shape_index,
@@ -202,7 +226,7 @@ impl Light {
                     return None;
                 }
                 Some(LightSample {
-                    radiance: radiance.sample(wavelengths),
+                    radiance: area_radiance(radiance),
                     wi,
                     point: sample.point,
                     normal,
@@ -332,6 +356,20 @@ impl Light {
         wo: Vec3,
         wavelengths: &SampledWavelengths,
     ) -> SampledSpectrum {
+        self.emitted_radiance_with_area_radiance(normal, wo, |radiance| {
+            radiance.sample(wavelengths)
+        })
+    }
+
+    /// [`Light::emitted_radiance`] with the area light's radiance spectrum
+    /// evaluated by `area_radiance` (see
+    /// [`Light::sample_incident_with_area_radiance`]).
+    pub fn emitted_radiance_with_area_radiance(
+        &self,
+        normal: Vec3,
+        wo: Vec3,
+        area_radiance: impl FnOnce(&Spectrum) -> SampledSpectrum,
+    ) -> SampledSpectrum {
         match self {
             Light::Area {
                 radiance,
@@ -340,7 +378,7 @@ impl Light {
             } => {
                 let front = if *flip_normals { -normal } else { normal };
                 if front.dot(wo) > 0.0 {
-                    radiance.sample(wavelengths)
+                    area_radiance(radiance)
                 } else {
                     SampledSpectrum::zero()
                 }

@@ -449,6 +449,27 @@ impl SurfaceBsdf {
             * self.adapter.opacity
     }
 
+    /// [`Self::evaluate`] and [`Self::pdf`] of the same pair of directions
+    /// at once (next-event estimation needs both), converting each direction
+    /// to the local frame once; equal to the two calls bit for bit.
+    #[inline]
+    pub fn evaluate_with_pdf(
+        &self,
+        wo_world: Vec3,
+        wi_world: Vec3,
+        wavelengths: &SampledWavelengths,
+    ) -> (SampledSpectrum, f32) {
+        let wi = self.frame.to_local(wi_world);
+        if self.adapter.opacity <= 0.0 || !self.adapter.sides_agree(wi_world, wi) {
+            return (SampledSpectrum::zero(), 0.0);
+        }
+        let wo = self.frame.to_local(wo_world);
+        (
+            self.bsdf.evaluate(wo, wi, wavelengths) * self.adapter.opacity,
+            self.bsdf.pdf(wo, wi) * self.adapter.opacity,
+        )
+    }
+
     /// [`Bsdf::sample`] for a world-space `wo`; the sample's `wi` is in world
     /// space.
     pub fn sample(

@@ -78,18 +78,64 @@ pub fn srgb_decode(encoded: f32) -> f32 {
 /// expectation is the exact XYZ Σ_λ S(λ) x̄(λ) / CIE_Y_INTEGRAL in pbrt-v4's
 /// normalisation, where the constant spectrum 1 has Y = 1.
 pub fn to_xyz(spectrum: &SampledSpectrum, wavelengths: &SampledWavelengths) -> [f32; 3] {
-    // One pass over the wavelengths reading the three tables (this runs once
-    // per camera path).
+    // One pass over the wavelengths reading one interleaved table (this runs
+    // once per camera path): one index per wavelength instead of three, the
+    // same sums in the same order as with the three tables.
     let weighted = spectrum.safe_div(&wavelengths.pdf());
-    let [x_bar, y_bar, z_bar] = cmf_tables();
+    let table = interleaved_cmf();
     let mut sums = [0.0f32; 3];
     for (&lambda, &weight) in wavelengths.lambdas().iter().zip(weighted.values()) {
-        sums[0] += x_bar.evaluate(lambda) * weight;
-        sums[1] += y_bar.evaluate(lambda) * weight;
-        sums[2] += z_bar.evaluate(lambda) * weight;
+        let [x, y, z, _] = table.evaluate(lambda);
+        sums[0] += x * weight;
+        sums[1] += y * weight;
+        sums[2] += z * weight;
     }
     let scale = |sum: f32| sum / SPECTRUM_SAMPLE_COUNT as f32 / CIE_Y_INTEGRAL;
     [scale(sums[0]), scale(sums[1]), scale(sums[2])]
+}
+
+/// x̄, ȳ, z̄ (and a zero pad to 16 bytes) at every integer wavelength of the
+/// CIE tables, evaluated as [`super::DenselySampledSpectrum::evaluate`] does
+/// (nearest nm, 0 outside), so [`to_xyz`] reads one entry per wavelength.
+struct InterleavedCmf {
+    lambda_min: i32,
+    values: Vec<[f32; 4]>,
+}
+
+impl InterleavedCmf {
+    #[inline]
+    fn evaluate(&self, lambda: f32) -> [f32; 4] {
+        if lambda.is_nan() || lambda <= 0.0 {
+            return [0.0; 4];
+        }
+        let offset = (lambda + 0.5) as i64 - self.lambda_min as i64;
+        if offset >= 0 && (offset as usize) < self.values.len() {
+            self.values[offset as usize]
+        } else {
+            [0.0; 4]
+        }
+    }
+}
+
+fn interleaved_cmf() -> &'static InterleavedCmf {
+    static TABLE: std::sync::OnceLock<InterleavedCmf> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| {
+        let [x_bar, y_bar, z_bar] = cmf_tables();
+        debug_assert!(
+            x_bar.lambda_min() == y_bar.lambda_min() && y_bar.lambda_min() == z_bar.lambda_min()
+        );
+        let values = x_bar
+            .values()
+            .iter()
+            .zip(y_bar.values())
+            .zip(z_bar.values())
+            .map(|((&x, &y), &z)| [x, y, z, 0.0])
+            .collect();
+        InterleavedCmf {
+            lambda_min: x_bar.lambda_min(),
+            values,
+        }
+    })
 }
 
 /// Monte Carlo estimate of the luminance Y alone (see [`to_xyz`]).
@@ -144,6 +190,25 @@ mod tests {
         assert!((srgb_encode(0.5) - 0.735_357).abs() < 1e-6);
         assert!((srgb_decode(0.5) - 0.214_041_14).abs() < 1e-6);
         assert_eq!(srgb_encode(-1.0), 0.0);
+    }
+
+    #[test]
+    fn interleaved_table_matches_the_three_tables() {
+        let [x_bar, y_bar, z_bar] = cmf_tables();
+        let table = interleaved_cmf();
+        for step in 0..2000 {
+            let lambda = 300.0 + step as f32 * 0.3;
+            assert_eq!(
+                table.evaluate(lambda)[..3],
+                [
+                    x_bar.evaluate(lambda),
+                    y_bar.evaluate(lambda),
+                    z_bar.evaluate(lambda)
+                ],
+                "{lambda}"
+            );
+        }
+        assert_eq!(table.evaluate(f32::NAN), [0.0; 4]);
     }
 
     #[test]

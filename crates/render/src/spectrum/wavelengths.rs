@@ -82,22 +82,39 @@ pub fn sample_visible_wavelength(u: f32) -> f32 {
     sample_visible_wavelength_with_pdf(u).0
 }
 
+/// The constants of [`sample_visible_wavelength_with_pdf`] in f32:
+/// tanh(k (360 − c)), the tanh range of the visible interval and k divided
+/// by that range.
+fn visible_sampling_constants() -> (f32, f32, f32) {
+    static CONSTANTS: std::sync::LazyLock<(f32, f32, f32)> = std::sync::LazyLock::new(|| {
+        let (at_min, at_max) = visible_tanh_at_ends();
+        (
+            at_min as f32,
+            (at_max - at_min) as f32,
+            (VISIBLE_DENSITY_STEEPNESS / (at_max - at_min)) as f32,
+        )
+    });
+    *CONSTANTS
+}
+
 /// [`sample_visible_wavelength`] and the density there. The density comes
 /// from the same tanh value as the wavelength, t = tanh(k (λ − c)), as
 /// k (1 − t²) / (tanh(k (830 − c)) − tanh(k (360 − c))) (since
 /// 1 / cosh² = 1 − tanh²), which saves the `cosh` of
 /// [`visible_wavelength_pdf`]; the two agree to f32 rounding.
+///
+/// In f32 with atanh t = ln((1 + t) / (1 − t)) / 2: |t| ≤ 0.97 on the visible
+/// range, so the wavelength is off the exact inverse by at most about
+/// 10⁻³ nm and the density stays the derivative of the map to f32 rounding
+/// (the f64 `atanh`, a `log1p` call, was 3 % of a Cornell-box path).
 #[inline]
 fn sample_visible_wavelength_with_pdf(u: f32) -> (f32, f32) {
-    let k = VISIBLE_DENSITY_STEEPNESS;
-    let (at_min, at_max) = visible_tanh_at_ends();
-    let target = at_min + f64::from(u) * (at_max - at_min);
-    let lambda = VISIBLE_DENSITY_CENTRE + target.atanh() / k;
-    let pdf = k * (1.0 - target * target) / (at_max - at_min);
-    (
-        (lambda as f32).clamp(VISIBLE_LAMBDA_MIN, VISIBLE_LAMBDA_MAX),
-        pdf as f32,
-    )
+    let (at_min, range, pdf_scale) = visible_sampling_constants();
+    let target = at_min + u * range;
+    let atanh = 0.5 * ((1.0 + target) / (1.0 - target)).ln();
+    let lambda = VISIBLE_DENSITY_CENTRE as f32 + atanh / VISIBLE_DENSITY_STEEPNESS as f32;
+    let pdf = pdf_scale * (1.0 - target * target);
+    (lambda.clamp(VISIBLE_LAMBDA_MIN, VISIBLE_LAMBDA_MAX), pdf)
 }
 
 /// The i-th of N stratified rotations of a primary sample: (u + i/N) mod 1.
@@ -346,6 +363,34 @@ mod tests {
         assert!(sampled.pdf().values()[1..].iter().all(|&p| p == 0.0));
         sampled.terminate_secondary();
         assert_eq!(sampled.pdf()[0], hero_pdf / 4.0);
+    }
+
+    #[test]
+    fn sampled_wavelengths_follow_the_density_chi_square() {
+        // 200,000 wavelengths from hashed (independent) numbers, in 47 bins
+        // of 10 nm, against the counts the f64 CDF predicts.
+        let bins = 47;
+        let count = 200_000;
+        let mut observed = vec![0u64; bins];
+        for index in 0..count {
+            let u = qmc::hash::to_unit_f64(qmc::hash::hash2(index, 7)) as f32;
+            let lambda = sample_visible_wavelength(u.min(1.0 - f32::EPSILON));
+            let bin = (((lambda - VISIBLE_LAMBDA_MIN) / 10.0) as usize).min(bins - 1);
+            observed[bin] += 1;
+        }
+        let expected: Vec<f64> = (0..bins)
+            .map(|bin| {
+                let low = VISIBLE_LAMBDA_MIN + bin as f32 * 10.0;
+                let high = if bin + 1 == bins {
+                    VISIBLE_LAMBDA_MAX
+                } else {
+                    low + 10.0
+                };
+                f64::from(visible_wavelength_cdf(high) - visible_wavelength_cdf(low)) * count as f64
+            })
+            .collect();
+        let result = crate::statistics::chi_square_test(&observed, &expected);
+        assert!(result.p_value > 1e-4, "{result:?}");
     }
 
     #[test]
