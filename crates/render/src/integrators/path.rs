@@ -94,7 +94,8 @@ pub fn radiance(
         // Emission seen by this segment.
         if let Some(light_index) = info.light {
             let light = &scene.lights[light_index as usize];
-            let emitted = light.emitted_radiance(raw_hit.geometric_normal, wo, wavelengths);
+            let emitted =
+                light.emitted_radiance(raw_hit.geometric_normal, raw_hit.uv, wo, wavelengths);
             if !emitted.is_black() {
                 let weight = emission_weight(
                     scene,
