@@ -48,6 +48,8 @@ enum Status {
     Render { samples_per_pixel: u64 },
     /// Builds, but is not z-tested here: it is known not to match (a
     /// feature it needs is missing) or has not been compared yet (the reason).
+    /// Every scene is z-tested today; kept for the next one that is not.
+    #[allow(dead_code)]
     Unverified(&'static str),
 }
 
