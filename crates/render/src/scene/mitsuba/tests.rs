@@ -558,7 +558,7 @@ fn unknown_elements_and_plugins_are_warnings() {
         r#"<teapot/>
            <shape type="serialized"/>
            <bsdf type="hair" id="h"/>
-           <emitter type="projector"/>
+           <emitter type="sunsky"/>
            <shape type="cube"><float name="wobble" value="1"/><ref id="h"/></shape>
            <sensor type="perspective"/>"#,
     );
@@ -567,7 +567,7 @@ fn unknown_elements_and_plugins_are_warnings() {
         "scene.xml:2: unknown element <teapot>",
         "scene.xml:3: shape type 'serialized'",
         "scene.xml:4: unknown bsdf type 'hair'",
-        "scene.xml:5: emitter type 'projector'",
+        "scene.xml:5: emitter type 'sunsky'",
         "scene.xml:6: parameter 'wobble'",
     ] {
         assert!(warnings.contains(expected), "{expected} not in\n{warnings}");
