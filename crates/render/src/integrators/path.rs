@@ -135,7 +135,9 @@ pub fn radiance(
             let light = &scene.lights[light_index as usize];
             let emitted = light.emitted_radiance_with_area_radiance(
                 raw_hit.geometric_normal,
+                raw_hit.uv,
                 wo,
+                wavelengths,
                 |spectrum| area_radiance.radiance(light_index as usize, spectrum, wavelengths),
             );
             if !emitted.is_black() {

@@ -220,6 +220,7 @@ pub fn radiance(
                 if let Some(light_index) = info.light {
                     let emitted = scene.lights[light_index as usize].emitted_radiance(
                         raw_hit.geometric_normal,
+                        raw_hit.uv,
                         wo,
                         wavelengths,
                     );
@@ -408,6 +409,7 @@ fn free_flight(
         if let Some(light_index) = info.light {
             let emitted = scene.lights[light_index as usize].emitted_radiance(
                 raw_hit.geometric_normal,
+                raw_hit.uv,
                 -ray.direction,
                 wavelengths,
             );

@@ -210,6 +210,42 @@ impl Light {
                     is_delta_direction: false,
                 })
             }
+            Light::TexturedArea(light) => {
+                let shape = &geometry.shapes()[light.shape_index as usize];
+                let (sample, uv) =
+                    super::sample_with_uv(shape, None, u_primitive, Vec2::from(u_position))?;
+                let normal = light.front(sample.normal);
+                let local = sample_cosine_hemisphere(u_direction);
+                let (s, t) = coordinate_frame(normal);
+                let direction = (local.x * s + local.y * t + local.z * normal).normalize();
+                let pdf_direction = cosine_hemisphere_pdf(local.z);
+                if !(pdf_direction > 0.0 && sample.pdf_area > 0.0) {
+                    return None;
+                }
+                Some(EmissionSample {
+                    origin: sample.point,
+                    direction,
+                    normal,
+                    radiance: light.radiance_at(uv, wavelengths),
+                    pdf_position: sample.pdf_area,
+                    pdf_direction,
+                    is_delta_position: false,
+                    is_delta_direction: false,
+                })
+            }
+            Light::Projector(projector) => {
+                let (direction, pdf_direction) = projector.sample_direction(u_direction)?;
+                Some(EmissionSample {
+                    origin: projector.position,
+                    direction,
+                    normal: Vec3::ZERO,
+                    radiance: projector.intensity_towards(direction, wavelengths),
+                    pdf_position: 1.0,
+                    pdf_direction,
+                    is_delta_position: true,
+                    is_delta_direction: false,
+                })
+            }
         }
     }
 
@@ -274,6 +310,22 @@ impl Light {
                 position: disk_pdf(*scene_radius),
                 direction: map.pdf(-direction),
             },
+            Light::TexturedArea(light) => {
+                let area = geometry.shapes()[light.shape_index as usize].surface_area();
+                let cosine = light.front(normal).dot(direction);
+                EmissionPdf {
+                    position: if area > 0.0 { 1.0 / area } else { 0.0 },
+                    direction: if cosine > 0.0 {
+                        cosine_hemisphere_pdf(cosine)
+                    } else {
+                        0.0
+                    },
+                }
+            }
+            Light::Projector(projector) => EmissionPdf {
+                position: 0.0,
+                direction: projector.pdf_direction(direction),
+            },
         }
     }
 }
@@ -283,16 +335,26 @@ mod tests {
     use super::*;
     use crate::geometry::{Shape, Transform, TriangleMesh};
     use crate::image::Image;
-    use crate::light::{EnvironmentMap, SpotLight};
+    use crate::light::{EnvironmentMap, ProjectorLight, SpotLight, TexturedAreaLight};
     use crate::scene::description::{EnvironmentProjection, SpotFalloff};
     use crate::spectrum::{ConstantSpectrum, Spectrum};
     use crate::statistics::chi_square_test;
+    use crate::texture::{Checkerboard, SpectrumTexture};
     use glam::{Affine3A, Mat4};
     use qmc::random::SeekablePcg;
     use std::sync::Arc;
 
     fn constant(value: f32) -> Spectrum {
         Spectrum::Constant(ConstantSpectrum::new(value).unwrap())
+    }
+
+    /// A texture that varies over uv: a checkerboard of 0.2 and 1.5.
+    fn checkerboard() -> SpectrumTexture {
+        SpectrumTexture::Checkerboard(Box::new(Checkerboard {
+            even: SpectrumTexture::Constant(constant(0.2)),
+            odd: SpectrumTexture::Constant(constant(1.5)),
+            to_uv: glam::Affine2::from_scale(glam::Vec2::splat(4.0)),
+        }))
     }
 
     /// A tilted rectangle (the only shape) and every kind of light.
@@ -352,6 +414,15 @@ mod tests {
                 scene_center,
                 scene_radius,
             },
+            Light::TexturedArea(Box::new(TexturedAreaLight::new(0, checkerboard(), true))),
+            Light::Projector(Box::new(ProjectorLight::new(
+                Affine3A::from_translation(Vec3::new(0.5, -1.0, 1.0))
+                    * Affine3A::from_rotation_x(2.2),
+                checkerboard(),
+                3.0,
+                50.0,
+                1.5,
+            ))),
         ];
         (geometry, lights)
     }
@@ -373,7 +444,7 @@ mod tests {
                 };
                 assert!((sample.direction.length() - 1.0).abs() < 1e-4);
                 let stored_normal = match light {
-                    Light::Area { .. } => -sample.normal,
+                    Light::Area { .. } | Light::TexturedArea(_) => -sample.normal,
                     _ => sample.normal,
                 };
                 let pdf =
@@ -418,7 +489,10 @@ mod tests {
             z * bins_phi + p
         };
         for light in &lights {
-            if matches!(light, Light::Directional { .. } | Light::Spot(_)) {
+            if matches!(
+                light,
+                Light::Directional { .. } | Light::Spot(_) | Light::Projector(_)
+            ) {
                 continue;
             }
             let mut random = SeekablePcg::new(8, 1);

@@ -12,14 +12,18 @@ mod environment_map;
 mod equal_area;
 mod light_sampler;
 mod piecewise_constant;
+mod projector;
 mod spot;
+mod textured_area;
 
 pub use emission::{EmissionPdf, EmissionSample};
 pub use environment_map::{EnvironmentMap, EnvironmentSample};
 pub use equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere};
 pub use light_sampler::LightSampler;
 pub use piecewise_constant::{PiecewiseConstant1D, PiecewiseConstant2D, Sample1D, Sample2D};
+pub use projector::ProjectorLight;
 pub use spot::{SpotLight, smoothstep};
+pub use textured_area::{TexturedAreaLight, sample_with_uv};
 
 use std::f32::consts::PI;
 use std::sync::Arc;
@@ -68,6 +72,10 @@ pub enum Light {
         scene_center: Vec3,
         scene_radius: f32,
     },
+    /// A shape emitting a radiance texture (see [`TexturedAreaLight`]).
+    TexturedArea(Box<TexturedAreaLight>),
+    /// A point projecting an image (see [`ProjectorLight`]).
+    Projector(Box<ProjectorLight>),
 }
 
 /// A light sample for next-event estimation.
@@ -82,6 +90,8 @@ pub struct LightSample {
     pub point: Vec3,
     /// The light's surface normal at the point (zero for point and infinite lights).
     pub normal: Vec3,
+    /// The surface coordinates of the point (area lights; zero otherwise).
+    pub uv: Vec2,
     /// Density per unit solid angle (1 for a delta light).
     pub pdf: f32,
     /// True for lights that cannot be hit by rays (point, spot and
@@ -96,7 +106,7 @@ impl Light {
     pub fn is_delta(&self) -> bool {
         matches!(
             self,
-            Light::Point { .. } | Light::Spot(_) | Light::Directional { .. }
+            Light::Point { .. } | Light::Spot(_) | Light::Directional { .. } | Light::Projector(_)
         )
     }
 
@@ -160,6 +170,11 @@ impl Light {
                     * map.mean_luminance()
                     * d65_illuminant().max_value()
             }
+            Light::TexturedArea(light) => {
+                let area = geometry.shapes()[light.shape_index as usize].surface_area();
+                light.mean_scale * area * PI
+            }
+            Light::Projector(projector) => projector.power(),
         }
     }
 
@@ -230,6 +245,7 @@ impl Light {
                     wi,
                     point: sample.point,
                     normal,
+                    uv: Vec2::ZERO,
                     pdf,
                     is_delta: false,
                     is_infinite: false,
@@ -249,6 +265,7 @@ impl Light {
                     wi: to_light / distance_squared.sqrt(),
                     point: *position,
                     normal: Vec3::ZERO,
+                    uv: Vec2::ZERO,
                     pdf: 1.0,
                     is_delta: true,
                     is_infinite: false,
@@ -265,6 +282,7 @@ impl Light {
                     wi,
                     point: reference + wi * (4.0 * scene_radius.max(1.0)),
                     normal: Vec3::ZERO,
+                    uv: Vec2::ZERO,
                     pdf: 1.0 / (4.0 * std::f32::consts::PI),
                     is_delta: false,
                     is_infinite: true,
@@ -286,6 +304,7 @@ impl Light {
                     wi,
                     point: spot.position,
                     normal: Vec3::ZERO,
+                    uv: Vec2::ZERO,
                     pdf: 1.0,
                     is_delta: true,
                     is_infinite: false,
@@ -303,6 +322,7 @@ impl Light {
                     wi,
                     point: reference + wi * far_distance(reference, *scene_center, *scene_radius),
                     normal: Vec3::ZERO,
+                    uv: Vec2::ZERO,
                     pdf: 1.0,
                     is_delta: true,
                     is_infinite: true,
@@ -320,9 +340,61 @@ impl Light {
                     wi,
                     point: reference + wi * far_distance(reference, *scene_center, *scene_radius),
                     normal: Vec3::ZERO,
+                    uv: Vec2::ZERO,
                     pdf: sample.pdf,
                     is_delta: false,
                     is_infinite: true,
+                })
+            }
+            Light::TexturedArea(light) => {
+                let shape = &geometry.shapes()[light.shape_index as usize];
+                let (sample, uv) =
+                    sample_with_uv(shape, Some(reference), u_primitive, Vec2::from(u))?;
+                let normal = light.front(sample.normal);
+                let to_light = sample.point - reference;
+                let distance_squared = to_light.length_squared();
+                if distance_squared == 0.0 {
+                    return None;
+                }
+                let wi = to_light / distance_squared.sqrt();
+                if normal.dot(-wi) <= 0.0 {
+                    return None;
+                }
+                let pdf = shape.pdf_solid_angle_from(reference, sample.point, sample.normal);
+                if !(pdf > 0.0 && pdf.is_finite()) {
+                    return None;
+                }
+                Some(LightSample {
+                    radiance: light.radiance_at(uv, wavelengths),
+                    wi,
+                    point: sample.point,
+                    normal,
+                    uv,
+                    pdf,
+                    is_delta: false,
+                    is_infinite: false,
+                })
+            }
+            Light::Projector(projector) => {
+                let to_light = projector.position - reference;
+                let distance_squared = to_light.length_squared();
+                if distance_squared == 0.0 {
+                    return None;
+                }
+                let wi = to_light / distance_squared.sqrt();
+                let intensity = projector.intensity_towards(-wi, wavelengths);
+                if intensity.is_black() {
+                    return None;
+                }
+                Some(LightSample {
+                    radiance: intensity / distance_squared,
+                    wi,
+                    point: projector.position,
+                    normal: Vec3::ZERO,
+                    uv: Vec2::ZERO,
+                    pdf: 1.0,
+                    is_delta: true,
+                    is_infinite: false,
                 })
             }
         }
@@ -342,32 +414,42 @@ impl Light {
         match self {
             Light::Area { shape_index, .. } => geometry.shapes()[*shape_index as usize]
                 .pdf_solid_angle_from(reference, point, normal),
-            Light::Point { .. } | Light::Spot(_) | Light::Directional { .. } => 0.0,
+            Light::TexturedArea(light) => geometry.shapes()[light.shape_index as usize]
+                .pdf_solid_angle_from(reference, point, normal),
+            Light::Point { .. }
+            | Light::Spot(_)
+            | Light::Directional { .. }
+            | Light::Projector(_) => 0.0,
             Light::ConstantEnvironment { .. } => 1.0 / (4.0 * std::f32::consts::PI),
             Light::EnvironmentMap { map, .. } => map.pdf(point - reference),
         }
     }
 
     /// Radiance emitted by an area light at a point with geometric normal
-    /// `normal` (as stored in the geometry) towards `wo`.
+    /// `normal` (as stored in the geometry) and surface coordinates `uv`
+    /// towards `wo`.
     pub fn emitted_radiance(
         &self,
         normal: Vec3,
+        uv: Vec2,
         wo: Vec3,
         wavelengths: &SampledWavelengths,
     ) -> SampledSpectrum {
-        self.emitted_radiance_with_area_radiance(normal, wo, |radiance| {
+        self.emitted_radiance_with_area_radiance(normal, uv, wo, wavelengths, |radiance| {
             radiance.sample(wavelengths)
         })
     }
 
     /// [`Light::emitted_radiance`] with the area light's radiance spectrum
     /// evaluated by `area_radiance` (see
-    /// [`Light::sample_incident_with_area_radiance`]).
+    /// [`Light::sample_incident_with_area_radiance`]); a textured area light
+    /// varies over its surface and is evaluated at `uv` without the cache.
     pub fn emitted_radiance_with_area_radiance(
         &self,
         normal: Vec3,
+        uv: Vec2,
         wo: Vec3,
+        wavelengths: &SampledWavelengths,
         area_radiance: impl FnOnce(&Spectrum) -> SampledSpectrum,
     ) -> SampledSpectrum {
         match self {
@@ -383,6 +465,7 @@ impl Light {
                     SampledSpectrum::zero()
                 }
             }
+            Light::TexturedArea(light) => light.emitted_radiance(normal, uv, wo, wavelengths),
             _ => SampledSpectrum::zero(),
         }
     }

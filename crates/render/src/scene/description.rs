@@ -55,6 +55,11 @@ pub struct ShapeDescription {
     /// Emitted radiance if the surface is an area light; emission leaves the
     /// front side only (the side the normals point to, after `flip_normals`).
     pub emission: Option<SpectrumDescription>,
+    /// Emitted radiance varying over the surface's uv (Mitsuba's `area`
+    /// emitter with a texture); when set it replaces `emission`. Its RGB
+    /// values are reflectance-like spectra, without D65, as Mitsuba 3
+    /// evaluates them.
+    pub emission_texture: Option<TextureDescription>,
     /// Flip the normals (e.g. to see the inside of a sphere as its front).
     pub flip_normals: bool,
     /// The medium inside the shape (the side opposite its normals), as an
@@ -389,6 +394,55 @@ pub enum LightDescription {
         to_world: Affine3A,
         scale: f32,
     },
+    /// Mitsuba 3's `projector`: a point at the origin of `to_world` projecting
+    /// the image `irradiance` (times `scale`) along its +z through a
+    /// perspective frustum of field of view `fov_degrees` along `fov_axis`
+    /// of the image (see `light::ProjectorLight`).
+    Projector {
+        to_world: Affine3A,
+        irradiance: TextureDescription,
+        scale: f32,
+        fov_degrees: f32,
+        fov_axis: ProjectorFovAxis,
+    },
+}
+
+/// Which extent of a projector's image its field of view spans
+/// (Mitsuba's `fov_axis`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ProjectorFovAxis {
+    /// The width.
+    X,
+    /// The height.
+    Y,
+    /// The diagonal.
+    Diagonal,
+    /// The smaller of width and height.
+    Smaller,
+    /// The larger of width and height.
+    Larger,
+}
+
+impl ProjectorFovAxis {
+    /// tan of half the horizontal field of view, for a field of view of
+    /// `fov_degrees` along this axis of an image `width` × `height`.
+    pub fn tan_half_horizontal(self, fov_degrees: f32, width: f32, height: f32) -> f32 {
+        let tan_half = (0.5 * fov_degrees.to_radians()).tan();
+        let axis = match self {
+            ProjectorFovAxis::Smaller if width <= height => ProjectorFovAxis::X,
+            ProjectorFovAxis::Smaller => ProjectorFovAxis::Y,
+            ProjectorFovAxis::Larger if width >= height => ProjectorFovAxis::X,
+            ProjectorFovAxis::Larger => ProjectorFovAxis::Y,
+            other => other,
+        };
+        match axis {
+            ProjectorFovAxis::Y => tan_half * width / height,
+            ProjectorFovAxis::Diagonal => {
+                tan_half * width / (width * width + height * height).sqrt()
+            }
+            _ => tan_half,
+        }
+    }
 }
 
 /// How a spot light's intensity falls off between the start of the falloff
@@ -457,6 +511,7 @@ impl ShapeDescription {
             geometry,
             material,
             emission: None,
+            emission_texture: None,
             flip_normals: false,
             interior_medium: None,
             exterior_medium: None,

@@ -14,7 +14,9 @@ pub mod spectra;
 use crate::camera::{CameraError, PerspectiveCamera};
 use crate::film::{BoxFilter, Filter, GaussianFilter, TriangleFilter};
 use crate::geometry::{Disk, Geometry, GeometryError, Shape, Sphere, Transform, TriangleMesh};
-use crate::light::{EnvironmentMap, Light, LightSampler, SpotLight};
+use crate::light::{
+    EnvironmentMap, Light, LightSampler, ProjectorLight, SpotLight, TexturedAreaLight,
+};
 use crate::material::{Material, MicrofacetKind, Roughness};
 use crate::medium::{HomogeneousMedium, MediumInterface, MediumSpectra, PhaseFunction};
 use crate::texture::SpectrumTexture;
@@ -405,6 +407,45 @@ fn nested_material(description: &MaterialDescription) -> Result<Material, SceneE
     }))
 }
 
+/// A projector from its description: the image's aspect ratio turns the
+/// field of view along `fov_axis` into the horizontal one.
+fn projector_light(
+    to_world: Affine3A,
+    irradiance: &TextureDescription,
+    scale: f32,
+    fov_degrees: f32,
+    fov_axis: crate::scene::description::ProjectorFovAxis,
+) -> Result<Light, SceneError> {
+    if to_world.matrix3.determinant().abs() <= f32::MIN_POSITIVE || !to_world.is_finite() {
+        return Err(parameter_error(
+            "projector",
+            "to_world must be an invertible transform",
+        ));
+    }
+    if !(scale >= 0.0 && scale.is_finite() && fov_degrees > 0.0 && fov_degrees < 180.0) {
+        return Err(parameter_error(
+            "projector",
+            format!("need scale ≥ 0 ({scale}) and 0 < fov < 180° ({fov_degrees}°)"),
+        ));
+    }
+    let texture = spectrum_texture(irradiance, SpectrumUsage::Albedo, "projector irradiance")?;
+    let (width, height) = match &texture {
+        SpectrumTexture::Bitmap(bitmap) => {
+            let lookup = bitmap.lookup();
+            (lookup.width as f32, lookup.height as f32)
+        }
+        _ => (1.0, 1.0),
+    };
+    let tan_half_x = fov_axis.tan_half_horizontal(fov_degrees, width, height);
+    Ok(Light::Projector(Box::new(ProjectorLight::new(
+        to_world,
+        texture,
+        scale,
+        2.0 * tan_half_x.atan().to_degrees(),
+        width / height,
+    ))))
+}
+
 /// A spot light from its description; angles must satisfy
 /// 0 ≤ start ≤ cutoff ≤ 180°, and cutoff < 90° with a texture (its
 /// projection divides by tan cutoff).
@@ -559,8 +600,19 @@ impl Scene {
                 }
             };
             shapes.push(built);
-            let light = match &shape.emission {
-                Some(emission) => {
+            let light = match (&shape.emission_texture, &shape.emission) {
+                (Some(texture), _) => {
+                    let radiance =
+                        spectrum_texture(texture, SpectrumUsage::Albedo, "emitted radiance")?;
+                    let light = TexturedAreaLight::new(index as u32, radiance, shape.flip_normals);
+                    if light.mean_scale > 0.0 {
+                        lights.push(Light::TexturedArea(Box::new(light)));
+                        Some(lights.len() as u32 - 1)
+                    } else {
+                        None
+                    }
+                }
+                (None, Some(emission)) => {
                     let radiance =
                         build_spectrum(emission, SpectrumUsage::Illuminant, "emitted radiance")?;
                     let scale = radiance.max_value();
@@ -576,7 +628,7 @@ impl Scene {
                         None
                     }
                 }
-                None => None,
+                (None, None) => None,
             };
             let medium_interface =
                 if shape.interior_medium.is_some() || shape.exterior_medium.is_some() {
@@ -684,6 +736,13 @@ impl Scene {
                         scene_radius,
                     }
                 }
+                LightDescription::Projector {
+                    to_world,
+                    irradiance,
+                    scale,
+                    fov_degrees,
+                    fov_axis,
+                } => projector_light(*to_world, irradiance, *scale, *fov_degrees, *fov_axis)?,
             });
         }
         let media = description
@@ -722,7 +781,10 @@ impl Scene {
             name: description.name.clone(),
             geometry,
             shapes: infos,
-            light_sampler: LightSampler::new(&powers),
+            light_sampler: LightSampler::with_infinite_share(
+                &powers,
+                &lights.iter().map(Light::is_infinite).collect::<Vec<_>>(),
+            ),
             lights,
             environment_lights,
             media,

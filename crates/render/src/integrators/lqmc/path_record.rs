@@ -116,6 +116,8 @@ pub struct LightConnection {
     pub stored_normal: Vec3,
     /// Its normal facing the emitting side.
     pub front_normal: Vec3,
+    /// Its surface coordinates (textured area lights).
+    pub uv: glam::Vec2,
     /// The direction from the seed's vertex (infinite lights keep it).
     pub direction: Vec3,
     /// A delta light (a point light): reconnection samples it again.
@@ -147,6 +149,7 @@ impl LightConnection {
             crate::light::Light::Area {
                 flip_normals: true, ..
             } => -sample.normal,
+            crate::light::Light::TexturedArea(light) if light.flip_normals => -sample.normal,
             _ => sample.normal,
         };
         LightConnection {
@@ -155,6 +158,7 @@ impl LightConnection {
             point: sample.point,
             stored_normal,
             front_normal: sample.normal,
+            uv: sample.uv,
             direction: sample.wi,
             is_delta: sample.is_delta,
             is_infinite: sample.is_infinite,

@@ -201,7 +201,12 @@ pub fn walk(
             } else {
                 let wi = (connection.point - reference).normalize();
                 (
-                    light.emitted_radiance(connection.stored_normal, -wi, &wavelengths),
+                    light.emitted_radiance(
+                        connection.stored_normal,
+                        connection.uv,
+                        -wi,
+                        &wavelengths,
+                    ),
                     wi,
                     light.pdf_incident(
                         &scene.geometry,
@@ -326,8 +331,12 @@ pub fn walk(
             };
             let wo = (previous_point - emitter.raw_hit.point).normalize();
             let light = &scene.lights[*light_index as usize];
-            let emitted =
-                light.emitted_radiance(emitter.raw_hit.geometric_normal, wo, &wavelengths);
+            let emitted = light.emitted_radiance(
+                emitter.raw_hit.geometric_normal,
+                emitter.raw_hit.uv,
+                wo,
+                &wavelengths,
+            );
             let weight = emission_weight(
                 scene,
                 settings,

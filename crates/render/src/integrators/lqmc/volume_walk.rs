@@ -210,6 +210,7 @@ pub fn walk_volumetric(
             };
             let emitted = scene.lights[light_index as usize].emitted_radiance(
                 vertex.raw_hit.geometric_normal,
+                vertex.raw_hit.uv,
                 wo,
                 &wavelengths,
             );
@@ -295,6 +296,7 @@ pub fn walk_volumetric(
                     wi,
                     point: connection.point,
                     normal: Vec3::ZERO,
+                    uv: glam::Vec2::ZERO,
                     pdf: light.pdf_incident(&scene.geometry, reference, reference + wi, Vec3::ZERO),
                     is_delta: false,
                     is_infinite: true,
@@ -302,10 +304,16 @@ pub fn walk_volumetric(
             } else {
                 let wi = (connection.point - reference).normalize();
                 LightSample {
-                    radiance: light.emitted_radiance(connection.stored_normal, -wi, &wavelengths),
+                    radiance: light.emitted_radiance(
+                        connection.stored_normal,
+                        connection.uv,
+                        -wi,
+                        &wavelengths,
+                    ),
                     wi,
                     point: connection.point,
                     normal: connection.front_normal,
+                    uv: connection.uv,
                     pdf: light.pdf_incident(
                         &scene.geometry,
                         reference,

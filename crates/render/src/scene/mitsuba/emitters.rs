@@ -1,11 +1,15 @@
-//! Mitsuba's emitters: `area` (inside a shape), `point`, `spot`,
-//! `directional`, `constant` and `envmap`. RGB values of emitters are
-//! illuminants relative to D65 (the scene build decides); defaults are
-//! Mitsuba's (unit radiance, intensity or irradiance; a spot's cutoff of 20°
-//! with a beam width of ¾ of it).
+//! Mitsuba's emitters: `area` (inside a shape, with a constant or textured
+//! radiance), `point`, `spot`, `directional`, `constant`, `envmap` and
+//! `projector`. Constant RGB values of emitters are illuminants relative to
+//! D65 (the scene build decides); textures (an area emitter's radiance, a
+//! spot's texture, a projector's irradiance) are reflectance-like spectra
+//! without D65, as Mitsuba 3 evaluates them. Defaults are Mitsuba's (unit
+//! radiance, intensity or irradiance; a spot's cutoff of 20° with a beam
+//! width of ¾ of it; a projector's 50 mm lens on 35 mm film).
 
 use super::super::description::{
-    EnvironmentProjection, LightDescription, SpectrumDescription, SpotFalloff, TextureDescription,
+    EnvironmentProjection, LightDescription, ProjectorFovAxis, SpectrumDescription, SpotFalloff,
+    TextureDescription,
 };
 use super::super::loader::SceneFileError;
 use super::values::Properties;
@@ -25,12 +29,13 @@ impl Loader {
             .unwrap_or(SpectrumDescription::Rgb([1.0; 3])))
     }
 
-    /// The radiance of an `area` emitter nested in a shape, or `None` (with
-    /// a warning) when it cannot be represented.
+    /// The radiance of an `area` emitter nested in a shape (a constant or a
+    /// texture over the shape's uv), or `None` (with a warning) when it
+    /// cannot be represented.
     pub(super) fn area_emitter(
         &mut self,
         element: &Element,
-    ) -> Result<Option<SpectrumDescription>, SceneFileError> {
+    ) -> Result<Option<TextureDescription>, SceneFileError> {
         let properties = Properties::new(element);
         if properties.plugin_type() != "area" {
             self.warn(
@@ -42,19 +47,9 @@ impl Loader {
             );
             return Ok(None);
         }
-        let radiance = match self.texture_parameter(&properties, "radiance")? {
-            None => SpectrumDescription::Rgb([1.0; 3]),
-            Some(TextureDescription::Constant(spectrum)) => spectrum,
-            Some(_) => {
-                self.warn(
-                    element,
-                    "textured area emitters are not supported: this emitter is left out",
-                );
-                self.finish(&properties);
-                self.register(element, NamedObject::AreaEmitter(None))?;
-                return Ok(None);
-            }
-        };
+        let radiance = self.texture_parameter(&properties, "radiance")?.unwrap_or(
+            TextureDescription::Constant(SpectrumDescription::Rgb([1.0; 3])),
+        );
         self.finish(&properties);
         self.register(element, NamedObject::AreaEmitter(Some(radiance.clone())))?;
         Ok(Some(radiance))
@@ -121,6 +116,66 @@ impl Loader {
                     projection: EnvironmentProjection::MitsubaEquirectangular,
                     to_world: to_world.unwrap_or(Affine3A::IDENTITY),
                     scale: properties.float("scale", 1.0)?,
+                }
+            }
+            "projector" => {
+                let irradiance = self
+                    .texture_parameter(&properties, "irradiance")?
+                    .unwrap_or(TextureDescription::Constant(SpectrumDescription::Constant(
+                        1.0,
+                    )));
+                let (fov_degrees, fov_axis) = match properties.optional_float("fov")? {
+                    Some(fov) => {
+                        let axis = match properties.optional_string("fov_axis")?.unwrap_or("x") {
+                            "x" => ProjectorFovAxis::X,
+                            "y" => ProjectorFovAxis::Y,
+                            "diagonal" => ProjectorFovAxis::Diagonal,
+                            "smaller" => ProjectorFovAxis::Smaller,
+                            "larger" => ProjectorFovAxis::Larger,
+                            other => {
+                                return Err(element.location.error(format!(
+                                    "projector: fov_axis '{other}': expected x, y, diagonal, smaller or larger"
+                                )));
+                            }
+                        };
+                        (fov, axis)
+                    }
+                    // Mitsuba's default: a 50 mm lens on 35 mm film (36 × 24 mm),
+                    // the diagonal field of view (measured on Mitsuba 3.9.1:
+                    // 39.54° horizontally for a 100 × 67 image).
+                    None => {
+                        let focal = properties
+                            .optional_string("focal_length")?
+                            .unwrap_or("50mm");
+                        let millimetres = focal
+                            .trim()
+                            .trim_end_matches("mm")
+                            .parse::<f32>()
+                            .ok()
+                            .filter(|f| *f > 0.0)
+                            .ok_or_else(|| {
+                                element.location.error(format!(
+                                    "projector: focal_length '{focal}': expected a length such as 50mm"
+                                ))
+                            })?;
+                        let diagonal = (36.0f32 * 36.0 + 24.0 * 24.0).sqrt();
+                        (
+                            2.0 * (diagonal / (2.0 * millimetres)).atan().to_degrees(),
+                            ProjectorFovAxis::Diagonal,
+                        )
+                    }
+                };
+                if !(fov_degrees > 0.0 && fov_degrees < 180.0) {
+                    return Err(element.location.error(format!(
+                        "projector: fov {fov_degrees} must be in (0, 180) degrees"
+                    )));
+                }
+                LightDescription::Projector {
+                    to_world: to_world.unwrap_or(Affine3A::IDENTITY),
+                    irradiance,
+                    scale: properties.float("scale", 1.0)?,
+                    fov_degrees,
+                    fov_axis,
                 }
             }
             "area" if element.attribute("id").is_some() => {

@@ -49,7 +49,7 @@ enum NamedObject {
     /// An index into the description's media.
     Medium(usize),
     /// An `area` emitter's radiance (`None`: one that cannot be represented).
-    AreaEmitter(Option<super::description::SpectrumDescription>),
+    AreaEmitter(Option<super::description::TextureDescription>),
     /// Something else with an id (a shape, an emitter): not referable here.
     Other(String),
 }

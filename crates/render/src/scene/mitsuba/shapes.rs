@@ -193,10 +193,17 @@ impl Loader {
             two_sided: false,
         });
         self.register(element, NamedObject::Other("shape".into()))?;
+        // A constant radiance is a plain area light; a texture a textured one.
+        let (emission, emission_texture) = match emission {
+            Some(TextureDescription::Constant(spectrum)) => (Some(spectrum), None),
+            Some(texture) => (None, Some(texture)),
+            None => (None, None),
+        };
         self.description.shapes.push(ShapeDescription {
             geometry,
             material,
             emission,
+            emission_texture,
             flip_normals,
             interior_medium,
             exterior_medium,

@@ -558,7 +558,7 @@ fn unknown_elements_and_plugins_are_warnings() {
         r#"<teapot/>
            <shape type="serialized"/>
            <bsdf type="hair" id="h"/>
-           <emitter type="projector"/>
+           <emitter type="sunsky"/>
            <shape type="cube"><float name="wobble" value="1"/><ref id="h"/></shape>
            <sensor type="perspective"/>"#,
     );
@@ -567,7 +567,7 @@ fn unknown_elements_and_plugins_are_warnings() {
         "scene.xml:2: unknown element <teapot>",
         "scene.xml:3: shape type 'serialized'",
         "scene.xml:4: unknown bsdf type 'hair'",
-        "scene.xml:5: emitter type 'projector'",
+        "scene.xml:5: emitter type 'sunsky'",
         "scene.xml:6: parameter 'wobble'",
     ] {
         assert!(warnings.contains(expected), "{expected} not in\n{warnings}");
@@ -860,4 +860,71 @@ fn principled_rejects_both_eta_and_specular() {
            <sensor type="perspective"/>"#,
     );
     assert!(message.contains("either 'eta' or 'specular'"), "{message}");
+}
+
+/// A textured `area` emitter becomes the shape's emission texture (a
+/// constant one stays a plain emission); a `projector` is read with its
+/// defaults (a 50 mm lens: the diagonal field of view of 35 mm film), an
+/// explicit `fov`/`fov_axis`, and a bad `fov_axis` is an error naming it.
+#[test]
+fn textured_area_emitters_and_projectors() {
+    let scene = loaded(
+        r#"<shape type="rectangle">
+             <emitter type="area">
+               <texture name="radiance" type="checkerboard"/>
+             </emitter>
+           </shape>
+           <shape type="rectangle">
+             <emitter type="area"><rgb name="radiance" value="1, 2, 3"/></emitter>
+           </shape>
+           <emitter type="projector">
+             <texture name="irradiance" type="checkerboard"/>
+           </emitter>
+           <emitter type="projector">
+             <float name="scale" value="3"/>
+             <float name="fov" value="30"/>
+             <string name="fov_axis" value="y"/>
+           </emitter>"#,
+    );
+    let shapes = &scene.description.shapes;
+    assert!(matches!(
+        shapes[0].emission_texture,
+        Some(TextureDescription::Checkerboard { .. })
+    ));
+    assert!(shapes[0].emission.is_none());
+    assert_eq!(
+        shapes[1].emission,
+        Some(SpectrumDescription::Rgb([1.0, 2.0, 3.0]))
+    );
+    assert!(shapes[1].emission_texture.is_none());
+    use super::super::description::ProjectorFovAxis;
+    match &scene.description.lights[..] {
+        [
+            LightDescription::Projector {
+                scale: 1.0,
+                fov_degrees: default_fov,
+                fov_axis: ProjectorFovAxis::Diagonal,
+                ..
+            },
+            LightDescription::Projector {
+                scale: 3.0,
+                fov_degrees: 30.0,
+                fov_axis: ProjectorFovAxis::Y,
+                ..
+            },
+        ] => {
+            // 2 atan(43.27 / 100).
+            assert!((default_fov - 46.793).abs() < 1e-2, "{default_fov}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // Mitsuba 3.9.1's horizontal field of view for the default on a
+    // 100 × 67 image (flower.bmp) is 39.5415°.
+    let tan_half = ProjectorFovAxis::Diagonal.tan_half_horizontal(46.793, 100.0, 67.0);
+    assert!((2.0 * tan_half.atan().to_degrees() - 39.5415).abs() < 2e-3);
+    let message = error(
+        r#"<emitter type="projector"><float name="fov" value="30"/>
+           <string name="fov_axis" value="sideways"/></emitter>"#,
+    );
+    assert!(message.contains("fov_axis 'sideways'"), "{message}");
 }

@@ -388,6 +388,7 @@ impl Loader {
             geometry,
             material,
             emission,
+            emission_texture: None,
             flip_normals,
             interior_medium,
             exterior_medium,
