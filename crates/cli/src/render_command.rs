@@ -91,9 +91,10 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = HeuristicName::Power)]
     pub mis: HeuristicName,
     /// The path depth from which Russian roulette may end paths, Mitsuba's
-    /// `rr_depth` convention (Mitsuba's default is 5; ours 3).
-    #[arg(long, value_name = "DEPTH", default_value_t = 3)]
-    pub rr_depth: u32,
+    /// `rr_depth` convention (default: the scene's — a Mitsuba file's
+    /// `rr_depth`, 5 if it names none — else 3).
+    #[arg(long, value_name = "DEPTH")]
+    pub rr_depth: Option<u32>,
     /// Output image (.exr, .pfm or .png); a PNG is also written beside an
     /// EXR or PFM.
     #[arg(short, long, default_value = "render.exr")]
@@ -363,7 +364,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             HeuristicName::Power => render::integrators::MisHeuristic::Power,
             HeuristicName::Balance => render::integrators::MisHeuristic::Balance,
         },
-        russian_roulette_depth: args.rr_depth,
+        russian_roulette_depth: args.rr_depth.or(scene.russian_roulette_depth).unwrap_or(3),
         threads: args.threads,
         lqmc: lqmc_settings(&args.lqmc)?,
         lqmc_density: args.lqmc.density.is_some(),

@@ -63,6 +63,7 @@ fn scene(
         lights,
         max_depth: Some(4),
         samples_per_pixel: Some(4),
+        russian_roulette_depth: None,
         media: Vec::new(),
         camera_medium: None,
         integrator: None,

@@ -95,6 +95,7 @@ fn description() -> SceneDescription {
         ],
         max_depth: Some(2),
         samples_per_pixel: None,
+        russian_roulette_depth: None,
         media: Vec::new(),
         camera_medium: None,
         integrator: None,

@@ -130,6 +130,7 @@ fn white_furnace() -> SceneDescription {
         }],
         max_depth: Some(6),
         samples_per_pixel: Some(16),
+        russian_roulette_depth: None,
         media: Vec::new(),
         camera_medium: None,
         integrator: None,

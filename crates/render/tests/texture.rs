@@ -713,6 +713,7 @@ fn masked_sphere_in_a_furnace(
         }],
         max_depth: Some(64),
         samples_per_pixel: Some(32),
+        russian_roulette_depth: None,
         media: Vec::new(),
         camera_medium: None,
         integrator: None,

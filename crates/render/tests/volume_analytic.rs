@@ -225,6 +225,7 @@ fn absorbing_slab_follows_beer_lambert() {
         camera_medium: None,
         max_depth: Some(8),
         samples_per_pixel: Some(64),
+        russian_roulette_depth: None,
         integrator: None,
     };
     let (image, variance) = render_images(
@@ -356,6 +357,7 @@ fn crossing_null_boundaries_uses_one_free_flight_dimension() {
         camera_medium: None,
         max_depth: Some(8),
         samples_per_pixel: None,
+        russian_roulette_depth: None,
         integrator: None,
     };
     let scene = Scene::build(&description).unwrap();
@@ -438,6 +440,7 @@ fn slab_single_scattering_matches_the_closed_form_integral() {
         camera_medium: None,
         max_depth: Some(2),
         samples_per_pixel: None,
+        russian_roulette_depth: None,
         integrator: None,
     };
     let settings = RenderSettings {

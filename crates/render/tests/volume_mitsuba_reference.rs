@@ -116,6 +116,7 @@ fn scene() -> SceneDescription {
         camera_medium: None,
         max_depth: Some(MAX_DEPTH),
         samples_per_pixel: None,
+        russian_roulette_depth: None,
         integrator: Some("volpath".into()),
     }
 }

@@ -199,6 +199,7 @@ fn cornell_box() -> SceneDescription {
         max_depth: Some(6),
         // Few enough that `lqmc render` with no arguments takes a few seconds.
         samples_per_pixel: Some(16),
+        russian_roulette_depth: None,
         media: Vec::new(),
         camera_medium: None,
         integrator: None,
@@ -270,6 +271,7 @@ fn dof_spheres() -> SceneDescription {
         }],
         max_depth: Some(8),
         samples_per_pixel: Some(64),
+        russian_roulette_depth: None,
         media: Vec::new(),
         camera_medium: None,
         integrator: None,
@@ -346,6 +348,7 @@ fn glass_sphere_box() -> SceneDescription {
         lights: Vec::new(),
         max_depth: Some(12),
         samples_per_pixel: Some(64),
+        russian_roulette_depth: None,
         media: Vec::new(),
         camera_medium: None,
         integrator: None,
@@ -465,6 +468,7 @@ fn office() -> SceneDescription {
         lights: Vec::new(),
         max_depth: Some(8),
         samples_per_pixel: Some(64),
+        russian_roulette_depth: None,
         media: Vec::new(),
         camera_medium: None,
         integrator: None,
@@ -493,6 +497,7 @@ fn furnace() -> SceneDescription {
         // Deep enough that the truncated series 1 − 2^−D is 1 in f32.
         max_depth: Some(100),
         samples_per_pixel: Some(16),
+        russian_roulette_depth: None,
         media: Vec::new(),
         camera_medium: None,
         integrator: None,
@@ -579,6 +584,7 @@ fn translucent_spheres() -> SceneDescription {
         camera_medium: None,
         max_depth: Some(32),
         samples_per_pixel: Some(16),
+        russian_roulette_depth: None,
         integrator: Some("volpath".into()),
     }
 }
@@ -677,6 +683,7 @@ fn volumetric_caustic() -> SceneDescription {
         camera_medium: Some(0),
         max_depth: Some(12),
         samples_per_pixel: Some(16),
+        russian_roulette_depth: None,
         integrator: Some("volpath".into()),
     }
 }

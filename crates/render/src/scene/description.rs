@@ -29,6 +29,9 @@ pub struct SceneDescription {
     pub max_depth: Option<u32>,
     /// The scene's suggested samples per pixel, if it names any.
     pub samples_per_pixel: Option<u64>,
+    /// The scene's suggested depth from which Russian roulette may end paths
+    /// (Mitsuba's `rr_depth` convention), if it names one.
+    pub russian_roulette_depth: Option<u32>,
     /// The integrator the scene file names (e.g. `path`, `volpath`,
     /// `direct`), as a hint; the command line decides.
     pub integrator: Option<String>,

@@ -100,6 +100,8 @@ pub struct Scene {
     pub max_depth: Option<u32>,
     /// The scene's suggested samples per pixel.
     pub samples_per_pixel: Option<u64>,
+    /// The scene's suggested Russian-roulette depth (Mitsuba's `rr_depth`).
+    pub russian_roulette_depth: Option<u32>,
 }
 
 fn parameter_error(what: &str, error: impl std::fmt::Display) -> SceneError {
@@ -793,6 +795,7 @@ impl Scene {
             filter,
             max_depth: description.max_depth,
             samples_per_pixel: description.samples_per_pixel,
+            russian_roulette_depth: description.russian_roulette_depth,
         })
     }
 }

@@ -4,7 +4,9 @@
 //! `direct` is depth 2 (emitters and direct light). `moment` and other
 //! wrappers are looked through to their nested integrator. A type this
 //! renderer does not know (Bitterli's files name `path_guiding_integrator`)
-//! is a warning; its `max_depth` is still used.
+//! is a warning; its `max_depth` is still used. Its `rr_depth` (Mitsuba's
+//! default 5 where the file names none) becomes the scene's suggested
+//! Russian-roulette depth, so a Mitsuba scene renders with Mitsuba's settings.
 
 use super::super::loader::SceneFileError;
 use super::Loader;
@@ -14,6 +16,10 @@ use super::xml::Element;
 /// The integrator types whose images this renderer's path tracer matches
 /// in expectation.
 const KNOWN: &[&str] = &["path", "volpath", "volpathmis", "direct", "ptracer"];
+
+/// Mitsuba 3's `rr_depth` where an integrator names none (its `path`,
+/// `volpath`, `volpathmis` and `ptracer` plugins' documented default).
+const MITSUBA_DEFAULT_RR_DEPTH: u32 = 5;
 
 impl Loader {
     /// Reads an `<integrator>`.
@@ -58,9 +64,18 @@ impl Loader {
             }
         };
         self.description.max_depth = Some(if kind == "direct" { 2 } else { max_depth });
+        let russian_roulette_depth = match properties.optional_integer("rr_depth")? {
+            None => MITSUBA_DEFAULT_RR_DEPTH,
+            Some(depth) if depth >= 1 => u32::try_from(depth).unwrap_or(u32::MAX),
+            Some(depth) => {
+                return Err(element
+                    .location
+                    .error(format!("rr_depth {depth} must be at least 1")));
+            }
+        };
+        self.description.russian_roulette_depth = Some(russian_roulette_depth);
         self.description.integrator = Some(kind.to_string());
         properties.ignore(&[
-            "rr_depth",
             "hide_emitters",
             "emitter_samples",
             "bsdf_samples",

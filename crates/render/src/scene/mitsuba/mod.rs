@@ -102,6 +102,7 @@ fn default_description(name: String) -> SceneDescription {
         camera_medium: None,
         max_depth: None,
         samples_per_pixel: None,
+        russian_roulette_depth: None,
         integrator: None,
     }
 }

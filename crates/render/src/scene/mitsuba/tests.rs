@@ -465,6 +465,27 @@ fn integrators_and_depth() {
 }
 
 #[test]
+fn integrators_russian_roulette_depth() {
+    let rr_depth = |body: &str| {
+        loaded(&format!("{body}<sensor type=\"perspective\"/>"))
+            .description
+            .russian_roulette_depth
+    };
+    // Mitsuba's default where the integrator names none.
+    assert_eq!(rr_depth(r#"<integrator type="path"/>"#), Some(5));
+    assert_eq!(
+        rr_depth(r#"<integrator type="volpath"><integer name="rr_depth" value="2"/></integrator>"#),
+        Some(2)
+    );
+    // No integrator element: the renderer's own default applies.
+    assert_eq!(rr_depth(""), None);
+    let message = error(
+        r#"<integrator type="path"><integer name="rr_depth" value="0"/></integrator><sensor type="perspective"/>"#,
+    );
+    assert!(message.contains("rr_depth 0"), "{message}");
+}
+
+#[test]
 fn parameters_defaults_and_command_line() {
     let directory = directory();
     let path = write(

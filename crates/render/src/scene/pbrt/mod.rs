@@ -72,6 +72,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<LoadedScene, SceneFile
         camera_medium,
         max_depth: Some(segments_from_pbrt_depth(loader.camera.pbrt_max_depth)),
         samples_per_pixel: Some(loader.camera.samples_per_pixel),
+        russian_roulette_depth: None,
         integrator: loader.camera.integrator.clone(),
     };
     Ok(LoadedScene {
