@@ -102,6 +102,8 @@ def main():
 
     log = []
     rows = []
+    started_at = time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime())
+    load_at_start = os.getloadavg()
     for scene in scenes:
         reference = os.path.join(
             arguments.reference_dir,
@@ -138,10 +140,17 @@ def main():
             spp = statistics.median(run["spp"] for run in runs)
             rows.append((scene, method, spp, rmse, mad))
 
+    finished_at = time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime())
+    load_at_end = os.getloadavg()
+    options = " ".join(arguments.lqmc_option) or "defaults"
     print(f"Equal time {arguments.time:g} s per render, {arguments.threads} thread(s), "
           f"{arguments.seeds} seeds (LQMC and path tracing interleaved), resolution "
           f"{arguments.resolution or 'of the scene'}; reference: path tracing, "
-          f"{arguments.reference_spp} spp, Halton. Median over seeds [min, max].\n")
+          f"{arguments.reference_spp} spp, Halton. Median over seeds [min, max]. "
+          f"LQMC options: {options}. Measured {started_at} to {finished_at}, load average "
+          f"(1/5/15 min) {load_at_start[0]:.1f}/{load_at_start[1]:.1f}/{load_at_start[2]:.1f} "
+          f"at the start, {load_at_end[0]:.1f}/{load_at_end[1]:.1f}/{load_at_end[2]:.1f} "
+          f"at the end.\n")
     print("| scene | method | spp | RMSE | MAD | RMSE / path's |")
     print("|---|---|---|---|---|---|")
     path_rmse = {scene: rmse[0] for scene, method, _, rmse, _ in rows if method == "path"}

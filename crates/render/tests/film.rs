@@ -161,6 +161,45 @@ fn filter_weighted_mean_of_a_constant_is_the_constant() {
     }
 }
 
+/// The film splats a Gaussian separably (one factor per row and column);
+/// every pixel must get exactly `evaluate`'s value, as per-pixel evaluation
+/// gave, also near the image border and for wide filters.
+#[test]
+fn gaussian_splats_equal_the_filter_value_per_pixel() {
+    for filter in [
+        GaussianFilter::default(),
+        GaussianFilter::new([3.0, 1.0], 1.2).unwrap(),
+        GaussianFilter::new([5.0, 5.0], 2.0).unwrap(),
+    ] {
+        let mut random = SeekablePcg::new(5, 0);
+        for _ in 0..40 {
+            let position = [random.next_f32() * 12.0 - 1.0, random.next_f32() * 9.0 - 1.0];
+            let mut film = Film::new([10, 7], Filter::Gaussian(filter)).unwrap();
+            let mut buffer = SplatBuffer::new();
+            buffer.add(position, [1.0, 2.0, 0.5]);
+            film.merge_splats(&buffer);
+            for y in 0..7 {
+                for x in 0..10 {
+                    let offset = [
+                        (x as f64 + 0.5 - position[0] as f64) as f32,
+                        (y as f64 + 0.5 - position[1] as f64) as f32,
+                    ];
+                    let weight = filter.evaluate(offset) as f64;
+                    let inside = [0, 1].into_iter().all(|axis| {
+                        offset[axis] > -filter.radius()[axis] && offset[axis] <= filter.radius()[axis]
+                    });
+                    let expected = if inside { weight } else { 0.0 };
+                    assert_eq!(
+                        film.splat(x, y),
+                        Some([expected, 2.0 * expected, 0.5 * expected]),
+                        "{filter:?} at {position:?}, pixel ({x}, {y})"
+                    );
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn splats_keep_their_energy_and_land_where_they_fall() {
     // Box (radius 0.5) and triangle (radius 2) filters are partitions of

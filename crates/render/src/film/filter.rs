@@ -193,19 +193,24 @@ impl GaussianFilter {
 
     /// The normalised filter value at `offset`.
     pub fn evaluate(&self, offset: [f32; 2]) -> f32 {
-        let sigma = self.sigma as f64;
-        let mut value = 1.0f64;
-        for ((position, radius), mass_inside) in
-            offset.into_iter().zip(self.radius).zip(self.mass_inside)
-        {
-            let x = position as f64;
-            if x.abs() > radius as f64 {
-                return 0.0;
-            }
-            value *= (-x * x / (2.0 * sigma * sigma)).exp()
-                / (sigma * (2.0 * std::f64::consts::PI).sqrt() * mass_inside);
+        match (self.axis_value(0, offset[0]), self.axis_value(1, offset[1])) {
+            (Some(x), Some(y)) => (x * y) as f32,
+            _ => 0.0,
         }
-        value as f32
+    }
+
+    /// The normalised 1-D factor of axis `axis` at `position` (`None`
+    /// outside the radius): [`GaussianFilter::evaluate`] is the product of
+    /// the two axes' factors, so a film splatting over a block of pixels
+    /// evaluates one factor per row and per column instead of two
+    /// exponentials per pixel, with the same result.
+    pub fn axis_value(&self, axis: usize, position: f32) -> Option<f64> {
+        let sigma = self.sigma as f64;
+        let x = position as f64;
+        (x.abs() <= self.radius[axis] as f64).then(|| {
+            (-x * x / (2.0 * sigma * sigma)).exp()
+                / (sigma * (2.0 * std::f64::consts::PI).sqrt() * self.mass_inside[axis])
+        })
     }
 
     /// An offset with density equal to the filter: per axis

@@ -14,6 +14,10 @@ use crate::image::{
     Image, ImageError, ImageFormat, Metadata, VARIANCE_LAYER, write_exr, write_image,
 };
 
+/// Splats of a separable filter over at most this many pixels per axis
+/// evaluate one factor per row and column (radius below 3.5 pixels).
+const SEPARABLE_SPLAT_WIDTH: usize = 8;
+
 /// Where a camera sample for a pixel goes, from filter importance sampling.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CameraSamplePosition {
@@ -177,6 +181,34 @@ impl Film {
                 return;
             }
             ranges[axis] = (low.max(0.0) as usize, high.min(limit) as usize);
+        }
+        if let Filter::Gaussian(gaussian) = &self.filter
+            && ranges.iter().all(|(low, high)| high - low < SEPARABLE_SPLAT_WIDTH)
+        {
+            // The Gaussian is separable: one factor per column and per row
+            // (the same values as `evaluate`, which multiplies them).
+            let mut factors = [[None; SEPARABLE_SPLAT_WIDTH]; 2];
+            for (axis, (range, factors)) in ranges.iter().zip(&mut factors).enumerate() {
+                for (pixel, factor) in (range.0..=range.1).zip(factors.iter_mut()) {
+                    let offset = (pixel as f64 + 0.5 - position[axis] as f64) as f32;
+                    *factor = gaussian.axis_value(axis, offset);
+                }
+            }
+            for (y, row_factor) in (ranges[1].0..=ranges[1].1).zip(factors[1]) {
+                let Some(row_factor) = row_factor else {
+                    continue;
+                };
+                for (x, column_factor) in (ranges[0].0..=ranges[0].1).zip(factors[0]) {
+                    let Some(column_factor) = column_factor else {
+                        continue;
+                    };
+                    let weight = (column_factor * row_factor) as f32 as f64;
+                    if weight != 0.0 {
+                        add(y * self.resolution[0] + x, weight);
+                    }
+                }
+            }
+            return;
         }
         for y in ranges[1].0..=ranges[1].1 {
             for x in ranges[0].0..=ranges[0].1 {

@@ -13,6 +13,7 @@ use super::path_record::{SplatEvent, SurfaceVertex};
 use super::path_walk::{WalkInput, walk};
 use super::prefix_rebuild::{ImagePlane, MemberCamera, MemberSource, rebuild_member};
 use super::seed_path::{SeedPath, trace_seed_path};
+use super::segment_cache::{SegmentCache, SegmentReuse};
 use super::settings::{BreakupChoice, LqmcSettings};
 use super::statistics::{FailureReason, LqmcStatistics};
 use crate::film::SplatBuffer;
@@ -20,7 +21,7 @@ use crate::integrators::TraceCounters;
 use crate::integrators::path::PathSettings;
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
-use crate::spectrum::to_linear_srgb;
+use crate::spectrum::{SampledWavelengths, to_linear_srgb};
 use qmc::hash::{hash2, hash3, to_unit_f64};
 use qmc::lattice_table::{LQMC_MAX_DIMENSIONS, lqmc_lattice_entry};
 
@@ -65,6 +66,8 @@ pub struct LqmcScratch {
     dimensions: Vec<ExploredDimension>,
     probe_dimensions: Vec<ExploredDimension>,
     breakup_weights: Vec<f64>,
+    member_breakup_weights: Vec<f64>,
+    segment_cache: SegmentCache,
     seed_numbers: Vec<f64>,
     tiles: Vec<u32>,
     jitter: Vec<f64>,
@@ -102,12 +105,16 @@ pub fn render_pixel_sample(
         &mut seed_path,
     );
     let sample_key = hash3(context.seed, crate::sampler::pixel_key(pixel), sample_index);
+    let seed_wavelengths = seed_path
+        .camera
+        .map(|camera| SampledWavelengths::sample_visible(camera.u_wavelength));
     for (event_index, event) in seed_path.events.iter().enumerate() {
         let event_key = hash2(sample_key, event_index as u64);
         handle_event(
             context,
             &seed_path,
             event,
+            seed_wavelengths,
             sample_index,
             event_key,
             sampler,
@@ -126,6 +133,7 @@ fn handle_event(
     context: &LqmcContext<'_>,
     seed_path: &SeedPath,
     event: &SplatEvent,
+    seed_wavelengths: Option<SampledWavelengths>,
     sample_index: u64,
     event_key: u64,
     sampler: &mut dyn SampleSource,
@@ -138,6 +146,7 @@ fn handle_event(
     let settings = context.settings;
     let camera = seed_path.camera.as_ref().expect("traced");
     let vertices = &seed_path.vertices[event.vertex_range()];
+    scratch.segment_cache.clear();
     let Ok(walked) = walk(
         scene,
         &context.path_settings,
@@ -148,8 +157,11 @@ fn handle_event(
             rebuilt_vertices: 0,
             breakup: None,
             tolerance: settings.reconnection_tolerance,
+            wavelengths: seed_wavelengths,
+            first_projection: None,
         },
         sampler,
+        &mut SegmentReuse::Record(&mut scratch.segment_cache),
     ) else {
         return;
     };
@@ -330,7 +342,9 @@ fn explore(
     scratch.member_splats.clear();
     scratch.member_densities.clear();
     let mut probe = std::mem::take(&mut scratch.probe_dimensions);
-    let mut member_breakup_weights = std::mem::take(&mut scratch.breakup_weights);
+    // `handle_event` left the seed's breakup weights here.
+    let seed_breakup_weights = std::mem::take(&mut scratch.breakup_weights);
+    let mut member_breakup_weights = std::mem::take(&mut scratch.member_breakup_weights);
     for j in 0..member_count {
         let numbers = &scratch.members.numbers[j * dimension_count..(j + 1) * dimension_count];
         let mut member_camera = MemberCamera {
@@ -369,6 +383,7 @@ fn explore(
             overrides: &scratch.overrides,
         };
         statistics.members[class.index()] += 1;
+        let wavelengths = SampledWavelengths::sample_visible(member_camera.u_wavelength);
         let member = rebuild_member(
             scene,
             settings.reconnection_tolerance,
@@ -377,11 +392,13 @@ fn explore(
             event,
             breakup,
             &member_camera,
+            wavelengths,
             &mut source,
             counters,
             &mut scratch.member_vertices,
         )
-        .and_then(|member_vertex| {
+        .and_then(|rebuilt| {
+            let member_vertex = rebuilt.camera;
             let walked = walk(
                 scene,
                 &context.path_settings,
@@ -392,8 +409,14 @@ fn explore(
                     rebuilt_vertices: breakup,
                     breakup: Some(breakup),
                     tolerance: settings.reconnection_tolerance,
+                    wavelengths: Some(wavelengths),
+                    first_projection: rebuilt.first_projection,
                 },
                 &mut source,
+                &mut SegmentReuse::Reuse {
+                    cache: &scratch.segment_cache,
+                    first: breakup + 1,
+                },
             )?;
             // P(c | X_j): the member's own class and breakup probability.
             let member_path = EventPath {
@@ -405,17 +428,32 @@ fn explore(
             if member_class != class {
                 return Err(FailureReason::ClassChange);
             }
-            breakup_weights(
-                settings,
-                &member_path,
-                class,
-                |b| {
-                    explored_dimensions(scene, settings, &parameters, &member_path, b, &mut probe);
-                    (1..=LQMC_MAX_DIMENSIONS).contains(&probe.len())
-                },
-                &mut member_breakup_weights,
-            );
-            let probability = breakup_probability(&member_breakup_weights, breakup);
+            // P(b | X_j) depends on the vertices' sampled lobes, roughness
+            // and media (and the class): where they are the seed's, as for
+            // every member with b = 0, the weights are the seed's.
+            let weights = if same_breakup_inputs(&scratch.member_vertices, vertices) {
+                &seed_breakup_weights
+            } else {
+                breakup_weights(
+                    settings,
+                    &member_path,
+                    class,
+                    |b| {
+                        explored_dimensions(
+                            scene,
+                            settings,
+                            &parameters,
+                            &member_path,
+                            b,
+                            &mut probe,
+                        );
+                        (1..=LQMC_MAX_DIMENSIONS).contains(&probe.len())
+                    },
+                    &mut member_breakup_weights,
+                );
+                &member_breakup_weights
+            };
+            let probability = breakup_probability(weights, breakup);
             if probability <= 0.0 {
                 return Err(FailureReason::ClassChange);
             }
@@ -440,7 +478,8 @@ fn explore(
         }
     }
     scratch.probe_dimensions = probe;
-    scratch.breakup_weights = member_breakup_weights;
+    scratch.breakup_weights = seed_breakup_weights;
+    scratch.member_breakup_weights = member_breakup_weights;
     if scratch.member_splats.is_empty() {
         statistics.empty_explorations += 1;
         return;
@@ -461,6 +500,20 @@ fn explore(
             let _ = buffer.add(*raster, value);
         }
     }
+}
+
+/// Whether `member`'s vertices give the breakup CDF and the explored
+/// dimensions the same inputs as `seed`'s: the same sampled lobes, the same
+/// roughness (bit for bit) and the same media, vertex by vertex
+/// ([`breakup_weights`] and [`explored_dimensions`] read nothing else of
+/// the vertices).
+fn same_breakup_inputs(member: &[SurfaceVertex], seed: &[SurfaceVertex]) -> bool {
+    member.len() == seed.len()
+        && member.iter().zip(seed).all(|(member, seed)| {
+            member.sampled == seed.sampled
+                && member.roughness.to_bits() == seed.roughness.to_bits()
+                && member.medium == seed.medium
+        })
 }
 
 /// The paper's proposed remedy against visible lattice structure: the two

@@ -166,15 +166,28 @@ pub enum SegmentTarget<'a> {
 /// Whether a hit is the recorded surface vertex `target` (relative
 /// `tolerance` of the segment length `distance`).
 pub fn lands_on(hit: &SurfaceHit, target: &SurfaceVertex, distance: f32, tolerance: f32) -> bool {
+    lands_at(hit.shape_index, hit.point, target, distance, tolerance)
+}
+
+/// Whether a hit of shape `shape_index` at `point` is the recorded surface
+/// vertex `target` (see [`lands_on`]).
+pub fn lands_at(
+    shape_index: u32,
+    point: glam::Vec3,
+    target: &SurfaceVertex,
+    distance: f32,
+    tolerance: f32,
+) -> bool {
     !target.is_medium()
-        && hit.shape_index == target.raw_hit.shape_index
-        && (hit.point - target.raw_hit.point).length() <= tolerance * distance.max(1e-6)
+        && shape_index == target.raw_hit.shape_index
+        && (point - target.raw_hit.point).length() <= tolerance * distance.max(1e-6)
 }
 
 /// Traces the segment from `ray` (starting in `medium`) to `target` through
 /// index-matched boundaries: fails with `Occluded` if another surface lies
 /// in between, `Misplaced` if a surface target is not where the ray lands
-/// or a medium target lies in another medium.
+/// or a medium target lies in another medium. Its pieces inside media are
+/// reported to `recorder` when given (see [`super::segment_cache`]).
 pub fn trace_segment(
     scene: &Scene,
     mut ray: Ray,
@@ -182,6 +195,7 @@ pub fn trace_segment(
     target: SegmentTarget<'_>,
     tolerance: f32,
     wavelengths: &SampledWavelengths,
+    mut recorder: Option<&mut super::segment_cache::SegmentCache>,
 ) -> Result<TracedSegment, FailureReason> {
     let mut result = SampledSpectrum::splat(1.0);
     let target_point = match target {
@@ -193,6 +207,9 @@ pub fn trace_segment(
         if let Some(index) = medium {
             if !distance.is_finite() {
                 return Err(FailureReason::Evaluation);
+            }
+            if let Some(recorder) = recorder.as_deref_mut() {
+                recorder.piece(index, distance);
             }
             result *= scene.media[index as usize].transmittance(distance, wavelengths);
         }

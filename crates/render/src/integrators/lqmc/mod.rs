@@ -15,7 +15,8 @@
 //! transform, closest point, shift), [`prefix_rebuild`] (members),
 //! [`path_walk`] (contribution and suffix density of a path),
 //! [`medium_segment`], [`volume_seed`] and [`volume_walk`] (the same
-//! through homogeneous media, as `volpath` traces them),
+//! through homogeneous media, as `volpath` traces them), [`segment_cache`]
+//! (members reuse the seed's traced suffix segments),
 //! [`estimator`] (Eq. 9 extended), [`statistics`] (`--stats`),
 //! [`exploration`] (one pixel sample), [`progression_variance`] (the
 //! variance layer of LQMC renders).
@@ -31,6 +32,7 @@ pub mod path_walk;
 pub mod prefix_rebuild;
 pub mod progression_variance;
 pub mod seed_path;
+pub mod segment_cache;
 pub mod settings;
 pub mod statistics;
 pub mod volume_seed;

@@ -16,7 +16,9 @@
 //! the suffix density (see `estimator`).
 
 use super::path_record::{CameraVertex, SurfaceVertex, Terminal};
+use super::segment_cache::SegmentReuse;
 use super::statistics::FailureReason;
+use crate::camera::CameraProjection;
 use crate::geometry::{offset_ray_origin, spawn_ray, spawn_ray_to_point};
 use crate::integrators::path::{PathSettings, emission_weight};
 use crate::material::{BsdfModel, SurfaceBsdf};
@@ -91,6 +93,14 @@ pub struct WalkInput<'a> {
     /// Relative distance within which a re-traced segment must land on its
     /// vertex (scenes with media, whose every segment is traced again).
     pub tolerance: f32,
+    /// The wavelengths `SampledWavelengths::sample_visible(camera.u_wavelength)`
+    /// when the caller has them already (surface scenes; saves sampling
+    /// them again).
+    pub wavelengths: Option<SampledWavelengths>,
+    /// The camera's projection of the first vertex through the lens point
+    /// `camera.origin` (`camera.project(first vertex, u_lens, u_time)`)
+    /// when the caller has it already (a member with breakup vertex 0).
+    pub first_projection: Option<CameraProjection>,
 }
 
 /// Whether `input` is a next-event path at its full-path breakup b = k
@@ -100,19 +110,24 @@ pub(super) fn full_path_next_event(input: &WalkInput<'_>) -> bool {
         && input.breakup.is_some_and(|b| b > input.vertices.len())
 }
 
-/// Evaluates the path; `numbers` answers the seed's numbers by dimension.
+/// Evaluates the path; `numbers` answers the seed's numbers by dimension;
+/// `segments` records or reuses traced segments in scenes with media (see
+/// [`super::segment_cache`]; surface scenes trace no segment again).
 pub fn walk(
     scene: &Scene,
     settings: &PathSettings,
     input: &WalkInput<'_>,
     numbers: &mut dyn SampleSource,
+    segments: &mut SegmentReuse<'_>,
 ) -> Result<WalkedPath, FailureReason> {
     if !scene.media.is_empty() {
-        return super::volume_walk::walk_volumetric(scene, settings, input, numbers);
+        return super::volume_walk::walk_volumetric(scene, settings, input, numbers, segments);
     }
     let camera = input.camera;
     let vertices = input.vertices;
-    let mut wavelengths = SampledWavelengths::sample_visible(camera.u_wavelength);
+    let mut wavelengths = input
+        .wavelengths
+        .unwrap_or_else(|| SampledWavelengths::sample_visible(camera.u_wavelength));
     let mut throughput = SampledSpectrum::splat(1.0);
     let mut eta_scale = 1.0f32;
     let mut specular_bounce = true;
@@ -128,10 +143,13 @@ pub fn walk(
     }
     if in_suffix(0) && !vertices.is_empty() {
         let first = &vertices[0];
-        let projection = scene
-            .camera
-            .project(first.hit.point, camera.u_lens, camera.u_time)
-            .ok_or(FailureReason::OutsideImage)?;
+        let projection = match input.first_projection {
+            Some(projection) => projection,
+            None => scene
+                .camera
+                .project(first.hit.point, camera.u_lens, camera.u_time)
+                .ok_or(FailureReason::OutsideImage)?,
+        };
         let to_point = first.hit.point - projection.origin;
         let distance_squared = to_point.length_squared() as f64;
         let cosine =

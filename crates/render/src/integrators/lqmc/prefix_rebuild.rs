@@ -13,7 +13,7 @@
 //! ([`super::volume_walk`]).
 
 use super::classification::lobe_roughness;
-use super::medium_segment::{FlightEnd, lands_on, medium_roughness, sample_flight};
+use super::medium_segment::{FlightEnd, lands_at, medium_roughness, sample_flight};
 use super::path_record::{CameraVertex, SplatEvent, SurfaceVertex, Terminal};
 use super::statistics::FailureReason;
 use crate::geometry::{Ray, SurfaceHit, spawn_ray};
@@ -262,8 +262,55 @@ fn rebuild_volumetric_prefix(
     Ok(())
 }
 
+/// How a segment traced from `ray` towards the recorded surface vertex
+/// `target`, `distance` away, ends: `Ok` if it lands on it (within the
+/// relative `tolerance`), `Occluded` if something lies before it,
+/// `Misplaced` otherwise. Only the closest primitive is asked for (no
+/// surface record), up to the farthest distance at which a hit can still
+/// land on the target: the triangle inequality bounds it by the distance
+/// plus the tolerance plus the ray origin's offset from `from`.
+fn trace_to_vertex(
+    scene: &Scene,
+    ray: &Ray,
+    from: glam::Vec3,
+    target: &SurfaceVertex,
+    distance: f32,
+    tolerance: f32,
+    counters: &mut TraceCounters,
+) -> Result<(), FailureReason> {
+    counters.closest_hit_rays += 1;
+    let offset = (ray.origin - from).length();
+    let reach = (distance * (1.0 + 2.0 * tolerance) + 2.0 * offset) * (1.0 + 1e-5);
+    match scene.geometry.intersect_primitive(ray, reach) {
+        Some(hit)
+            if lands_at(
+                hit.reference.shape_index,
+                ray.origin + hit.t * ray.direction,
+                target,
+                distance,
+                tolerance,
+            ) =>
+        {
+            Ok(())
+        }
+        Some(hit) if hit.t < distance * (1.0 - tolerance) => Err(FailureReason::Occluded),
+        _ => Err(FailureReason::Misplaced),
+    }
+}
+
+/// A rebuilt member: its camera vertex and, for breakup vertex 0, the
+/// camera's projection of its first vertex (which the walk needs again).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RebuiltMember {
+    /// The camera vertex.
+    pub camera: CameraVertex,
+    /// For b = 0: `camera.project(x_1, u_lens, u_time)`.
+    pub first_projection: Option<crate::camera::CameraProjection>,
+}
+
 /// Rebuilds the member's vertices (prefix, then the seed's suffix) into
-/// `vertices` and returns its camera vertex.
+/// `vertices` and returns its camera vertex; `wavelengths` are those of the
+/// member's wavelength number.
 #[allow(clippy::too_many_arguments)]
 pub fn rebuild_member(
     scene: &Scene,
@@ -273,10 +320,11 @@ pub fn rebuild_member(
     event: &SplatEvent,
     breakup: usize,
     camera: &MemberCamera,
+    wavelengths: SampledWavelengths,
     source: &mut dyn SampleSource,
     counters: &mut TraceCounters,
     vertices: &mut Vec<SurfaceVertex>,
-) -> Result<CameraVertex, FailureReason> {
+) -> Result<RebuiltMember, FailureReason> {
     vertices.clear();
     let seed_vertices = &seed_vertices[event.vertex_range()];
     if breakup == 0 {
@@ -286,40 +334,39 @@ pub fn rebuild_member(
             .project(first.raw_hit.point, camera.u_lens, camera.u_time)
             .filter(|projection| image_plane.contains(projection.raster))
             .ok_or(FailureReason::OutsideImage)?;
-        if !scene.media.is_empty() {
-            // The walk traces (and checks) every segment through the media.
-            vertices.extend_from_slice(seed_vertices);
-            return Ok(CameraVertex {
+        let member = RebuiltMember {
+            camera: CameraVertex {
                 raster: projection.raster,
                 u_lens: camera.u_lens,
                 u_time: camera.u_time,
                 u_wavelength: camera.u_wavelength,
                 origin: projection.origin,
-            });
+            },
+            first_projection: Some(projection),
+        };
+        if !scene.media.is_empty() {
+            // The walk traces (and checks) every segment through the media.
+            vertices.extend_from_slice(seed_vertices);
+            return Ok(member);
         }
         let to_first = first.raw_hit.point - projection.origin;
         let distance = to_first.length();
-        let ray = crate::geometry::Ray::with_time(
+        let ray = Ray::with_time(
             projection.origin,
             to_first / distance,
             scene.camera.time(camera.u_time),
         );
-        counters.closest_hit_rays += 1;
-        match scene.geometry.intersect(&ray, f32::INFINITY) {
-            Some(hit) if lands_on(&hit, first, distance, tolerance) => {}
-            Some(hit) if hit.t < distance * (1.0 - tolerance) => {
-                return Err(FailureReason::Occluded);
-            }
-            _ => return Err(FailureReason::Misplaced),
-        }
+        trace_to_vertex(
+            scene,
+            &ray,
+            projection.origin,
+            first,
+            distance,
+            tolerance,
+            counters,
+        )?;
         vertices.extend_from_slice(seed_vertices);
-        return Ok(CameraVertex {
-            raster: projection.raster,
-            u_lens: camera.u_lens,
-            u_time: camera.u_time,
-            u_wavelength: camera.u_wavelength,
-            origin: projection.origin,
-        });
+        return Ok(member);
     }
 
     let camera_ray = scene
@@ -332,7 +379,11 @@ pub fn rebuild_member(
         u_wavelength: camera.u_wavelength,
         origin: camera_ray.origin,
     };
-    let mut wavelengths = SampledWavelengths::sample_visible(camera.u_wavelength);
+    let member = RebuiltMember {
+        camera: camera_vertex,
+        first_projection: None,
+    };
+    let mut wavelengths = wavelengths;
     let mut ray =
         crate::geometry::Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time);
     if !scene.media.is_empty() {
@@ -349,7 +400,7 @@ pub fn rebuild_member(
         )?;
         // The walk traces (and checks) the reconnection through the media.
         vertices.extend_from_slice(&seed_vertices[breakup.min(seed_vertices.len())..]);
-        return Ok(camera_vertex);
+        return Ok(member);
     }
     let rebuilt = breakup.min(seed_vertices.len());
     for (m, seed_vertex) in seed_vertices.iter().enumerate().take(breakup) {
@@ -390,14 +441,15 @@ pub fn rebuild_member(
         let to_target = target.raw_hit.point - breakup_vertex.raw_hit.point;
         let distance = to_target.length();
         let ray = spawn_ray(&breakup_vertex.raw_hit, to_target / distance);
-        counters.closest_hit_rays += 1;
-        match scene.geometry.intersect(&ray, f32::INFINITY) {
-            Some(hit) if lands_on(&hit, target, distance, tolerance) => {}
-            Some(hit) if hit.t < distance * (1.0 - tolerance) => {
-                return Err(FailureReason::Occluded);
-            }
-            _ => return Err(FailureReason::Misplaced),
-        }
+        trace_to_vertex(
+            scene,
+            &ray,
+            breakup_vertex.raw_hit.point,
+            target,
+            distance,
+            tolerance,
+            counters,
+        )?;
         vertices.extend_from_slice(&seed_vertices[breakup..]);
     } else if let Terminal::Environment { direction } = event.terminal {
         let ray = spawn_ray(&breakup_vertex.raw_hit, direction);
@@ -407,5 +459,5 @@ pub fn rebuild_member(
         }
     }
     // A next-event connection from x_b is checked by the walk's shadow ray.
-    Ok(camera_vertex)
+    Ok(member)
 }

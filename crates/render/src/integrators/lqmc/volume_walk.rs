@@ -19,6 +19,7 @@
 //! positions are kept and the free-flight decision is part of the density.
 
 use super::medium_segment::{SegmentTarget, trace_segment};
+use super::segment_cache::SegmentReuse;
 use super::path_record::{CameraVertex, SurfaceVertex, Terminal};
 use super::path_walk::{
     SPECULAR_DIRECTION_COSINE, WalkInput, WalkedPath, full_path_next_event, non_specular_eta,
@@ -138,6 +139,7 @@ pub fn walk_volumetric(
     settings: &PathSettings,
     input: &WalkInput<'_>,
     numbers: &mut dyn SampleSource,
+    segments: &mut SegmentReuse<'_>,
 ) -> Result<WalkedPath, FailureReason> {
     let camera = input.camera;
     let vertices = input.vertices;
@@ -181,14 +183,17 @@ pub fn walk_volumetric(
         let distance = to_vertex.length();
         let direction = to_vertex / distance;
         let ray = segment_ray(camera, scene, from, direction);
-        let segment = trace_segment(
-            scene,
-            ray,
-            state.medium,
-            SegmentTarget::Vertex(vertex),
-            input.tolerance,
-            &wavelengths,
-        )?;
+        let segment = segments.segment(scene, m, state.medium, &wavelengths, |recorder| {
+            trace_segment(
+                scene,
+                ray,
+                state.medium,
+                SegmentTarget::Vertex(vertex),
+                input.tolerance,
+                &wavelengths,
+                recorder,
+            )
+        })?;
         state.medium = segment.end_medium;
         let flight_density =
             state.apply_segment(scene, segment.transmittance, Some(vertex), &wavelengths)?;
@@ -450,13 +455,22 @@ pub fn walk_volumetric(
     };
     let from = vertices.last();
     let ray = segment_ray(camera, scene, from, direction);
-    let segment = trace_segment(
+    let segment = segments.segment(
         scene,
-        ray,
+        vertices.len(),
         state.medium,
-        SegmentTarget::Escape,
-        input.tolerance,
         &wavelengths,
+        |recorder| {
+            trace_segment(
+                scene,
+                ray,
+                state.medium,
+                SegmentTarget::Escape,
+                input.tolerance,
+                &wavelengths,
+                recorder,
+            )
+        },
     )?;
     let flight_density = state.apply_segment(scene, segment.transmittance, None, &wavelengths)?;
     if in_suffix(vertices.len()) {
