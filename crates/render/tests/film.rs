@@ -173,7 +173,10 @@ fn gaussian_splats_equal_the_filter_value_per_pixel() {
     ] {
         let mut random = SeekablePcg::new(5, 0);
         for _ in 0..40 {
-            let position = [random.next_f32() * 12.0 - 1.0, random.next_f32() * 9.0 - 1.0];
+            let position = [
+                random.next_f32() * 12.0 - 1.0,
+                random.next_f32() * 9.0 - 1.0,
+            ];
             let mut film = Film::new([10, 7], Filter::Gaussian(filter)).unwrap();
             let mut buffer = SplatBuffer::new();
             buffer.add(position, [1.0, 2.0, 0.5]);
@@ -186,7 +189,8 @@ fn gaussian_splats_equal_the_filter_value_per_pixel() {
                     ];
                     let weight = filter.evaluate(offset) as f64;
                     let inside = [0, 1].into_iter().all(|axis| {
-                        offset[axis] > -filter.radius()[axis] && offset[axis] <= filter.radius()[axis]
+                        offset[axis] > -filter.radius()[axis]
+                            && offset[axis] <= filter.radius()[axis]
                     });
                     let expected = if inside { weight } else { 0.0 };
                     assert_eq!(

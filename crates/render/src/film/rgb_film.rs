@@ -183,7 +183,9 @@ impl Film {
             ranges[axis] = (low.max(0.0) as usize, high.min(limit) as usize);
         }
         if let Filter::Gaussian(gaussian) = &self.filter
-            && ranges.iter().all(|(low, high)| high - low < SEPARABLE_SPLAT_WIDTH)
+            && ranges
+                .iter()
+                .all(|(low, high)| high - low < SEPARABLE_SPLAT_WIDTH)
         {
             // The Gaussian is separable: one factor per column and per row
             // (the same values as `evaluate`, which multiplies them).

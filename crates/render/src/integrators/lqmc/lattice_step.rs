@@ -104,7 +104,17 @@ mod tests {
     #[test]
     fn fraction_agrees_with_floor() {
         let mut random = qmc::random::SeekablePcg::new(3, 0);
-        let edges = [-1.0, -0.0, 0.0, 1.0, 2.0, 1.0 - f64::EPSILON, -1e-300, 3.5, -7.25];
+        let edges = [
+            -1.0,
+            -0.0,
+            0.0,
+            1.0,
+            2.0,
+            1.0 - f64::EPSILON,
+            -1e-300,
+            3.5,
+            -7.25,
+        ];
         let values = (0..10_000)
             .map(|_| random.next_f64() * 4.0 - 1.5)
             .chain(edges);

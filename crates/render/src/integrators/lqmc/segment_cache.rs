@@ -74,7 +74,12 @@ impl SegmentCache {
     }
 
     /// Stores the traced segment `index` (which started in `start_medium`).
-    pub(super) fn finish(&mut self, index: usize, start_medium: Option<u32>, end_medium: Option<u32>) {
+    pub(super) fn finish(
+        &mut self,
+        index: usize,
+        start_medium: Option<u32>,
+        end_medium: Option<u32>,
+    ) {
         if self.segments.len() <= index {
             self.segments.resize(index + 1, None);
         }

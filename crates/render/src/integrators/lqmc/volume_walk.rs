@@ -19,11 +19,11 @@
 //! positions are kept and the free-flight decision is part of the density.
 
 use super::medium_segment::{SegmentTarget, trace_segment};
-use super::segment_cache::SegmentReuse;
 use super::path_record::{CameraVertex, SurfaceVertex, Terminal};
 use super::path_walk::{
     SPECULAR_DIRECTION_COSINE, WalkInput, WalkedPath, full_path_next_event, non_specular_eta,
 };
+use super::segment_cache::SegmentReuse;
 use super::statistics::FailureReason;
 use super::volume_seed::start_medium;
 use crate::geometry::{Ray, offset_ray_origin, spawn_ray};
