@@ -210,7 +210,7 @@ fn handle_event(
             BreakupChoice::Roughness | BreakupChoice::FullPath
         ) || settings.breakup == BreakupChoice::Fixed(breakup)
     );
-    explore(
+    let explored = explore(
         context,
         seed_path,
         event,
@@ -224,9 +224,23 @@ fn handle_event(
         statistics,
         counters,
     );
+    if !explored {
+        direct(splats, statistics);
+    }
 }
 
-/// Explores one event with breakup vertex `breakup` (Alg. 1).
+/// Explores one event with breakup vertex `breakup` (Alg. 1) and splats its
+/// members; returns false, having splatted nothing, when the seed's own
+/// member fails (the caller then splats the seed as it is).
+///
+/// Why that keeps the estimator unbiased: Eq. (9)'s weights form a
+/// partition of unity only if the seeds that trigger an exploration of a
+/// set are exactly its valid members. A seed that fails in its own set (its
+/// rebuilt path changes class, misses the reconnection tolerance, ...) is,
+/// by the same deterministic test, invalid in every set it belongs to, so
+/// it must neither trigger the exploration (that would over-weight the
+/// other members) nor lose its contribution: it is splatted directly with
+/// weight 1, which is its whole share.
 #[allow(clippy::too_many_arguments)]
 fn explore(
     context: &LqmcContext<'_>,
@@ -241,7 +255,7 @@ fn explore(
     splats: &mut SplatBuffer,
     statistics: &mut LqmcStatistics,
     counters: &mut TraceCounters,
-) {
+) -> bool {
     let scene = context.scene;
     let settings = context.settings;
     let camera = seed_path.camera.as_ref().expect("traced");
@@ -310,8 +324,7 @@ fn explore(
         );
     }
     let Ok(entry) = lqmc_lattice_entry(parameters.lattice_size, dimension_count) else {
-        let _ = splats.add(camera.raster.to_array(), [0.0; 3]);
-        return;
+        return false;
     };
     let found = lattice_members(
         entry,
@@ -326,8 +339,13 @@ fn explore(
         &mut statistics.closest_point,
     );
     if found.is_err() {
-        return;
+        return false;
     }
+    // The seed's own member takes the seed's numbers exactly (the lattice
+    // mapping reproduces them only up to rounding).
+    let seed_member = scratch.members.seed_member;
+    scratch.members.numbers[seed_member * dimension_count..(seed_member + 1) * dimension_count]
+        .copy_from_slice(&scratch.seed_numbers);
     statistics.explorations[class.index()] += 1;
     statistics.breakups[breakup.min(3)] += 1;
     if scratch
@@ -345,6 +363,7 @@ fn explore(
     // `handle_event` left the seed's breakup weights here.
     let seed_breakup_weights = std::mem::take(&mut scratch.breakup_weights);
     let mut member_breakup_weights = std::mem::take(&mut scratch.member_breakup_weights);
+    let mut seed_member_valid = false;
     for j in 0..member_count {
         let numbers = &scratch.members.numbers[j * dimension_count..(j + 1) * dimension_count];
         let mut member_camera = MemberCamera {
@@ -467,6 +486,7 @@ fn explore(
                     continue;
                 }
                 statistics.valid_members[class.index()] += 1;
+                seed_member_valid |= j == seed_member;
                 scratch.member_splats.push((
                     member_vertex.raster.to_array(),
                     to_linear_srgb(&walked.contribution, &walked.wavelengths)
@@ -480,9 +500,9 @@ fn explore(
     scratch.probe_dimensions = probe;
     scratch.breakup_weights = seed_breakup_weights;
     scratch.member_breakup_weights = member_breakup_weights;
-    if scratch.member_splats.is_empty() {
+    if !seed_member_valid {
         statistics.empty_explorations += 1;
-        return;
+        return false;
     }
     member_weights(&scratch.member_densities, &mut scratch.weights);
     for ((raster, rgb), weight) in scratch.member_splats.iter().zip(&scratch.weights) {
@@ -500,6 +520,7 @@ fn explore(
             let _ = buffer.add(*raster, value);
         }
     }
+    true
 }
 
 /// Whether `member`'s vertices give the breakup CDF and the explored

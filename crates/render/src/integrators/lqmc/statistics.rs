@@ -82,7 +82,8 @@ pub struct LqmcStatistics {
     pub valid_members: [u64; 4],
     /// Failed members per reason ([`FailureReason::ALL`] order).
     pub failures: [u64; 8],
-    /// Explorations in which every member failed (nothing splatted).
+    /// Explorations abandoned because the seed's own member failed (the
+    /// seed is then splatted directly; see `exploration::explore`).
     pub empty_explorations: u64,
     /// Explorations per breakup vertex b = 0, 1, 2, ≥ 3.
     pub breakups: [u64; 4],
@@ -218,7 +219,7 @@ impl LqmcStatistics {
             self.breakups[0], self.breakups[1], self.breakups[2], self.breakups[3]
         ));
         lines.push(format!(
-            "  failed members: {} of {} ({:.2} %), {} explorations without any",
+            "  failed members: {} of {} ({:.2} %); {} explorations abandoned (the seed failed in its own set: splatted directly)",
             failures,
             members,
             100.0 * failures as f64 / members.max(1) as f64,
