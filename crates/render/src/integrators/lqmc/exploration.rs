@@ -483,6 +483,9 @@ fn explore(
                 let density = probability * walked.suffix_density;
                 if !(density > 0.0 && density.is_finite()) {
                     statistics.fail(FailureReason::Evaluation);
+                    if j == seed_member {
+                        statistics.seed_failures[FailureReason::Evaluation.index()] += 1;
+                    }
                     continue;
                 }
                 statistics.valid_members[class.index()] += 1;
@@ -494,7 +497,12 @@ fn explore(
                 ));
                 scratch.member_densities.push(density);
             }
-            Err(reason) => statistics.fail(reason),
+            Err(reason) => {
+                statistics.fail(reason);
+                if j == seed_member {
+                    statistics.seed_failures[reason.index()] += 1;
+                }
+            }
         }
     }
     scratch.probe_dimensions = probe;

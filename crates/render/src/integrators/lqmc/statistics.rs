@@ -85,6 +85,9 @@ pub struct LqmcStatistics {
     /// Explorations abandoned because the seed's own member failed (the
     /// seed is then splatted directly; see `exploration::explore`).
     pub empty_explorations: u64,
+    /// Of those, the seed's own member's failure reason
+    /// ([`FailureReason::ALL`] order).
+    pub seed_failures: [u64; 8],
     /// Explorations per breakup vertex b = 0, 1, 2, ≥ 3.
     pub breakups: [u64; 4],
     /// Explorations that explore a free-flight distance (a medium vertex
@@ -173,6 +176,7 @@ impl LqmcStatistics {
         }
         for i in 0..8 {
             self.failures[i] += other.failures[i];
+            self.seed_failures[i] += other.seed_failures[i];
         }
         self.empty_explorations += other.empty_explorations;
         self.medium_explorations += other.medium_explorations;
@@ -229,10 +233,11 @@ impl LqmcStatistics {
             let count = self.failures[reason.index()];
             if count > 0 {
                 lines.push(format!(
-                    "    {:24} {:>10} ({:.2} % of members)",
+                    "    {:24} {:>10} ({:.2} % of members; {} seeds in their own set)",
                     reason.name(),
                     count,
-                    100.0 * count as f64 / members.max(1) as f64
+                    100.0 * count as f64 / members.max(1) as f64,
+                    self.seed_failures[reason.index()]
                 ));
             }
         }
