@@ -288,28 +288,9 @@ impl Light {
                     is_infinite: true,
                 })
             }
-            Light::Spot(spot) => {
-                let to_light = spot.position - reference;
-                let distance_squared = to_light.length_squared();
-                if distance_squared == 0.0 {
-                    return None;
-                }
-                let wi = to_light / distance_squared.sqrt();
-                let intensity = spot.intensity_towards(-wi, wavelengths);
-                if intensity.is_black() {
-                    return None;
-                }
-                Some(LightSample {
-                    radiance: intensity / distance_squared,
-                    wi,
-                    point: spot.position,
-                    normal: Vec3::ZERO,
-                    uv: Vec2::ZERO,
-                    pdf: 1.0,
-                    is_delta: true,
-                    is_infinite: false,
-                })
-            }
+            Light::Spot(spot) => directional_point_sample(spot.position, reference, |direction| {
+                spot.intensity_towards(direction, wavelengths)
+            }),
             Light::Directional {
                 direction,
                 irradiance,
@@ -376,25 +357,8 @@ impl Light {
                 })
             }
             Light::Projector(projector) => {
-                let to_light = projector.position - reference;
-                let distance_squared = to_light.length_squared();
-                if distance_squared == 0.0 {
-                    return None;
-                }
-                let wi = to_light / distance_squared.sqrt();
-                let intensity = projector.intensity_towards(-wi, wavelengths);
-                if intensity.is_black() {
-                    return None;
-                }
-                Some(LightSample {
-                    radiance: intensity / distance_squared,
-                    wi,
-                    point: projector.position,
-                    normal: Vec3::ZERO,
-                    uv: Vec2::ZERO,
-                    pdf: 1.0,
-                    is_delta: true,
-                    is_infinite: false,
+                directional_point_sample(projector.position, reference, |direction| {
+                    projector.intensity_towards(direction, wavelengths)
                 })
             }
         }
@@ -489,4 +453,34 @@ impl Light {
 /// (the end of a sampled point at infinity).
 fn far_distance(reference: Vec3, scene_center: Vec3, scene_radius: f32) -> f32 {
     2.0 * (scene_radius.max(1.0) + reference.distance(scene_center))
+}
+
+/// The incident-light sample of a point light at `position` whose intensity
+/// depends on the direction of emission (spot, projector): the radiance
+/// `intensity(−wi) / d²` towards `reference`, `None` where it is black.
+fn directional_point_sample(
+    position: Vec3,
+    reference: Vec3,
+    intensity: impl FnOnce(Vec3) -> SampledSpectrum,
+) -> Option<LightSample> {
+    let to_light = position - reference;
+    let distance_squared = to_light.length_squared();
+    if distance_squared == 0.0 {
+        return None;
+    }
+    let wi = to_light / distance_squared.sqrt();
+    let intensity = intensity(-wi);
+    if intensity.is_black() {
+        return None;
+    }
+    Some(LightSample {
+        radiance: intensity / distance_squared,
+        wi,
+        point: position,
+        normal: Vec3::ZERO,
+        uv: Vec2::ZERO,
+        pdf: 1.0,
+        is_delta: true,
+        is_infinite: false,
+    })
 }

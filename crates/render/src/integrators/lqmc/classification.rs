@@ -270,11 +270,8 @@ mod tests {
         specular.medium = None;
         specular.sampled = BsdfFlags::SPECULAR | BsdfFlags::REFLECTION;
         let vertices = [vertex(0.6), glossy, vertex(1.0), specular, vertex(1.0)];
-        let event = SplatEvent {
-            first_vertex: 0,
-            vertex_count: vertices.len(),
-            terminal: Terminal::Emission { light_index: 0 },
-        };
+        let event =
+            SplatEvent::of_first_vertices(vertices.len(), Terminal::Emission { light_index: 0 });
         let path = EventPath {
             camera: &camera,
             vertices: &vertices,
@@ -320,11 +317,7 @@ mod tests {
         };
         let vertices = [SurfaceVertex::in_medium(Vec3::ONE, 0.0, 0, 1.0); 2];
         let weights_of = |settings: &LqmcSettings, terminal: Terminal| {
-            let event = SplatEvent {
-                first_vertex: 0,
-                vertex_count: vertices.len(),
-                terminal,
-            };
+            let event = SplatEvent::of_first_vertices(vertices.len(), terminal);
             let path = EventPath {
                 camera: &camera,
                 vertices: &vertices,

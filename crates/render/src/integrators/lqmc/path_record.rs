@@ -201,6 +201,16 @@ pub struct SplatEvent {
 }
 
 impl SplatEvent {
+    /// The event whose path is the seed's first `vertex_count` vertices
+    /// (every event but an index-matched boundary's emission).
+    pub fn of_first_vertices(vertex_count: usize, terminal: Terminal) -> Self {
+        Self {
+            first_vertex: 0,
+            vertex_count,
+            terminal,
+        }
+    }
+
     /// The event's vertices in the seed's vertex list.
     pub fn vertex_range(&self) -> std::ops::Range<usize> {
         self.first_vertex..self.first_vertex + self.vertex_count

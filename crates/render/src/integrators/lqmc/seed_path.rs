@@ -63,13 +63,12 @@ pub fn trace_seed_path(
         counters.closest_hit_rays += 1;
         let Some(raw_hit) = scene.geometry.intersect(&ray, f32::INFINITY) else {
             if !scene.environment_lights.is_empty() {
-                path.events.push(SplatEvent {
-                    first_vertex: 0,
-                    vertex_count: path.vertices.len(),
-                    terminal: Terminal::Environment {
+                path.events.push(SplatEvent::of_first_vertices(
+                    path.vertices.len(),
+                    Terminal::Environment {
                         direction: ray.direction,
                     },
-                });
+                ));
             }
             break;
         };
@@ -79,11 +78,10 @@ pub fn trace_seed_path(
         path.vertices
             .push(SurfaceVertex::surface(raw_hit, hit, 1.0));
         if let Some(light_index) = info.light {
-            path.events.push(SplatEvent {
-                first_vertex: 0,
-                vertex_count: path.vertices.len(),
-                terminal: Terminal::Emission { light_index },
-            });
+            path.events.push(SplatEvent::of_first_vertices(
+                path.vertices.len(),
+                Terminal::Emission { light_index },
+            ));
         }
         if depth + 2 > settings.max_depth {
             break;
@@ -106,11 +104,10 @@ pub fn trace_seed_path(
                 counters,
             )
         {
-            path.events.push(SplatEvent {
-                first_vertex: 0,
-                vertex_count: path.vertices.len(),
-                terminal: Terminal::NextEvent(connection),
-            });
+            path.events.push(SplatEvent::of_first_vertices(
+                path.vertices.len(),
+                Terminal::NextEvent(connection),
+            ));
         }
         let u_component = sampler.get(layout::vertex(depth as usize, layout::SCATTER_COMPONENT));
         let u = sampler.get_2d(layout::vertex(depth as usize, layout::SCATTER_DIRECTION));

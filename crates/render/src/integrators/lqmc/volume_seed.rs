@@ -73,13 +73,12 @@ pub fn trace_volumetric_seed_path(
             FlightEnd::Dead => break,
             FlightEnd::Escaped => {
                 if !scene.environment_lights.is_empty() {
-                    path.events.push(SplatEvent {
-                        first_vertex: 0,
-                        vertex_count: path.vertices.len(),
-                        terminal: Terminal::Environment {
+                    path.events.push(SplatEvent::of_first_vertices(
+                        path.vertices.len(),
+                        Terminal::Environment {
                             direction: ray.direction,
                         },
-                    });
+                    ));
                 }
                 break;
             }
@@ -106,11 +105,10 @@ pub fn trace_volumetric_seed_path(
                     sampler,
                     counters,
                 ) {
-                    path.events.push(SplatEvent {
-                        first_vertex: 0,
-                        vertex_count: path.vertices.len(),
-                        terminal: Terminal::NextEvent(connection),
-                    });
+                    path.events.push(SplatEvent::of_first_vertices(
+                        path.vertices.len(),
+                        Terminal::NextEvent(connection),
+                    ));
                 }
                 let phase = scene.media[medium_index as usize].phase;
                 let sample = phase.sample(
@@ -129,11 +127,10 @@ pub fn trace_volumetric_seed_path(
                 path.vertices
                     .push(SurfaceVertex::surface(raw_hit, hit, 1.0));
                 if let Some(light_index) = info.light {
-                    path.events.push(SplatEvent {
-                        first_vertex: 0,
-                        vertex_count: path.vertices.len(),
-                        terminal: Terminal::Emission { light_index },
-                    });
+                    path.events.push(SplatEvent::of_first_vertices(
+                        path.vertices.len(),
+                        Terminal::Emission { light_index },
+                    ));
                 }
                 if depth + 2 > settings.max_depth {
                     break;
@@ -158,11 +155,10 @@ pub fn trace_volumetric_seed_path(
                         counters,
                     )
                 {
-                    path.events.push(SplatEvent {
-                        first_vertex: 0,
-                        vertex_count: path.vertices.len(),
-                        terminal: Terminal::NextEvent(connection),
-                    });
+                    path.events.push(SplatEvent::of_first_vertices(
+                        path.vertices.len(),
+                        Terminal::NextEvent(connection),
+                    ));
                 }
                 let u_component =
                     sampler.get(layout::vertex(depth as usize, layout::SCATTER_COMPONENT));

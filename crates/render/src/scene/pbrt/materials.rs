@@ -204,6 +204,38 @@ impl Loader {
         })
     }
 
+    /// A conductor's complex index: `{prefix}eta` and `{prefix}k` (default
+    /// copper), or pbrt-v4's artist `reflectance` (a constant), not both;
+    /// `kind` names the material in errors.
+    fn conductor_index(
+        &mut self,
+        parameters: &ParameterList,
+        position: &Position,
+        kind: &str,
+        prefix: &str,
+    ) -> Result<(SpectrumDescription, SpectrumDescription), SceneFileError> {
+        let eta_name = format!("{prefix}eta");
+        let k_name = format!("{prefix}k");
+        if let Some(reflectance) = self.spectrum_texture(parameters, "reflectance")? {
+            if parameters.has(&eta_name) || parameters.has(&k_name) {
+                return Err(position.error(format!(
+                    "Material \"{kind}\": give either \"reflectance\" or \"{eta_name}\" and \"{k_name}\", not both"
+                )));
+            }
+            return artist_conductor(&reflectance).ok_or_else(|| {
+                position.error(format!(
+                    "Material \"{kind}\": a textured \"reflectance\" is not supported (expected a constant rgb or spectrum)"
+                ))
+            });
+        }
+        Ok((
+            self.plain_spectrum(parameters, &eta_name)?
+                .unwrap_or(SpectrumDescription::Named("metal-Cu-eta".into())),
+            self.plain_spectrum(parameters, &k_name)?
+                .unwrap_or(SpectrumDescription::Named("metal-Cu-k".into())),
+        ))
+    }
+
     /// The material of type `kind`.
     pub fn material(
         &mut self,
@@ -220,27 +252,7 @@ impl Loader {
             },
             "conductor" => {
                 let roughness = self.roughness(parameters)?;
-                let reflectance = self.spectrum_texture(parameters, "reflectance")?;
-                let (eta, k) = match reflectance {
-                    Some(reflectance) => {
-                        if parameters.has("eta") || parameters.has("k") {
-                            return Err(position.error(
-                                "Material \"conductor\": give either \"reflectance\" or \"eta\" and \"k\", not both",
-                            ));
-                        }
-                        artist_conductor(&reflectance).ok_or_else(|| {
-                            position.error(
-                                "Material \"conductor\": a textured \"reflectance\" is not supported (expected a constant rgb or spectrum)",
-                            )
-                        })?
-                    }
-                    None => (
-                        self.plain_spectrum(parameters, "eta")?
-                            .unwrap_or(SpectrumDescription::Named("metal-Cu-eta".into())),
-                        self.plain_spectrum(parameters, "k")?
-                            .unwrap_or(SpectrumDescription::Named("metal-Cu-k".into())),
-                    ),
-                };
+                let (eta, k) = self.conductor_index(parameters, position, kind, "")?;
                 MaterialDescription::Conductor {
                     eta,
                     k,
@@ -287,27 +299,8 @@ impl Loader {
             }
             "coatedconductor" => {
                 let (max_depth, samples, thickness) = layer_parameters(parameters, position, kind)?;
-                let reflectance = self.spectrum_texture(parameters, "reflectance")?;
-                let (conductor_eta, conductor_k) = match reflectance {
-                    Some(reflectance) => {
-                        if parameters.has("conductor.eta") || parameters.has("conductor.k") {
-                            return Err(position.error(
-                                "Material \"coatedconductor\": give either \"reflectance\" or \"conductor.eta\" and \"conductor.k\", not both",
-                            ));
-                        }
-                        artist_conductor(&reflectance).ok_or_else(|| {
-                            position.error(
-                                "Material \"coatedconductor\": a textured \"reflectance\" is not supported (expected a constant rgb or spectrum)",
-                            )
-                        })?
-                    }
-                    None => (
-                        self.plain_spectrum(parameters, "conductor.eta")?
-                            .unwrap_or(SpectrumDescription::Named("metal-Cu-eta".into())),
-                        self.plain_spectrum(parameters, "conductor.k")?
-                            .unwrap_or(SpectrumDescription::Named("metal-Cu-k".into())),
-                    ),
-                };
+                let (conductor_eta, conductor_k) =
+                    self.conductor_index(parameters, position, kind, "conductor.")?;
                 MaterialDescription::CoatedConductor {
                     interface_ior: self.scalar_index(
                         parameters,
