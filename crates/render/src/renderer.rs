@@ -9,7 +9,7 @@ use crate::integrators::lqmc::{self, LqmcSettings, LqmcStatistics};
 use crate::integrators::path::{self, PathSettings};
 use crate::integrators::volpath;
 use crate::integrators::{IntegratorKind, MisHeuristic, TraceCounters};
-use crate::sampler::{PixelSampler, SamplerKind, layout};
+use crate::sampler::{IndependentSampler, PixelSampler, SampleSource, SamplerKind, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledWavelengths, to_linear_srgb};
 use glam::Vec2;
@@ -233,15 +233,26 @@ fn render_in_pool(
                 let samples = first_sample..end_sample;
                 Some(match settings.integrator {
                     IntegratorKind::Path | IntegratorKind::VolPath => {
-                        let (tile, counters, count) = render_tile(
+                        let tile_settings = TileSettings {
                             scene,
-                            &film,
-                            settings.integrator,
-                            &path_settings,
-                            *bounds,
-                            samples,
-                            sampler.as_mut(),
-                        );
+                            film: &film,
+                            integrator: settings.integrator,
+                            path_settings: &path_settings,
+                            bounds: *bounds,
+                        };
+                        // The independent sampler (what `SamplerKind::create`
+                        // makes for it) as its own type: its hash then inlines
+                        // into the path loop.
+                        let (tile, counters, count) =
+                            if settings.sampler == SamplerKind::Independent {
+                                render_tile(
+                                    &tile_settings,
+                                    samples,
+                                    &mut IndependentSampler::new(settings.seed),
+                                )
+                            } else {
+                                render_tile(&tile_settings, samples, sampler.as_mut())
+                            };
                         TileResult {
                             tile,
                             splats: None,
@@ -369,16 +380,46 @@ fn render_tile_lqmc(
     }
 }
 
-/// Renders samples `samples` of every pixel of a tile.
-fn render_tile(
-    scene: &Scene,
-    film: &Film,
+/// What [`render_tile`] renders: the scene, the film and integrator, and
+/// the tile's pixels.
+struct TileSettings<'a> {
+    scene: &'a Scene,
+    film: &'a Film,
     integrator: IntegratorKind,
-    settings: &PathSettings,
+    path_settings: &'a PathSettings,
     bounds: PixelBounds,
+}
+
+/// A sampler seen as `dyn SampleSource`, for integrators that take one: a
+/// reference to a generic, possibly unsized sampler does not coerce to it.
+struct DynSource<'a, S: ?Sized>(&'a mut S);
+
+impl<S: SampleSource + ?Sized> SampleSource for DynSource<'_, S> {
+    #[inline]
+    fn get(&mut self, dimension: usize) -> f32 {
+        self.0.get(dimension)
+    }
+
+    #[inline]
+    fn get_2d(&mut self, dimension: usize) -> [f32; 2] {
+        self.0.get_2d(dimension)
+    }
+}
+
+/// Renders samples `samples` of every pixel of a tile. Generic over the
+/// sampler so that a concrete one inlines into the path loop.
+fn render_tile<S: PixelSampler + ?Sized>(
+    settings: &TileSettings<'_>,
     samples: std::ops::Range<u64>,
-    sampler: &mut dyn PixelSampler,
+    sampler: &mut S,
 ) -> (crate::film::FilmTile, TraceCounters, u64) {
+    let TileSettings {
+        scene,
+        film,
+        integrator,
+        path_settings,
+        bounds,
+    } = *settings;
     let mut tile = film
         .new_tile(bounds)
         .expect("tiles come from the film's own bounds");
@@ -402,7 +443,7 @@ fn render_tile(
                     // paths are path-traced, so the path tracer stands for it.
                     IntegratorKind::Path | IntegratorKind::Lqmc => path::radiance(
                         scene,
-                        settings,
+                        path_settings,
                         ray,
                         &mut wavelengths,
                         &mut *sampler,
@@ -411,10 +452,10 @@ fn render_tile(
                     ),
                     IntegratorKind::VolPath => volpath::radiance(
                         scene,
-                        settings,
+                        path_settings,
                         ray,
                         &mut wavelengths,
-                        &mut *sampler,
+                        &mut DynSource(&mut *sampler),
                         &mut counters,
                     ),
                 };

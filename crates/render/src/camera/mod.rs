@@ -54,6 +54,31 @@ pub struct PerspectiveCamera {
     screen_half_extent: Vec2,
     lens_radius: f32,
     focus_distance: f32,
+    /// Raster to normalised device coordinates: 2 / resolution per axis.
+    raster_to_ndc: Vec2,
+    /// The world-from-camera transform when it does not change while the
+    /// shutter is open (the usual case): no interpolation per ray.
+    static_world_from_camera: Option<Affine3A>,
+    /// True if that static transform is a rotation (possibly with a
+    /// reflection) and a translation, so that it keeps directions unit.
+    static_keeps_length: bool,
+}
+
+/// True if the linear part of `transform` is orthonormal to f32 rounding:
+/// it maps unit vectors to unit vectors.
+fn keeps_length(transform: &Affine3A) -> bool {
+    let columns = [
+        Vec3::from(transform.matrix3.x_axis),
+        Vec3::from(transform.matrix3.y_axis),
+        Vec3::from(transform.matrix3.z_axis),
+    ];
+    const TOLERANCE: f32 = 1e-6;
+    columns
+        .iter()
+        .all(|column| (column.length_squared() - 1.0).abs() <= TOLERANCE)
+        && columns[0].dot(columns[1]).abs() <= TOLERANCE
+        && columns[1].dot(columns[2]).abs() <= TOLERANCE
+        && columns[0].dot(columns[2]).abs() <= TOLERANCE
 }
 
 /// Settings of a [`PerspectiveCamera`], with Mitsuba's defaults.
@@ -163,6 +188,10 @@ impl PerspectiveCamera {
         } else {
             Vec2::new(half * aspect, half)
         };
+        let static_world_from_camera = (settings.world_from_camera
+            == settings.world_from_camera_end
+            || settings.shutter[1] <= settings.shutter[0])
+            .then_some(settings.world_from_camera);
         Ok(Self {
             world_from_camera: [settings.world_from_camera, settings.world_from_camera_end],
             shutter: settings.shutter,
@@ -170,6 +199,9 @@ impl PerspectiveCamera {
             screen_half_extent,
             lens_radius: settings.lens_radius,
             focus_distance: settings.focus_distance,
+            raster_to_ndc: Vec2::new(2.0 / width as f32, 2.0 / height as f32),
+            static_world_from_camera,
+            static_keeps_length: static_world_from_camera.as_ref().is_some_and(keeps_length),
         })
     }
 
@@ -186,10 +218,10 @@ impl PerspectiveCamera {
     /// World from camera at `time`: translation and scale interpolated
     /// linearly, rotation by spherical linear interpolation.
     pub fn world_from_camera(&self, time: f32) -> Affine3A {
-        let [start, end] = self.world_from_camera;
-        if start == end || self.shutter[1] <= self.shutter[0] {
-            return start;
+        if let Some(transform) = self.static_world_from_camera {
+            return transform;
         }
+        let [start, end] = self.world_from_camera;
         let t = ((time - self.shutter[0]) / (self.shutter[1] - self.shutter[0])).clamp(0.0, 1.0);
         let (scale0, rotation0, translation0) = start.to_scale_rotation_translation();
         let (scale1, rotation1, translation1) = end.to_scale_rotation_translation();
@@ -204,8 +236,8 @@ impl PerspectiveCamera {
     /// `u_lens` and the time sample `u_time`.
     pub fn generate_ray(&self, raster: Vec2, u_lens: [f32; 2], u_time: f32) -> CameraRay {
         let ndc = Vec2::new(
-            2.0 * raster.x / self.resolution[0] as f32 - 1.0,
-            1.0 - 2.0 * raster.y / self.resolution[1] as f32,
+            raster.x * self.raster_to_ndc.x - 1.0,
+            1.0 - raster.y * self.raster_to_ndc.y,
         );
         let on_plane = (ndc * self.screen_half_extent).extend(1.0);
         let (origin, direction) = if self.lens_radius > 0.0 {
@@ -219,6 +251,19 @@ impl PerspectiveCamera {
             (Vec3::ZERO, on_plane.normalize())
         };
         let time = self.time(u_time);
+        if let Some(transform) = &self.static_world_from_camera {
+            let direction = transform.transform_vector3(direction);
+            return CameraRay {
+                origin: transform.transform_point3(origin),
+                // A rotation keeps the unit direction unit (to rounding).
+                direction: if self.static_keeps_length {
+                    direction
+                } else {
+                    direction.normalize()
+                },
+                time,
+            };
+        }
         let transform = self.world_from_camera(time);
         CameraRay {
             origin: transform.transform_point3(origin),

@@ -28,12 +28,13 @@ impl PixelStatistics {
     pub(crate) fn add(&mut self, rgb: [f64; 3], weight: f64) {
         self.sample_count += 1;
         self.weight_sum += weight;
-        let count = self.sample_count as f64;
+        // One division per sample rather than one per channel.
+        let inverse_count = 1.0 / self.sample_count as f64;
         for (channel, value) in rgb.into_iter().enumerate() {
             self.weighted_sum[channel] += weight * value;
             // Welford: update the mean, then M2 with old and new deviations.
             let deviation = value - self.mean[channel];
-            self.mean[channel] += deviation / count;
+            self.mean[channel] += deviation * inverse_count;
             self.squared_deviation_sum[channel] += deviation * (value - self.mean[channel]);
         }
     }

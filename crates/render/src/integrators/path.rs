@@ -88,12 +88,16 @@ pub(crate) fn oriented_hit(scene: &Scene, hit: &SurfaceHit) -> SurfaceHit {
 
 /// Estimates the radiance along the camera ray `ray` for `wavelengths`.
 /// When `vertices` is given, the path's scattering vertices are recorded.
-pub fn radiance(
+///
+/// Generic over the sampler so that a concrete sampler's numbers (a hash
+/// for the independent one) inline into the loop; `dyn SampleSource`
+/// works as well.
+pub fn radiance<S: SampleSource + ?Sized>(
     scene: &Scene,
     settings: &PathSettings,
     mut ray: Ray,
     wavelengths: &mut SampledWavelengths,
-    sampler: &mut dyn SampleSource,
+    sampler: &mut S,
     counters: &mut TraceCounters,
     mut vertices: Option<&mut Vec<PathVertex>>,
 ) -> SampledSpectrum {
@@ -287,7 +291,7 @@ pub(crate) fn emission_weight(
 /// BSDF sampling (not weighted for delta lights). `offsets` is the hit point
 /// offset to the side of `wo` (the reference point of light sampling).
 #[allow(clippy::too_many_arguments)]
-fn sample_light(
+fn sample_light<S: SampleSource + ?Sized>(
     scene: &Scene,
     settings: &PathSettings,
     hit: &SurfaceHit,
@@ -296,7 +300,7 @@ fn sample_light(
     wo: Vec3,
     depth: u32,
     wavelengths: &SampledWavelengths,
-    sampler: &mut dyn SampleSource,
+    sampler: &mut S,
     counters: &mut TraceCounters,
     area_radiance: &mut AreaRadianceCache,
 ) -> SampledSpectrum {
@@ -398,12 +402,12 @@ pub(crate) fn sample_vertex_light(
 
 /// [`sample_vertex_light`] taking area lights' radiance from a path's
 /// `area_radiance` cache.
-fn sample_vertex_light_with_cache(
+fn sample_vertex_light_with_cache<S: SampleSource + ?Sized>(
     scene: &Scene,
     reference: Vec3,
     depth: u32,
     wavelengths: &SampledWavelengths,
-    sampler: &mut dyn SampleSource,
+    sampler: &mut S,
     area_radiance: &mut AreaRadianceCache,
 ) -> Option<VertexLightSample> {
     let u_select = sampler.get(layout::vertex(depth as usize, layout::LIGHT_SELECTION));
