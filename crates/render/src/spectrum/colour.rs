@@ -90,8 +90,9 @@ pub fn to_xyz(spectrum: &SampledSpectrum, wavelengths: &SampledWavelengths) -> [
         sums[1] += y * weight;
         sums[2] += z * weight;
     }
-    let scale = |sum: f32| sum / SPECTRUM_SAMPLE_COUNT as f32 / CIE_Y_INTEGRAL;
-    [scale(sums[0]), scale(sums[1]), scale(sums[2])]
+    // One multiplication per channel instead of two divisions.
+    let scale = 1.0 / (SPECTRUM_SAMPLE_COUNT as f32 * CIE_Y_INTEGRAL);
+    sums.map(|sum| sum * scale)
 }
 
 /// x̄, ȳ, z̄ (and a zero pad to 16 bytes) at every integer wavelength of the
