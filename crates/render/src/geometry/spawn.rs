@@ -29,21 +29,31 @@ pub const SHADOW_EPSILON: f32 = 1e-4;
 /// `point` moved off its surface (unit geometric normal `normal`) to the side
 /// `direction` points to, far enough that a ray leaving from it in `direction`
 /// does not hit the surface it started on.
+#[inline]
 pub fn offset_ray_origin(point: Vec3, normal: Vec3, direction: Vec3) -> Vec3 {
     let normal = if normal.dot(direction) < 0.0 {
         -normal
     } else {
         normal
     };
+    // Both offsets are computed and one is selected, without branches (which
+    // coordinates are near the origin varies from hit to hit).
     let offset_component = |p: f32, n: f32| -> f32 {
+        let absolute = p + ABSOLUTE_OFFSET_SCALE * n;
+        let ulps = (ULP_OFFSET_SCALE * n) as i32;
+        // Adding to the bit pattern grows the magnitude; for negative
+        // coordinates growing the magnitude moves towards -inf, so the ULPs
+        // are negated there (`sign` is -1 for a set sign bit, else 0; the
+        // only coordinate with a set sign bit that is not below zero, -0,
+        // takes the absolute offset).
+        let bits = p.to_bits() as i32;
+        let sign = bits >> 31;
+        let ulps = (ulps ^ sign).wrapping_sub(sign);
+        let relative = f32::from_bits(bits.wrapping_add(ulps) as u32);
         if p.abs() < ABSOLUTE_OFFSET_THRESHOLD {
-            p + ABSOLUTE_OFFSET_SCALE * n
+            absolute
         } else {
-            let ulps = (ULP_OFFSET_SCALE * n) as i32;
-            // Adding to the bit pattern grows the magnitude; for negative
-            // coordinates growing the magnitude moves towards -inf.
-            let ulps = if p < 0.0 { -ulps } else { ulps };
-            f32::from_bits((p.to_bits() as i32).wrapping_add(ulps) as u32)
+            relative
         }
     };
     Vec3::new(
@@ -83,6 +93,7 @@ pub fn spawn_ray_to_point(hit: &SurfaceHit, point: Vec3, normal: Vec3) -> Option
 
 /// [`spawn_ray_to_point`] from an `origin` already offset off its surface
 /// (e.g. by [`OffsetPoint::towards`]).
+#[inline]
 pub fn spawn_segment_to_point(
     origin: Vec3,
     time: f32,
@@ -143,8 +154,9 @@ fn segment(origin: Vec3, target: Vec3, time: f32) -> Option<(Ray, f32)> {
     if distance <= 0.0 || !distance.is_finite() {
         return None;
     }
+    // One division for the three components.
     Some((
-        Ray::with_time(origin, offset / distance, time),
+        Ray::with_time(origin, offset * distance.recip(), time),
         distance * (1.0 - SHADOW_EPSILON),
     ))
 }
@@ -165,6 +177,46 @@ mod tests {
             let below = offset_ray_origin(p, n, -n);
             assert!((above - p).dot(n) > 0.0, "{p}");
             assert!((below - p).dot(n) < 0.0, "{p}");
+        }
+    }
+
+    #[test]
+    fn offset_matches_the_branching_definition() {
+        // Wächter & Binder's per-coordinate rule, written with branches.
+        let reference = |p: f32, n: f32| -> f32 {
+            if p.abs() < ABSOLUTE_OFFSET_THRESHOLD {
+                p + ABSOLUTE_OFFSET_SCALE * n
+            } else {
+                let ulps = (ULP_OFFSET_SCALE * n) as i32;
+                let ulps = if p < 0.0 { -ulps } else { ulps };
+                f32::from_bits((p.to_bits() as i32).wrapping_add(ulps) as u32)
+            }
+        };
+        let coordinates = [
+            0.0, -0.0, 0.01, -0.01, 0.03125, -0.03125, 0.5, -2.0, 555.0, -1e6, 3e-20,
+        ];
+        let normal = Vec3::new(0.48, -0.6, 0.64);
+        for &x in &coordinates {
+            for &y in &coordinates {
+                let point = Vec3::new(x, y, -x);
+                for direction in [normal, -normal] {
+                    let side = if normal.dot(direction) < 0.0 {
+                        -normal
+                    } else {
+                        normal
+                    };
+                    let expected = Vec3::new(
+                        reference(point.x, side.x),
+                        reference(point.y, side.y),
+                        reference(point.z, side.z),
+                    );
+                    let offset = offset_ray_origin(point, normal, direction);
+                    assert_eq!(
+                        offset.to_array().map(f32::to_bits),
+                        expected.to_array().map(f32::to_bits)
+                    );
+                }
+            }
         }
     }
 
