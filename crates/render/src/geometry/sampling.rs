@@ -224,6 +224,10 @@ struct SampledTriangle {
 #[derive(Clone, Debug)]
 pub struct TriangleSampler {
     triangles: Box<[SampledTriangle]>,
+    /// The number of triangles as a float and the last index, for the bin
+    /// look-up (32 bits convert to and from floats more cheaply than `usize`).
+    bin_count: f32,
+    last_bin: u32,
 }
 
 impl TriangleSampler {
@@ -231,6 +235,7 @@ impl TriangleSampler {
     /// chosen by `areas`, their area table (one entry per triangle).
     pub fn new(areas: &AliasTable, vertices: impl ExactSizeIterator<Item = [Vec3; 3]>) -> Self {
         assert_eq!(areas.len(), vertices.len());
+        let count = u32::try_from(areas.len()).expect("at most 2^32 triangles");
         let triangles = vertices
             .enumerate()
             .map(|(index, [p0, p1, p2])| {
@@ -245,17 +250,21 @@ impl TriangleSampler {
                 }
             })
             .collect();
-        Self { triangles }
+        Self {
+            triangles,
+            bin_count: count as f32,
+            last_bin: count - 1,
+        }
     }
 
     /// The triangle `u_triangle` picks (as [`AliasTable::sample`]) and the
     /// point `u` places on it: `(point, unit normal, triangle index)`.
     #[inline]
     pub fn sample(&self, u_triangle: f32, u: Vec2) -> (Vec3, Vec3, usize) {
-        let count = self.triangles.len();
-        let scaled = u_triangle * count as f32;
-        let bin = (scaled as usize).min(count - 1);
+        let scaled = u_triangle * self.bin_count;
+        let bin = (scaled as u32).min(self.last_bin);
         let fraction = scaled - bin as f32;
+        let bin = bin as usize;
         let record = &self.triangles[bin];
         let (index, triangle) = if fraction < record.keep_probability {
             (bin, record)

@@ -203,6 +203,7 @@ impl Light {
     /// `wavelengths` by `area_radiance`, which may return a value a path
     /// computed before for the same wavelengths (the path tracer's
     /// per-path cache). Called only for samples that are kept.
+    #[inline]
     pub fn sample_incident_with_area_radiance(
         &self,
         geometry: &Geometry,
@@ -237,6 +238,26 @@ impl Light {
                     is_delta: false,
                     is_infinite: false,
                 })
+            }
+            _ => self.sample_incident_not_area(geometry, reference, u_primitive, u, wavelengths),
+        }
+    }
+
+    /// [`Light::sample_incident`] for every light but [`Light::Area`] (kept
+    /// out of line so that the area light's path, the common one, inlines
+    /// into next-event estimation).
+    #[inline(never)]
+    fn sample_incident_not_area(
+        &self,
+        geometry: &Geometry,
+        reference: Vec3,
+        u_primitive: f32,
+        u: [f32; 2],
+        wavelengths: &SampledWavelengths,
+    ) -> Option<LightSample> {
+        match self {
+            Light::Area { .. } => {
+                unreachable!("area lights are sampled by sample_incident_with_area_radiance")
             }
             Light::Point {
                 position,
@@ -464,7 +485,8 @@ fn area_sample_direction(
             )
         }
     };
-    if !(pdf > 0.0 && pdf.is_finite()) {
+    // Rejects 0, infinity and NaN.
+    if !(pdf > 0.0 && pdf < f32::INFINITY) {
         return None;
     }
     Some((wi, pdf))
