@@ -466,9 +466,10 @@ fn area_sample_direction(
 ) -> Option<(Vec3, f32)> {
     let to_light = sample.point - reference;
     let distance_squared = to_light.length_squared();
-    // Emission leaves the front side only; zero also when the points coincide.
+    // Emission leaves the front side only; zero also when the points coincide
+    // (and NaN rejects degenerate input).
     let cosine_times_distance = -front_normal.dot(to_light);
-    if !(cosine_times_distance > 0.0) {
+    if cosine_times_distance.is_nan() || cosine_times_distance <= 0.0 {
         return None;
     }
     let distance = distance_squared.sqrt();
