@@ -1,9 +1,11 @@
 //! Triangle meshes, stored in world space, and the Mitsuba-convention
 //! rectangle and cube built from them.
 
+use std::sync::OnceLock;
+
 use glam::{Vec2, Vec3};
 
-use super::sampling::{coordinate_frame, sample_uniform_triangle};
+use super::sampling::{TriangleSampler, coordinate_frame};
 use super::{AliasTable, Bounds3, GeometryError, ShapeSample, SurfaceHit, Transform};
 
 /// An indexed triangle mesh in world space (transformed once at load, as pbrt).
@@ -22,6 +24,13 @@ pub struct TriangleMesh {
     /// mesh has zero total area (it can then not be sampled).
     area_distribution: Option<AliasTable>,
     surface_area: f32,
+    /// `1 / surface_area`, or 0 for a mesh that cannot be sampled: the area
+    /// density of [`TriangleMesh::sample_area`].
+    inverse_surface_area: f32,
+    /// Per-triangle records for [`TriangleMesh::sample_area`], built on the
+    /// first sample (only emitters are sampled, and the records take more
+    /// memory than the alias table).
+    triangle_sampler: OnceLock<TriangleSampler>,
 }
 
 impl TriangleMesh {
@@ -95,12 +104,17 @@ impl TriangleMesh {
             indices,
             area_distribution: None,
             surface_area: 0.0,
+            inverse_surface_area: 0.0,
+            triangle_sampler: OnceLock::new(),
         };
         let areas: Vec<f32> = (0..mesh.triangle_count())
             .map(|i| mesh.triangle_area(i))
             .collect();
         mesh.surface_area = areas.iter().map(|&a| a as f64).sum::<f64>() as f32;
         mesh.area_distribution = AliasTable::new(&areas).ok();
+        if mesh.area_distribution.is_some() {
+            mesh.inverse_surface_area = 1.0 / mesh.surface_area;
+        }
         Ok(mesh)
     }
 
@@ -306,18 +320,21 @@ impl TriangleMesh {
     /// triangle with probability proportional to its area (alias table), `u`
     /// places the point in it (Heitz's square-to-triangle map). Returns `None`
     /// for a mesh of zero area. Also returns the triangle index.
+    #[inline]
     pub fn sample_area(&self, u_triangle: f32, u: Vec2) -> Option<(ShapeSample, usize)> {
         let distribution = self.area_distribution.as_ref()?;
-        let index = distribution.sample(u_triangle);
-        let [p0, p1, p2] = self.triangle_vertices(index);
-        let [b0, b1, b2] = sample_uniform_triangle(u);
-        let point = b0 * p0 + b1 * p1 + b2 * p2;
-        let normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+        let sampler = self.triangle_sampler.get_or_init(|| {
+            TriangleSampler::new(
+                distribution,
+                (0..self.triangle_count()).map(|index| self.triangle_vertices(index)),
+            )
+        });
+        let (point, normal, index) = sampler.sample(u_triangle, u);
         Some((
             ShapeSample {
                 point,
                 normal,
-                pdf_area: 1.0 / self.surface_area,
+                pdf_area: self.inverse_surface_area,
             },
             index,
         ))
@@ -325,12 +342,9 @@ impl TriangleMesh {
 
     /// The area density of [`TriangleMesh::sample_area`] at any point of the
     /// mesh: `1 / total area` (0 for a zero-area mesh).
+    #[inline]
     pub fn pdf_area(&self) -> f32 {
-        if self.area_distribution.is_some() {
-            1.0 / self.surface_area
-        } else {
-            0.0
-        }
+        self.inverse_surface_area
     }
 }
 

@@ -34,17 +34,19 @@ impl ShapeSample {
 /// distance and `θ` the angle between the normal and the direction to the
 /// reference. Returns 0 (rather than infinity) when the point is seen exactly
 /// edge-on or coincides with the reference, so callers can reject the sample.
+///
+/// Computed as `pdf_area · d² · d / |n · (reference − point)|` (the cosine
+/// times the distance is the dot product): one square root and one division.
+#[inline]
 pub fn area_pdf_to_solid_angle(pdf_area: f32, reference: Vec3, point: Vec3, normal: Vec3) -> f32 {
     let to_reference = reference - point;
     let distance_squared = to_reference.length_squared();
-    if distance_squared == 0.0 {
+    // Zero also when the points coincide.
+    let cosine_times_distance = normal.dot(to_reference).abs();
+    if cosine_times_distance == 0.0 {
         return 0.0;
     }
-    let cosine = normal.dot(to_reference).abs() / distance_squared.sqrt();
-    if cosine == 0.0 {
-        return 0.0;
-    }
-    pdf_area * distance_squared / cosine
+    pdf_area * distance_squared * distance_squared.sqrt() / cosine_times_distance
 }
 
 /// Uniform barycentric coordinates `(b0, b1, b2)` from a point of the unit square,
@@ -194,6 +196,88 @@ impl AliasTable {
     }
 }
 
+/// One triangle of a mesh prepared for sampling points on it, with the
+/// alias-table entry of its bin folded in, so that a sample reads one record
+/// for the bin (and a second only when the bin's alias is taken) and computes
+/// the point as a corner plus a barycentric combination of two edges, without
+/// the cross product and normalisation the vertices alone would need.
+#[derive(Clone, Copy, Debug)]
+struct SampledTriangle {
+    /// The first vertex.
+    origin: Vec3,
+    /// The second and third vertices minus the first.
+    edge1: Vec3,
+    edge2: Vec3,
+    /// Unit winding normal `edge1 × edge2` (zero for a degenerate triangle,
+    /// which the alias table never picks).
+    normal: Vec3,
+    /// The alias-table bin of the same index: the probability of keeping the
+    /// bin, else the index to take.
+    keep_probability: f32,
+    alias: u32,
+}
+
+/// Picks a triangle of a mesh in proportion to its area (the mesh's
+/// [`AliasTable`], with the same choice for the same number) and a uniform
+/// point on it (Heitz's map, [`sample_uniform_triangle`]), from per-triangle
+/// records built once (see [`SampledTriangle`]).
+#[derive(Clone, Debug)]
+pub struct TriangleSampler {
+    triangles: Box<[SampledTriangle]>,
+    /// The number of triangles as a float and the last index, for the bin
+    /// look-up (32 bits convert to and from floats more cheaply than `usize`).
+    bin_count: f32,
+    last_bin: u32,
+}
+
+impl TriangleSampler {
+    /// The sampler of the triangles `vertices` (world space, in index order)
+    /// chosen by `areas`, their area table (one entry per triangle).
+    pub fn new(areas: &AliasTable, vertices: impl ExactSizeIterator<Item = [Vec3; 3]>) -> Self {
+        assert_eq!(areas.len(), vertices.len());
+        let count = u32::try_from(areas.len()).expect("at most 2^32 triangles");
+        let triangles = vertices
+            .enumerate()
+            .map(|(index, [p0, p1, p2])| {
+                let (edge1, edge2) = (p1 - p0, p2 - p0);
+                SampledTriangle {
+                    origin: p0,
+                    edge1,
+                    edge2,
+                    normal: edge1.cross(edge2).normalize_or_zero(),
+                    keep_probability: areas.keep_probability[index],
+                    alias: areas.alias[index],
+                }
+            })
+            .collect();
+        Self {
+            triangles,
+            bin_count: count as f32,
+            last_bin: count - 1,
+        }
+    }
+
+    /// The triangle `u_triangle` picks (as [`AliasTable::sample`]) and the
+    /// point `u` places on it: `(point, unit normal, triangle index)`.
+    #[inline]
+    pub fn sample(&self, u_triangle: f32, u: Vec2) -> (Vec3, Vec3, usize) {
+        let scaled = u_triangle * self.bin_count;
+        let bin = (scaled as u32).min(self.last_bin);
+        let fraction = scaled - bin as f32;
+        let bin = bin as usize;
+        let record = &self.triangles[bin];
+        let (index, triangle) = if fraction < record.keep_probability {
+            (bin, record)
+        } else {
+            let alias = record.alias as usize;
+            (alias, &self.triangles[alias])
+        };
+        let [_, b1, b2] = sample_uniform_triangle(u);
+        let point = triangle.origin + b1 * triangle.edge1 + b2 * triangle.edge2;
+        (point, triangle.normal, index)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -215,6 +299,36 @@ mod tests {
         assert!(AliasTable::new(&[]).is_err());
         assert!(AliasTable::new(&[0.0]).is_err());
         assert!(AliasTable::new(&[-1.0, 2.0]).is_err());
+    }
+
+    #[test]
+    fn triangle_sampler_picks_as_the_alias_table() {
+        let triangles = [
+            [Vec3::ZERO, Vec3::X, Vec3::Y],
+            [Vec3::ZERO, Vec3::Y * 3.0, Vec3::Z],
+            [
+                Vec3::ONE,
+                Vec3::ONE + Vec3::X * 2.0,
+                Vec3::ONE + Vec3::Z * 2.0,
+            ],
+        ];
+        let areas: Vec<f32> = triangles
+            .iter()
+            .map(|[p0, p1, p2]| 0.5 * (*p1 - *p0).cross(*p2 - *p0).length())
+            .collect();
+        let table = AliasTable::new(&areas).unwrap();
+        let sampler = TriangleSampler::new(&table, triangles.into_iter());
+        for i in 0..1000 {
+            let u_triangle = (i as f32 + 0.5) / 1000.0;
+            let u = Vec2::new((i % 31) as f32 / 31.0, (i % 17) as f32 / 17.0);
+            let (point, normal, index) = sampler.sample(u_triangle, u);
+            assert_eq!(index, table.sample(u_triangle));
+            let [p0, p1, p2] = triangles[index];
+            let [b0, b1, b2] = sample_uniform_triangle(u);
+            let expected = b0 * p0 + b1 * p1 + b2 * p2;
+            assert!((point - expected).length() < 1e-5, "{point} {expected}");
+            assert_eq!(normal, (p1 - p0).cross(p2 - p0).normalize());
+        }
     }
 
     #[test]

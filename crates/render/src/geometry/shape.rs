@@ -93,6 +93,7 @@ impl Shape {
     /// A point uniformly distributed over the surface (`u_primitive` picks the
     /// mesh triangle by area and is ignored by analytic shapes). `None` only for
     /// a zero-area mesh.
+    #[inline]
     pub fn sample_area(&self, u_primitive: f32, u: Vec2) -> Option<ShapeSample> {
         match self {
             Shape::Mesh(mesh) => mesh.sample_area(u_primitive, u).map(|(sample, _)| sample),
@@ -105,6 +106,7 @@ impl Shape {
     /// cone of directions (uniform area from inside), meshes and disks sample
     /// uniformly by area. The density is reported per unit area; convert with
     /// [`ShapeSample::solid_angle_pdf`].
+    #[inline]
     pub fn sample_from(&self, reference: Vec3, u_primitive: f32, u: Vec2) -> Option<ShapeSample> {
         match self {
             Shape::Sphere(sphere) => Some(sphere.sample_from(reference, u)),
@@ -114,6 +116,7 @@ impl Shape {
 
     /// The area density with which [`Shape::sample_from`] produces `point` (a point
     /// on the shape with unit geometric `normal`) for `reference`.
+    #[inline]
     pub fn pdf_area_from(&self, reference: Vec3, point: Vec3, normal: Vec3) -> f32 {
         match self {
             Shape::Mesh(mesh) => mesh.pdf_area(),
@@ -126,6 +129,7 @@ impl Shape {
     /// produces the direction towards `point` (with unit geometric `normal`), as
     /// needed for multiple importance sampling of BSDF-sampled rays that hit the
     /// shape.
+    #[inline]
     pub fn pdf_solid_angle_from(&self, reference: Vec3, point: Vec3, normal: Vec3) -> f32 {
         match self {
             Shape::Sphere(sphere) => sphere.pdf_solid_angle_from(reference, point, normal),

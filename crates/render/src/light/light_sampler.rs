@@ -84,9 +84,15 @@ impl LightSampler {
     /// Chooses a light with `u`; returns its index, its probability and `u`
     /// remapped to a fresh uniform number in `[0, 1)` (so one dimension can
     /// also choose, e.g., a triangle of the light).
+    #[inline]
     pub fn sample(&self, u: f32) -> Option<(usize, f32, f32)> {
         if self.is_empty() {
             return None;
+        }
+        // One light (the common case): skip the search and the division,
+        // with the same result as below.
+        if self.cdf.len() == 2 {
+            return Some((0, 1.0, u.clamp(0.0, 1.0 - f32::EPSILON / 2.0)));
         }
         let index = self
             .cdf
@@ -103,6 +109,7 @@ impl LightSampler {
     }
 
     /// The probability of choosing light `index`.
+    #[inline]
     pub fn probability(&self, index: usize) -> f32 {
         self.cdf[index + 1] - self.cdf[index]
     }
@@ -129,6 +136,10 @@ mod tests {
             counts[index] += 1;
         }
         assert_eq!(counts, [2500, 7500, 0]);
+        let single = LightSampler::new(&[2.0]);
+        for u in [0.0, 0.3, 0.999_999_9] {
+            assert_eq!(single.sample(u), Some((0, 1.0, u)));
+        }
     }
 
     #[test]

@@ -203,6 +203,7 @@ impl Light {
     /// `wavelengths` by `area_radiance`, which may return a value a path
     /// computed before for the same wavelengths (the path tracer's
     /// per-path cache). Called only for samples that are kept.
+    #[inline]
     pub fn sample_incident_with_area_radiance(
         &self,
         geometry: &Geometry,
@@ -226,20 +227,7 @@ impl Light {
                 } else {
                     sample.normal
                 };
-                let to_light = sample.point - reference;
-                let distance_squared = to_light.length_squared();
-                if distance_squared == 0.0 {
-                    return None;
-                }
-                let wi = to_light / distance_squared.sqrt();
-                // Emission leaves the front side only.
-                if normal.dot(-wi) <= 0.0 {
-                    return None;
-                }
-                let pdf = shape.pdf_solid_angle_from(reference, sample.point, sample.normal);
-                if !(pdf > 0.0 && pdf.is_finite()) {
-                    return None;
-                }
+                let (wi, pdf) = area_sample_direction(shape, reference, &sample, normal)?;
                 Some(LightSample {
                     radiance: area_radiance(radiance),
                     wi,
@@ -250,6 +238,26 @@ impl Light {
                     is_delta: false,
                     is_infinite: false,
                 })
+            }
+            _ => self.sample_incident_not_area(geometry, reference, u_primitive, u, wavelengths),
+        }
+    }
+
+    /// [`Light::sample_incident`] for every light but [`Light::Area`] (kept
+    /// out of line so that the area light's path, the common one, inlines
+    /// into next-event estimation).
+    #[inline(never)]
+    fn sample_incident_not_area(
+        &self,
+        geometry: &Geometry,
+        reference: Vec3,
+        u_primitive: f32,
+        u: [f32; 2],
+        wavelengths: &SampledWavelengths,
+    ) -> Option<LightSample> {
+        match self {
+            Light::Area { .. } => {
+                unreachable!("area lights are sampled by sample_incident_with_area_radiance")
             }
             Light::Point {
                 position,
@@ -332,19 +340,7 @@ impl Light {
                 let (sample, uv) =
                     sample_with_uv(shape, Some(reference), u_primitive, Vec2::from(u))?;
                 let normal = light.front(sample.normal);
-                let to_light = sample.point - reference;
-                let distance_squared = to_light.length_squared();
-                if distance_squared == 0.0 {
-                    return None;
-                }
-                let wi = to_light / distance_squared.sqrt();
-                if normal.dot(-wi) <= 0.0 {
-                    return None;
-                }
-                let pdf = shape.pdf_solid_angle_from(reference, sample.point, sample.normal);
-                if !(pdf > 0.0 && pdf.is_finite()) {
-                    return None;
-                }
+                let (wi, pdf) = area_sample_direction(shape, reference, &sample, normal)?;
                 Some(LightSample {
                     radiance: light.radiance_at(uv, wavelengths),
                     wi,
@@ -447,6 +443,54 @@ impl Light {
             _ => SampledSpectrum::zero(),
         }
     }
+}
+
+/// The unit direction from `reference` to the point `sample` drew on `shape`
+/// and the solid-angle density of drawing it ([`Shape::pdf_solid_angle_from`]),
+/// or `None` when the point is behind the light's front side (`front_normal`,
+/// the sample's normal after any flip), coincides with the reference, or has
+/// no usable density.
+///
+/// For meshes and disks, which sample by area, the density `pdf_area · d² /
+/// cos θ` equals `pdf_area · d² · (d² · r)` and the direction is
+/// `to_light · (d cos θ) · r` with `r = 1 / (d · d cos θ)`, where `d cos θ` is
+/// the dot product the front-side test needs anyway: one square root and one
+/// division for both. Spheres sample their cone of directions and keep their
+/// own density.
+#[inline]
+fn area_sample_direction(
+    shape: &Shape,
+    reference: Vec3,
+    sample: &crate::geometry::ShapeSample,
+    front_normal: Vec3,
+) -> Option<(Vec3, f32)> {
+    let to_light = sample.point - reference;
+    let distance_squared = to_light.length_squared();
+    // Emission leaves the front side only; zero also when the points coincide
+    // (and NaN rejects degenerate input).
+    let cosine_times_distance = -front_normal.dot(to_light);
+    if cosine_times_distance.is_nan() || cosine_times_distance <= 0.0 {
+        return None;
+    }
+    let distance = distance_squared.sqrt();
+    let (wi, pdf) = match shape {
+        Shape::Sphere(_) => (
+            to_light / distance,
+            shape.pdf_solid_angle_from(reference, sample.point, sample.normal),
+        ),
+        Shape::Mesh(_) | Shape::Disk(_) => {
+            let reciprocal = 1.0 / (distance * cosine_times_distance);
+            (
+                to_light * (cosine_times_distance * reciprocal),
+                sample.pdf_area * distance_squared * (distance_squared * reciprocal),
+            )
+        }
+    };
+    // Rejects 0, infinity and NaN.
+    if !(pdf > 0.0 && pdf < f32::INFINITY) {
+        return None;
+    }
+    Some((wi, pdf))
 }
 
 /// A distance from `reference` that is outside the scene's bounding sphere
