@@ -255,12 +255,17 @@ impl TriangleMesh {
                 (uv, dpdu, dpdv)
             }
             // pbrt's default uvs (0, 0), (1, 0), (1, 1), for which the general
-            // formula reduces to ∂p/∂u = p1 − p0 and ∂p/∂v = p2 − p1.
+            // formula reduces to ∂p/∂u = p1 − p0 and ∂p/∂v = p2 − p1. Both are
+            // edges of the triangle, so they are usable tangents whenever its
+            // normal is (a zero normal means a degenerate or overflowing one).
             None => {
                 let uv = Vec2::new(b1 + b2, b2);
                 let (dpdu, dpdv) = (p1 - p0, p2 - p1);
-                if usable_tangent(dpdu, geometric_normal) && usable_tangent(dpdv, geometric_normal)
-                {
+                if geometric_normal != Vec3::ZERO {
+                    debug_assert!(
+                        usable_tangent(dpdu, geometric_normal)
+                            && usable_tangent(dpdv, geometric_normal)
+                    );
                     (uv, dpdu, dpdv)
                 } else {
                     let (dpdu, dpdv) =

@@ -56,8 +56,7 @@ fn sin_cos_quarter_pi(phi: f32) -> (f32, f32) {
                             * (-1.0 / 720.0
                                 + phi2
                                     * (1.0 / 40_320.0
-                                        + phi2
-                                            * (-1.0 / 3_628_800.0 + phi2 / 479_001_600.0)))));
+                                        + phi2 * (-1.0 / 3_628_800.0 + phi2 / 479_001_600.0)))));
     (sin, cos)
 }
 
@@ -131,7 +130,10 @@ mod tests {
         let steps = 200;
         for i in 0..steps {
             for j in 0..steps {
-                let u = [(i as f32 + 0.37) / steps as f32, (j as f32 + 0.61) / steps as f32];
+                let u = [
+                    (i as f32 + 0.37) / steps as f32,
+                    (j as f32 + 0.61) / steps as f32,
+                ];
                 let (x, y) = (2.0 * u[0] - 1.0, 2.0 * u[1] - 1.0);
                 let (radius, theta) = if x.abs() > y.abs() {
                     (x, FRAC_PI_4 * (y / x))
@@ -140,7 +142,10 @@ mod tests {
                 };
                 let expected = Vec2::new(radius * theta.cos(), radius * theta.sin());
                 let point = sample_uniform_disk_concentric(u);
-                assert!((point - expected).length() < 1e-6, "{u:?}: {point} vs {expected}");
+                assert!(
+                    (point - expected).length() < 1e-6,
+                    "{u:?}: {point} vs {expected}"
+                );
             }
         }
     }
