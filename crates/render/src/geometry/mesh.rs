@@ -261,30 +261,33 @@ impl TriangleMesh {
         let [b0, b1, b2] = barycentric;
         let point = b0 * p0 + b1 * p1 + b2 * p2;
         let geometric_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-        let uv_vertices = self.vertex_uvs(index);
-        let uv = b0 * uv_vertices[0] + b1 * uv_vertices[1] + b2 * uv_vertices[2];
-        // ∂p/∂u from the uv differentials of the triangle (pbrt-v4, section 6.5.3).
-        let duv02 = uv_vertices[0] - uv_vertices[2];
-        let duv12 = uv_vertices[1] - uv_vertices[2];
-        let (dp02, dp12) = (p0 - p2, p1 - p2);
-        let determinant = duv02.x * duv12.y - duv02.y * duv12.x;
-        let mut dpdu = if determinant.abs() > 1e-12 {
-            (duv12.y * dp02 - duv02.y * dp12) / determinant
-        } else {
-            Vec3::ZERO
+        let (uv, dpdu, dpdv) = match &self.uvs {
+            Some(uvs) => {
+                let uv_vertices = self.indices[index].map(|i| uvs[i as usize]);
+                let uv = b0 * uv_vertices[0] + b1 * uv_vertices[1] + b2 * uv_vertices[2];
+                let (dpdu, dpdv) = uv_derivatives(geometric_normal, [p0, p1, p2], uv_vertices);
+                (uv, dpdu, dpdv)
+            }
+            // pbrt's default uvs (0, 0), (1, 0), (1, 1), for which the general
+            // formula reduces to ∂p/∂u = p1 − p0 and ∂p/∂v = p2 − p1. Both are
+            // edges of the triangle, so they are usable tangents whenever its
+            // normal is (a zero normal means a degenerate or overflowing one).
+            None => {
+                let uv = Vec2::new(b1 + b2, b2);
+                let (dpdu, dpdv) = (p1 - p0, p2 - p1);
+                if geometric_normal != Vec3::ZERO {
+                    debug_assert!(
+                        usable_tangent(dpdu, geometric_normal)
+                            && usable_tangent(dpdv, geometric_normal)
+                    );
+                    (uv, dpdu, dpdv)
+                } else {
+                    let (dpdu, dpdv) =
+                        uv_derivatives(geometric_normal, [p0, p1, p2], self.vertex_uvs(index));
+                    (uv, dpdu, dpdv)
+                }
+            }
         };
-        let usable = dpdu.is_finite() && dpdu.cross(geometric_normal) != Vec3::ZERO;
-        if !usable {
-            dpdu = coordinate_frame(geometric_normal).0;
-        }
-        let mut dpdv = if usable {
-            (duv02.x * dp12 - duv12.x * dp02) / determinant
-        } else {
-            Vec3::ZERO
-        };
-        if !(dpdv.is_finite() && dpdv.cross(geometric_normal) != Vec3::ZERO) {
-            dpdv = geometric_normal.cross(dpdu);
-        }
         let shading_normal = match &self.normals {
             Some(normals) => {
                 let [a, b, c] = self.indices[index];
@@ -346,6 +349,45 @@ impl TriangleMesh {
     pub fn pdf_area(&self) -> f32 {
         self.inverse_surface_area
     }
+}
+
+/// Whether `tangent` can serve as a surface derivative: finite and not
+/// parallel to `normal`.
+#[inline]
+fn usable_tangent(tangent: Vec3, normal: Vec3) -> bool {
+    tangent.is_finite() && tangent.cross(normal) != Vec3::ZERO
+}
+
+/// `(∂p/∂u, ∂p/∂v)` of the triangle with vertices `positions`, uvs `uvs` and
+/// unit normal `normal`, from the uv differentials (pbrt-v4, section 6.5.3),
+/// with arbitrary tangents perpendicular to the normal where the uvs are
+/// degenerate (see [`SurfaceHit::dpdu`]).
+fn uv_derivatives(normal: Vec3, positions: [Vec3; 3], uvs: [Vec2; 3]) -> (Vec3, Vec3) {
+    let [p0, p1, p2] = positions;
+    let duv02 = uvs[0] - uvs[2];
+    let duv12 = uvs[1] - uvs[2];
+    let (dp02, dp12) = (p0 - p2, p1 - p2);
+    let determinant = duv02.x * duv12.y - duv02.y * duv12.x;
+    // One division for both derivatives.
+    let inverse_determinant = 1.0 / determinant;
+    let mut dpdu = if determinant.abs() > 1e-12 {
+        (duv12.y * dp02 - duv02.y * dp12) * inverse_determinant
+    } else {
+        Vec3::ZERO
+    };
+    let usable = usable_tangent(dpdu, normal);
+    if !usable {
+        dpdu = coordinate_frame(normal).0;
+    }
+    let mut dpdv = if usable {
+        (duv02.x * dp12 - duv12.x * dp02) * inverse_determinant
+    } else {
+        Vec3::ZERO
+    };
+    if !usable_tangent(dpdv, normal) {
+        dpdv = normal.cross(dpdu);
+    }
+    (dpdu, dpdv)
 }
 
 #[cfg(test)]

@@ -433,6 +433,21 @@ pub struct SurfaceBsdf {
 }
 
 impl SurfaceBsdf {
+    /// The Lambertian model when it is the whole BSDF (one side, opaque, the
+    /// frame not perturbed): the common case, which the methods below serve
+    /// without the generic dispatch. A Lambertian BSDF reads only the z
+    /// components of its directions, so only those are converted, and the
+    /// results equal the generic ones bit for bit.
+    #[inline]
+    fn plain_diffuse(&self) -> Option<&DiffuseBsdf> {
+        match (&self.bsdf.model, &self.bsdf.back) {
+            (BsdfModel::Diffuse(diffuse), None) if self.adapter == SurfaceAdapter::NONE => {
+                Some(diffuse)
+            }
+            _ => None,
+        }
+    }
+
     /// [`Bsdf::evaluate`] for world-space directions.
     pub fn evaluate(
         &self,
@@ -459,6 +474,12 @@ impl SurfaceBsdf {
         wi_world: Vec3,
         wavelengths: &SampledWavelengths,
     ) -> (SampledSpectrum, f32) {
+        if let Some(diffuse) = self.plain_diffuse() {
+            let normal = self.frame.normal();
+            let wo = Vec3::new(0.0, 0.0, wo_world.dot(normal));
+            let wi = Vec3::new(0.0, 0.0, wi_world.dot(normal));
+            return (diffuse.evaluate(wo, wi), diffuse.pdf(wo, wi));
+        }
         let wi = self.frame.to_local(wi_world);
         if self.adapter.opacity <= 0.0 || !self.adapter.sides_agree(wi_world, wi) {
             return (SampledSpectrum::zero(), 0.0);
@@ -472,6 +493,7 @@ impl SurfaceBsdf {
 
     /// [`Bsdf::sample`] for a world-space `wo`; the sample's `wi` is in world
     /// space.
+    #[inline]
     pub fn sample(
         &self,
         wo_world: Vec3,
@@ -479,6 +501,17 @@ impl SurfaceBsdf {
         u: [f32; 2],
         wavelengths: &mut SampledWavelengths,
     ) -> Option<BsdfSample> {
+        if let Some(diffuse) = self.plain_diffuse() {
+            let wo = Vec3::new(0.0, 0.0, wo_world.dot(self.frame.normal()));
+            let mut sample = diffuse.sample(wo, u)?;
+            // The checks of `Bsdf::sample` (the value is black only for a
+            // black reflectance).
+            if sample.pdf == 0.0 || sample.value.is_black() || sample.wi.z == 0.0 {
+                return None;
+            }
+            sample.wi = self.frame.to_world(sample.wi);
+            return Some(sample);
+        }
         let wo = self.frame.to_local(wo_world);
         let Some(u_component) = self.adapter.nested_component_sample(u_component) else {
             let mut sample = self.adapter.pass_through_sample(wo)?;
@@ -508,7 +541,11 @@ impl SurfaceBsdf {
     }
 
     /// [`Bsdf::flags`], with the pass-through lobe of a mask.
+    #[inline]
     pub fn flags(&self) -> BsdfFlags {
+        if let Some(diffuse) = self.plain_diffuse() {
+            return diffuse.flags();
+        }
         self.adapter.flags(self.bsdf.flags())
     }
 

@@ -80,6 +80,7 @@ impl DiffuseBsdf {
     }
 
     /// f(wo, wi) = R/π on the reflecting side(s), 0 elsewhere.
+    #[inline]
     pub fn evaluate(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum {
         if self.connects(wo, wi) {
             self.reflectance * FRAC_1_PI
@@ -89,6 +90,7 @@ impl DiffuseBsdf {
     }
 
     /// Samples `wi` with density |cos θi|/π on the side of `wo`.
+    #[inline]
     pub fn sample(&self, wo: Vec3, u: [f32; 2]) -> Option<BsdfSample> {
         if wo.z == 0.0 || (!self.two_sided && wo.z < 0.0) {
             return None;
@@ -109,6 +111,7 @@ impl DiffuseBsdf {
 
     /// The density [`Self::sample`] gives `wi`: |cos θi|/π where the BSDF is
     /// non-zero, else 0.
+    #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if self.connects(wo, wi) {
             cosine_hemisphere_pdf(wi.z.abs())
@@ -118,6 +121,7 @@ impl DiffuseBsdf {
     }
 
     /// Diffuse reflection, or nothing if the reflectance is black.
+    #[inline]
     pub fn flags(&self) -> BsdfFlags {
         if self.reflectance.is_black() {
             BsdfFlags::NONE

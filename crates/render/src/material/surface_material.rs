@@ -1,6 +1,8 @@
 //! [`Material`]: what a scene stores per shape, turned into a [`Bsdf`] at each
 //! hit for the path's wavelengths.
 
+use glam::Vec3;
+
 use super::bsdf::{Bsdf, SurfaceBsdf};
 use super::coated_conductor::CoatedConductorBsdf;
 use super::conductor::{ConductorBsdf, ConductorReflectance};
@@ -509,9 +511,52 @@ impl Material {
         wavelengths: &SampledWavelengths,
     ) -> SurfaceBsdf {
         let context = TextureContext::from_hit(hit);
-        let frame = ShadingFrame::from_normal_and_tangent(hit.shading_normal, hit.dpdu)
-            .unwrap_or_else(|_| ShadingFrame::from_unit_normal(hit.shading_normal));
+        // Lambertian reflection, the common case, skips the generic dispatch.
+        if let Material::Diffuse {
+            reflectance,
+            two_sided,
+        } = self
+        {
+            return SurfaceBsdf {
+                frame: isotropic_frame(hit.shading_normal),
+                bsdf: DiffuseBsdf::new_unchecked(
+                    reflectance.evaluate(&context, wavelengths).clamp(0.0, 1.0),
+                    *two_sided,
+                )
+                .into(),
+                adapter: SurfaceAdapter::NONE,
+            };
+        }
+        let frame = if self.is_tangent_independent() {
+            isotropic_frame(hit.shading_normal)
+        } else {
+            ShadingFrame::from_normal_and_tangent(hit.shading_normal, hit.dpdu)
+                .unwrap_or_else(|_| ShadingFrame::from_unit_normal(hit.shading_normal))
+        };
         self.surface_bsdf_in_frame(hit, &context, frame, SurfaceAdapter::NONE, wavelengths)
+    }
+
+    /// Whether the BSDF is unchanged by rotating the shading frame about its
+    /// normal (no anisotropic lobe, no bump or normal map reading ∂p/∂u), so
+    /// that any tangent will do and [`ShadingFrame::from_unit_normal`]'s
+    /// cheap one can replace ∂p/∂u made orthogonal to the normal. Only the
+    /// frame's orientation about the normal changes, hence which random
+    /// numbers pick which direction, never the distribution sampled.
+    fn is_tangent_independent(&self) -> bool {
+        match self {
+            Material::Diffuse { .. }
+            | Material::Conductor { .. }
+            | Material::Mirror
+            | Material::Dielectric { .. }
+            | Material::ThinDielectric { .. } => true,
+            Material::RoughConductor { roughness, .. } => roughness.is_none(),
+            Material::Plastic { coating, .. } => coating.is_none(),
+            Material::TwoSided { front, back } => {
+                front.is_tangent_independent() && back.is_tangent_independent()
+            }
+            Material::Mask { nested, .. } => nested.is_tangent_independent(),
+            _ => false,
+        }
     }
 
     /// [`Self::surface_bsdf_at`] in `frame` (perturbed by enclosing bump or
@@ -578,6 +623,20 @@ impl Material {
             bsdf: self.bsdf(wavelengths),
             adapter: SurfaceAdapter::NONE,
         }
+    }
+}
+
+/// The shading frame of a BSDF that does not depend on the tangent: the
+/// branchless basis of [`ShadingFrame::from_unit_normal`] around the shading
+/// normal (normalised first only if it is not unit length already), a
+/// deterministic function of the hit.
+#[inline]
+fn isotropic_frame(shading_normal: Vec3) -> ShadingFrame {
+    if (shading_normal.length_squared() - 1.0).abs() < 1e-5 {
+        ShadingFrame::from_unit_normal(shading_normal)
+    } else {
+        ShadingFrame::from_normal(shading_normal)
+            .unwrap_or_else(|_| ShadingFrame::from_unit_normal(shading_normal))
     }
 }
 
