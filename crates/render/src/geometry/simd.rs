@@ -153,9 +153,13 @@ pub(crate) struct Avx2(());
 
 #[cfg(target_arch = "x86_64")]
 impl Avx2 {
-    /// `Some` if this CPU supports AVX2 (the answer is cached by the standard library).
+    /// `Some` if this CPU supports AVX2 (the answer is cached by the
+    /// standard library), unless the environment variable `LQMC_NO_AVX2` is
+    /// set: then the SSE code runs, as on older CPUs (for A/B measurements
+    /// and for testing that code end to end).
     pub(crate) fn detect() -> Option<Self> {
-        is_x86_feature_detected!("avx2").then_some(Self(()))
+        let disabled = std::env::var_os("LQMC_NO_AVX2").is_some();
+        (!disabled && is_x86_feature_detected!("avx2")).then_some(Self(()))
     }
 }
 

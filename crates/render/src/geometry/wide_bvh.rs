@@ -1460,3 +1460,46 @@ mod tests {
         assert!(!bvh.any_hit(&away, f32::INFINITY, |_, _| true));
     }
 }
+
+/// A diagnostic, not a check: prints the built-in Cornell box's tree (every
+/// node's children, leaves with the lanes used per packet, and boxes), e.g.
+/// `cargo test -p render --lib dump_cornell -- --ignored --nocapture`.
+#[cfg(test)]
+mod dump_tree {
+    use super::*;
+
+    #[test]
+    #[ignore]
+    fn dump_cornell_box_tree() {
+        let description = crate::scene::builtin::builtin_scene("cornell-box").unwrap();
+        let scene = crate::scene::Scene::build(&description).unwrap();
+        let geometry = &scene.geometry;
+        println!("{}", geometry.accelerator_statistics().unwrap());
+        let bvh = geometry.bvh_for_tests();
+        for (index, node) in bvh.nodes.iter().enumerate() {
+            println!("node {index}");
+            for child in 0..WIDTH {
+                let reference = node.children[child];
+                if reference == EMPTY_CHILD {
+                    continue;
+                }
+                let min: Vec<f32> = (0..3).map(|a| node.plane(a, child)).collect();
+                let max: Vec<f32> = (0..3).map(|a| node.plane(a + 3, child)).collect();
+                if reference & LEAF_BIT == 0 {
+                    println!("  child {child}: node {reference} {min:?} {max:?}");
+                } else {
+                    let contents = bvh.leaf_contents(reference);
+                    let Triangles::Vertices(packets) = &bvh.triangles else {
+                        panic!()
+                    };
+                    let lanes: Vec<usize> = contents
+                        .packets
+                        .clone()
+                        .map(|p| packets.lanes_used(p))
+                        .collect();
+                    println!("  child {child}: leaf packets {lanes:?} {min:?} {max:?}");
+                }
+            }
+        }
+    }
+}
