@@ -288,6 +288,12 @@ impl Geometry {
         self.bvh.as_ref().map(|bvh| bvh.statistics().into())
     }
 
+    /// The BVH, for the tree dump of `wide_bvh`'s tests.
+    #[cfg(test)]
+    pub(crate) fn bvh_for_tests(&self) -> &WideBvh {
+        self.bvh.as_ref().unwrap()
+    }
+
     /// Total number of primitives in the BVH.
     pub fn primitive_count(&self) -> usize {
         self.primitives.len()

@@ -1,6 +1,9 @@
 //! A four-lane single-precision vector for the BVH node and triangle tests:
 //! SSE2 on x86_64 (always available there), plain arrays elsewhere.
 //!
+//! An eight-lane vector ([`F32x8`], AVX) serves the BVH node test on CPUs
+//! that have AVX2 (chosen at run time, see [`Avx2`]).
+//!
 //! Only what the traversal needs is provided. Every operation is a lane-wise
 //! IEEE single-precision operation (no fused multiply–add), so a lane computes
 //! exactly what the scalar code computes for the same inputs; the watertight
@@ -142,6 +145,79 @@ impl Mask4 {
     }
 }
 
+/// Proof that the CPU supports AVX2: the only way to make an [`F32x8`], so
+/// that its AVX instructions never run on a processor without them.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Avx2(());
+
+#[cfg(target_arch = "x86_64")]
+impl Avx2 {
+    /// `Some` if this CPU supports AVX2 (the answer is cached by the
+    /// standard library), unless the environment variable `LQMC_NO_AVX2` is
+    /// set: then the SSE code runs, as on older CPUs (for A/B measurements
+    /// and for testing that code end to end).
+    pub(crate) fn detect() -> Option<Self> {
+        let disabled = std::env::var_os("LQMC_NO_AVX2").is_some();
+        (!disabled && is_x86_feature_detected!("avx2")).then_some(Self(()))
+    }
+}
+
+/// Eight `f32` lanes (AVX), lane-wise IEEE operations as [`F32x4`]. Made
+/// only with an [`Avx2`] proof; meant for code inlined into functions
+/// compiled with `#[target_feature(enable = "avx2")]`.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy, Debug)]
+#[repr(transparent)]
+pub(crate) struct F32x8(__m256);
+
+// SAFETY (for every `unsafe` block of `F32x8`): an `F32x8` exists only if an
+// `Avx2` proof did, so the CPU supports AVX; loads and stores go through
+// references to eight contiguous `f32`s (`[[f32; 4]; 2]` has no padding),
+// valid for 32 bytes.
+#[cfg(target_arch = "x86_64")]
+impl F32x8 {
+    #[inline(always)]
+    pub(crate) fn splat(_: Avx2, value: f32) -> Self {
+        unsafe { Self(_mm256_set1_ps(value)) }
+    }
+    /// The eight values of two 4-lane rows.
+    #[inline(always)]
+    pub(crate) fn load(_: Avx2, values: &[[f32; 4]; 2]) -> Self {
+        unsafe { Self(_mm256_loadu_ps(values.as_ptr().cast::<f32>())) }
+    }
+    #[inline(always)]
+    pub(crate) fn to_array(self) -> [f32; 8] {
+        let mut out = [0.0; 8];
+        unsafe { _mm256_storeu_ps(out.as_mut_ptr(), self.0) };
+        out
+    }
+    #[inline(always)]
+    pub(crate) fn sub(self, other: Self) -> Self {
+        unsafe { Self(_mm256_sub_ps(self.0, other.0)) }
+    }
+    #[inline(always)]
+    pub(crate) fn mul(self, other: Self) -> Self {
+        unsafe { Self(_mm256_mul_ps(self.0, other.0)) }
+    }
+    /// Lane-wise minimum (inputs must not be NaN; the second operand is
+    /// returned on ties, as `minps` does).
+    #[inline(always)]
+    pub(crate) fn min(self, other: Self) -> Self {
+        unsafe { Self(_mm256_min_ps(self.0, other.0)) }
+    }
+    /// Lane-wise maximum (inputs must not be NaN).
+    #[inline(always)]
+    pub(crate) fn max(self, other: Self) -> Self {
+        unsafe { Self(_mm256_max_ps(self.0, other.0)) }
+    }
+    /// Bit `i` set where lane `i` of `self` is `<=` that of `other`.
+    #[inline(always)]
+    pub(crate) fn le_bits(self, other: Self) -> u32 {
+        unsafe { _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(self.0, other.0)) as u32 }
+    }
+}
+
 /// Asks the processor to bring the cache line holding `address` into all
 /// cache levels (a hint: no effect on results; nothing happens off x86_64).
 #[inline(always)]
@@ -260,6 +336,27 @@ impl Mask4 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn eight_lanes_match_scalar_arithmetic() {
+        let Some(avx2) = Avx2::detect() else {
+            return;
+        };
+        let a = [[1.5f32, -2.0, 0.0, 3.25], [7.0, -0.5, 1e-30, -4.0]];
+        let b = [[0.5f32, 4.0, -1.0, 3.25], [7.0, 0.25, 2.0, -5.0]];
+        let (x, y) = (F32x8::load(avx2, &a), F32x8::load(avx2, &b));
+        let (a, b) = (a.as_flattened(), b.as_flattened());
+        for i in 0..8 {
+            assert_eq!(x.sub(y).to_array()[i], a[i] - b[i]);
+            assert_eq!(x.mul(y).to_array()[i], a[i] * b[i]);
+            assert_eq!(x.min(y).to_array()[i], a[i].min(b[i]));
+            assert_eq!(x.max(y).to_array()[i], a[i].max(b[i]));
+        }
+        let expected = (0..8).fold(0, |bits, i| bits | u32::from(a[i] <= b[i]) << i);
+        assert_eq!(x.le_bits(y), expected);
+        assert_eq!(F32x8::splat(avx2, 2.0).to_array(), [2.0; 8]);
+    }
 
     #[test]
     fn lanes_match_scalar_arithmetic() {

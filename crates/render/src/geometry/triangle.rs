@@ -48,8 +48,8 @@ impl WatertightRay {
         } else {
             2
         };
-        let mut kx = (kz + 1) % 3;
-        let mut ky = (kx + 1) % 3;
+        // `kx = (kz + 1) % 3`, `ky = (kx + 1) % 3` by table (no divisions).
+        let (mut kx, mut ky) = [(1, 2), (2, 0), (0, 1)][kz];
         // Swapping kx and ky when the dominant component is negative keeps the
         // winding (and so the sign of the determinant) consistent.
         // Array indexing: `Vec3`'s `Index` is a bounds-checked `match`.

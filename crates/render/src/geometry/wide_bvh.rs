@@ -46,6 +46,8 @@ use obvhs::ploc::PlocBuilder;
 use std::mem::MaybeUninit;
 
 use super::bvh_memory::vec_with_huge_pages;
+#[cfg(target_arch = "x86_64")]
+use super::simd::{Avx2, F32x8};
 use super::simd::{F32x4, prefetch};
 use super::triangle::WatertightRay;
 use super::triangle_packet::{
@@ -85,41 +87,41 @@ const MIN_DIRECTION_COMPONENT: f32 = 1e-20;
 /// Traversal stack entries kept inline; deeper trees use a heap stack.
 const INLINE_STACK: usize = 128;
 
-/// [`WIDTH`] children: their boxes as slab planes in groups of four
-/// (`bounds[group][plane][lane]` for child `4 · group + lane`; planes 0–2 the
-/// minima of x, y, z and 3–5 the maxima) and their references.
+/// [`WIDTH`] children: their boxes as slab planes (`bounds[plane][group][lane]`
+/// for child `4 · group + lane`; planes 0–2 the minima of x, y, z and 3–5 the
+/// maxima), each plane's eight values contiguous (one 8-lane load, or two
+/// 4-lane loads), and their references.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 struct WideNode {
-    bounds: [[[f32; 4]; 6]; GROUPS],
+    bounds: [[[f32; 4]; GROUPS]; 6],
     children: [u32; WIDTH],
 }
 
 impl WideNode {
     const EMPTY: Self = Self {
-        bounds: [[
-            [f32::INFINITY; 4],
-            [f32::INFINITY; 4],
-            [f32::INFINITY; 4],
-            [f32::NEG_INFINITY; 4],
-            [f32::NEG_INFINITY; 4],
-            [f32::NEG_INFINITY; 4],
-        ]; GROUPS],
+        bounds: [
+            [[f32::INFINITY; 4]; GROUPS],
+            [[f32::INFINITY; 4]; GROUPS],
+            [[f32::INFINITY; 4]; GROUPS],
+            [[f32::NEG_INFINITY; 4]; GROUPS],
+            [[f32::NEG_INFINITY; 4]; GROUPS],
+            [[f32::NEG_INFINITY; 4]; GROUPS],
+        ],
         children: [EMPTY_CHILD; WIDTH],
     };
 
     fn set_child(&mut self, index: usize, aabb: &Aabb, reference: u32) {
-        let bounds = &mut self.bounds[index / 4];
         for axis in 0..3 {
-            bounds[axis][index % 4] = aabb.min[axis];
-            bounds[axis + 3][index % 4] = aabb.max[axis];
+            self.bounds[axis][index / 4][index % 4] = aabb.min[axis];
+            self.bounds[axis + 3][index / 4][index % 4] = aabb.max[axis];
         }
         self.children[index] = reference;
     }
 
     /// Plane `plane` of child `index`'s box.
     fn plane(&self, plane: usize, index: usize) -> f32 {
-        self.bounds[index / 4][plane][index % 4]
+        self.bounds[plane][index / 4][index % 4]
     }
 }
 
@@ -310,9 +312,45 @@ pub(crate) struct WideBvh {
     slot_primitives: Vec<u32>,
     /// Whether the tree is too deep for the inline traversal stack.
     deep: bool,
+    /// Set if the CPU supports AVX2: the traversal then runs as AVX2 code.
+    #[cfg(target_arch = "x86_64")]
+    avx2: Option<Avx2>,
 }
 
-/// The ray's data for the slab test.
+/// A ray's slab test against the eight child boxes of a [`WideNode`]; the
+/// traversal is generic over it so that it can be compiled once for the SSE
+/// baseline and once for AVX2 (see [`WideBvh::closest_hit`]).
+trait NodeTest: Sized {
+    /// What it takes to build one (a proof that the CPU can run it).
+    type Token: Copy;
+    fn new(ray: &Ray, token: Self::Token) -> Self;
+    /// The children whose boxes the ray enters within `[0, t_max]` (bit `i`
+    /// for child `i`) and their entry distances.
+    fn intersect(&self, node: &WideNode, t_max: f32) -> (u32, [f32; WIDTH]);
+}
+
+/// The reciprocal direction of the slab test (tiny components replaced by
+/// [`MIN_DIRECTION_COMPONENT`]) and, per axis, the plane row entered first
+/// and the one left last.
+#[inline(always)]
+fn slab_setup(ray: &Ray) -> ([f32; 3], [usize; 3], [usize; 3]) {
+    let inverse = ray.direction.to_array().map(|d| {
+        let d = if d.abs() < MIN_DIRECTION_COMPONENT {
+            MIN_DIRECTION_COMPONENT
+        } else {
+            d
+        };
+        1.0 / d
+    });
+    // Rows 0–2 are minima, 3–5 maxima: a negative direction enters at the maximum.
+    let negative = inverse.map(|i| usize::from(i < 0.0));
+    let near_plane = [0, 1, 2].map(|axis| axis + 3 * negative[axis]);
+    let far_plane = [0, 1, 2].map(|axis| axis + 3 - 3 * negative[axis]);
+    (inverse, near_plane, far_plane)
+}
+
+/// The ray's data for the slab test in two 4-lane groups (SSE, the x86_64
+/// baseline).
 struct NodeRay {
     origin: [F32x4; 3],
     inverse_direction: [F32x4; 3],
@@ -321,34 +359,27 @@ struct NodeRay {
     far_plane: [usize; 3],
 }
 
-impl NodeRay {
-    fn new(ray: &Ray) -> Self {
-        let inverse = ray.direction.to_array().map(|d| {
-            let d = if d.abs() < MIN_DIRECTION_COMPONENT {
-                MIN_DIRECTION_COMPONENT
-            } else {
-                d
-            };
-            1.0 / d
-        });
-        let near_plane = [0, 1, 2].map(|axis| if inverse[axis] >= 0.0 { axis } else { axis + 3 });
+impl NodeTest for NodeRay {
+    type Token = ();
+
+    #[inline(always)]
+    fn new(ray: &Ray, _: ()) -> Self {
+        let (inverse, near_plane, far_plane) = slab_setup(ray);
         Self {
             origin: ray.origin.to_array().map(F32x4::splat),
             inverse_direction: inverse.map(F32x4::splat),
             near_plane,
-            far_plane: near_plane.map(|plane| (plane + 3) % 6),
+            far_plane,
         }
     }
 
-    /// The children whose boxes the ray enters within `[0, t_max]` (bit `i`
-    /// for child `i`) and their entry distances.
     #[inline(always)]
     fn intersect(&self, node: &WideNode, t_max: f32) -> (u32, [f32; WIDTH]) {
         let mut bits = 0;
         let mut distances = [0.0; WIDTH];
-        for (group, bounds) in node.bounds.iter().enumerate() {
+        for group in 0..GROUPS {
             let slab = |plane: usize, axis: usize| {
-                F32x4::load(&bounds[plane])
+                F32x4::load(&node.bounds[plane][group])
                     .sub(self.origin[axis])
                     .mul(self.inverse_direction[axis])
             };
@@ -363,6 +394,52 @@ impl NodeRay {
             distances[4 * group..4 * group + 4].copy_from_slice(&near.to_array());
         }
         (bits, distances)
+    }
+}
+
+/// The ray's data for the slab test of all eight children at once (AVX).
+/// The same operations as [`NodeRay`] lane by lane, so the same answers.
+#[cfg(target_arch = "x86_64")]
+struct WideNodeRay {
+    origin: [F32x8; 3],
+    inverse_direction: [F32x8; 3],
+    near_plane: [usize; 3],
+    far_plane: [usize; 3],
+    avx2: Avx2,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl NodeTest for WideNodeRay {
+    type Token = Avx2;
+
+    #[inline(always)]
+    fn new(ray: &Ray, avx2: Avx2) -> Self {
+        let (inverse, near_plane, far_plane) = slab_setup(ray);
+        Self {
+            origin: ray.origin.to_array().map(|value| F32x8::splat(avx2, value)),
+            inverse_direction: inverse.map(|value| F32x8::splat(avx2, value)),
+            near_plane,
+            far_plane,
+            avx2,
+        }
+    }
+
+    #[inline(always)]
+    fn intersect(&self, node: &WideNode, t_max: f32) -> (u32, [f32; WIDTH]) {
+        let avx2 = self.avx2;
+        let slab = |plane: usize, axis: usize| {
+            F32x8::load(avx2, &node.bounds[plane])
+                .sub(self.origin[axis])
+                .mul(self.inverse_direction[axis])
+        };
+        let near = slab(self.near_plane[0], 0)
+            .max(slab(self.near_plane[1], 1))
+            .max(slab(self.near_plane[2], 2).max(F32x8::splat(avx2, 0.0)));
+        let far = slab(self.far_plane[0], 0)
+            .min(slab(self.far_plane[1], 1))
+            .min(slab(self.far_plane[2], 2).min(F32x8::splat(avx2, t_max)))
+            .mul(F32x8::splat(avx2, ROBUST_FAR_SCALE));
+        (near.le_bits(far), near.to_array())
     }
 }
 
@@ -495,6 +572,8 @@ impl WideBvh {
                 analytic_slots: Vec::new(),
                 slot_primitives: Vec::with_capacity(aabbs.len()),
                 deep: false,
+                #[cfg(target_arch = "x86_64")]
+                avx2: Avx2::detect(),
             },
         }
         .collapse()
@@ -609,48 +688,136 @@ impl WideBvh {
     /// `analytic(slot, t_max)` tests an analytic primitive and returns its `t`
     /// and its reference.
     /// `ray`'s origin must be finite and its direction finite and non-zero.
+    ///
+    /// On CPUs with AVX2 the traversal runs as code compiled for AVX2 (one
+    /// 8-lane slab test per node, three-operand instructions throughout);
+    /// elsewhere as SSE code. Both perform the same IEEE operations (no
+    /// fused multiply–add), so the hits are the same bit for bit.
+    #[inline]
     pub(crate) fn closest_hit(
         &self,
         ray: &Ray,
         t_max: f32,
         analytic: impl FnMut(u32, f32) -> Option<(f32, PrimitiveReference)>,
     ) -> Option<ClosestPrimitive> {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx2) = self.avx2 {
+            // SAFETY: the proof says the CPU supports AVX2.
+            return unsafe { self.closest_hit_avx2(avx2, ray, t_max, analytic) };
+        }
+        self.closest_hit_for::<NodeRay>((), ray, t_max, analytic)
+    }
+
+    /// [`WideBvh::closest_hit`] compiled for AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn closest_hit_avx2(
+        &self,
+        avx2: Avx2,
+        ray: &Ray,
+        t_max: f32,
+        analytic: impl FnMut(u32, f32) -> Option<(f32, PrimitiveReference)>,
+    ) -> Option<ClosestPrimitive> {
+        self.closest_hit_for::<WideNodeRay>(avx2, ray, t_max, analytic)
+    }
+
+    #[inline(always)]
+    fn closest_hit_for<N: NodeTest>(
+        &self,
+        token: N::Token,
+        ray: &Ray,
+        t_max: f32,
+        analytic: impl FnMut(u32, f32) -> Option<(f32, PrimitiveReference)>,
+    ) -> Option<ClosestPrimitive> {
+        let node_ray = N::new(ray, token);
         match (&self.triangles, self.deep) {
-            (Triangles::Vertices(triangles), false) => {
-                self.closest_hit_with(triangles, ray, t_max, analytic, InlineStack::new())
-            }
+            (Triangles::Vertices(triangles), false) => self.closest_hit_with(
+                triangles,
+                ray,
+                &node_ray,
+                t_max,
+                analytic,
+                InlineStack::new(),
+            ),
             (Triangles::Vertices(triangles), true) => {
-                self.closest_hit_with(triangles, ray, t_max, analytic, Vec::new())
+                self.closest_hit_with(triangles, ray, &node_ray, t_max, analytic, Vec::new())
             }
-            (Triangles::Indexed(triangles), false) => {
-                self.closest_hit_with(triangles, ray, t_max, analytic, InlineStack::new())
-            }
+            (Triangles::Indexed(triangles), false) => self.closest_hit_with(
+                triangles,
+                ray,
+                &node_ray,
+                t_max,
+                analytic,
+                InlineStack::new(),
+            ),
             (Triangles::Indexed(triangles), true) => {
-                self.closest_hit_with(triangles, ray, t_max, analytic, Vec::new())
+                self.closest_hit_with(triangles, ray, &node_ray, t_max, analytic, Vec::new())
             }
         }
     }
 
     /// Whether `ray` hits any primitive with `0 < t < t_max` (stops at the
     /// first hit). `analytic(slot, t_max)` tests an analytic primitive.
+    /// AVX2 or SSE code as for [`WideBvh::closest_hit`].
+    #[inline]
     pub(crate) fn any_hit(
         &self,
         ray: &Ray,
         t_max: f32,
         analytic: impl FnMut(u32, f32) -> bool,
     ) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx2) = self.avx2 {
+            // SAFETY: the proof says the CPU supports AVX2.
+            return unsafe { self.any_hit_avx2(avx2, ray, t_max, analytic) };
+        }
+        self.any_hit_for::<NodeRay>((), ray, t_max, analytic)
+    }
+
+    /// [`WideBvh::any_hit`] compiled for AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn any_hit_avx2(
+        &self,
+        avx2: Avx2,
+        ray: &Ray,
+        t_max: f32,
+        analytic: impl FnMut(u32, f32) -> bool,
+    ) -> bool {
+        self.any_hit_for::<WideNodeRay>(avx2, ray, t_max, analytic)
+    }
+
+    #[inline(always)]
+    fn any_hit_for<N: NodeTest>(
+        &self,
+        token: N::Token,
+        ray: &Ray,
+        t_max: f32,
+        analytic: impl FnMut(u32, f32) -> bool,
+    ) -> bool {
+        let node_ray = N::new(ray, token);
         match (&self.triangles, self.deep) {
-            (Triangles::Vertices(triangles), false) => {
-                self.any_hit_with(triangles, ray, t_max, analytic, InlineStack::new())
-            }
+            (Triangles::Vertices(triangles), false) => self.any_hit_with(
+                triangles,
+                ray,
+                &node_ray,
+                t_max,
+                analytic,
+                InlineStack::new(),
+            ),
             (Triangles::Vertices(triangles), true) => {
-                self.any_hit_with(triangles, ray, t_max, analytic, Vec::new())
+                self.any_hit_with(triangles, ray, &node_ray, t_max, analytic, Vec::new())
             }
-            (Triangles::Indexed(triangles), false) => {
-                self.any_hit_with(triangles, ray, t_max, analytic, InlineStack::new())
-            }
+            (Triangles::Indexed(triangles), false) => self.any_hit_with(
+                triangles,
+                ray,
+                &node_ray,
+                t_max,
+                analytic,
+                InlineStack::new(),
+            ),
             (Triangles::Indexed(triangles), true) => {
-                self.any_hit_with(triangles, ray, t_max, analytic, Vec::new())
+                self.any_hit_with(triangles, ray, &node_ray, t_max, analytic, Vec::new())
             }
         }
     }
@@ -660,11 +827,11 @@ impl WideBvh {
         &self,
         triangles: &impl TriangleStore,
         ray: &Ray,
+        node_ray: &impl NodeTest,
         mut t_max: f32,
         mut analytic: impl FnMut(u32, f32) -> Option<(f32, PrimitiveReference)>,
         mut stack: impl TraversalStack,
     ) -> Option<ClosestPrimitive> {
-        let node_ray = NodeRay::new(ray);
         let packet_ray = PacketRay::new(WatertightRay::new(ray.origin, ray.direction));
         let mut closest = Closest::Nothing;
         let mut current = 0u32;
@@ -775,11 +942,11 @@ impl WideBvh {
         &self,
         triangles: &impl TriangleStore,
         ray: &Ray,
+        node_ray: &impl NodeTest,
         t_max: f32,
         mut analytic: impl FnMut(u32, f32) -> bool,
         mut stack: impl TraversalStack,
     ) -> bool {
-        let node_ray = NodeRay::new(ray);
         let packet_ray = PacketRay::new(WatertightRay::new(ray.origin, ray.direction));
         let mut current = 0u32;
         loop {
@@ -1202,6 +1369,15 @@ mod tests {
                     hits += 1;
                 }
                 assert_eq!(bvh.any_hit(&ray, t_max, |_, _| false), expected.is_some());
+                // The SSE traversal (the only one on CPUs without AVX2)
+                // finds the same hit, bit for bit.
+                #[cfg(target_arch = "x86_64")]
+                {
+                    let detected = bvh.avx2.take();
+                    assert_eq!(bvh.closest_hit(&ray, t_max, |_, _| None), found);
+                    assert_eq!(bvh.any_hit(&ray, t_max, |_, _| false), expected.is_some());
+                    bvh.avx2 = detected;
+                }
             }
             assert!(hits > 300, "only {hits} hits");
         }
@@ -1282,5 +1458,48 @@ mod tests {
         assert!(bvh.any_hit(&ray, f32::INFINITY, |_, _| true));
         let away = Ray::new(Vec3::new(0.0, 0.0, -5.0), -Vec3::Z);
         assert!(!bvh.any_hit(&away, f32::INFINITY, |_, _| true));
+    }
+}
+
+/// A diagnostic, not a check: prints the built-in Cornell box's tree (every
+/// node's children, leaves with the lanes used per packet, and boxes), e.g.
+/// `cargo test -p render --lib dump_cornell -- --ignored --nocapture`.
+#[cfg(test)]
+mod dump_tree {
+    use super::*;
+
+    #[test]
+    #[ignore]
+    fn dump_cornell_box_tree() {
+        let description = crate::scene::builtin::builtin_scene("cornell-box").unwrap();
+        let scene = crate::scene::Scene::build(&description).unwrap();
+        let geometry = &scene.geometry;
+        println!("{}", geometry.accelerator_statistics().unwrap());
+        let bvh = geometry.bvh_for_tests();
+        for (index, node) in bvh.nodes.iter().enumerate() {
+            println!("node {index}");
+            for child in 0..WIDTH {
+                let reference = node.children[child];
+                if reference == EMPTY_CHILD {
+                    continue;
+                }
+                let min: Vec<f32> = (0..3).map(|a| node.plane(a, child)).collect();
+                let max: Vec<f32> = (0..3).map(|a| node.plane(a + 3, child)).collect();
+                if reference & LEAF_BIT == 0 {
+                    println!("  child {child}: node {reference} {min:?} {max:?}");
+                } else {
+                    let contents = bvh.leaf_contents(reference);
+                    let Triangles::Vertices(packets) = &bvh.triangles else {
+                        panic!()
+                    };
+                    let lanes: Vec<usize> = contents
+                        .packets
+                        .clone()
+                        .map(|p| packets.lanes_used(p))
+                        .collect();
+                    println!("  child {child}: leaf packets {lanes:?} {min:?} {max:?}");
+                }
+            }
+        }
     }
 }
