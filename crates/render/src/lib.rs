@@ -15,4 +15,6 @@ pub mod sampler;
 pub mod scene;
 pub mod spectrum;
 pub mod statistics;
+#[cfg(test)]
+mod test_support;
 pub mod texture;

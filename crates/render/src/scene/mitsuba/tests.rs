@@ -9,20 +9,13 @@ use super::super::description::{
 use super::super::loader::{LoadOptions, LoadedScene, SceneFileError};
 use super::load;
 use crate::camera::FovAxis;
+use crate::test_support::ScratchDirectory;
 use glam::{Affine2, Vec2, Vec3};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// A fresh directory for one test.
-fn directory() -> PathBuf {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let directory = std::env::temp_dir().join(format!(
-        "lqmc-mitsuba-{}-{}",
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    std::fs::create_dir_all(&directory).unwrap();
-    directory
+/// A fresh directory for one test, removed when the guard is dropped.
+fn directory() -> ScratchDirectory {
+    ScratchDirectory::new("mitsuba")
 }
 
 fn write(directory: &Path, name: &str, text: &str) -> PathBuf {

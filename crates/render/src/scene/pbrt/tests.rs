@@ -8,20 +8,14 @@ use crate::scene::description::{
     ShapeGeometry, SpectrumDescription, TextureDescription,
 };
 use crate::scene::loader::{LoadOptions, LoadedScene, SceneFileError};
+use crate::test_support::ScratchDirectory;
 use glam::{Vec3, Vec3A};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::Path;
 
-/// A fresh directory with the given files (name, contents).
-fn scene_directory(files: &[(&str, &str)]) -> PathBuf {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let directory = std::env::temp_dir().join(format!(
-        "lqmc-pbrt-test-{}-{}",
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let _ = std::fs::remove_dir_all(&directory);
-    std::fs::create_dir_all(&directory).unwrap();
+/// A fresh directory with the given files (name, contents), removed when
+/// the returned guard is dropped.
+fn scene_directory(files: &[(&str, &str)]) -> ScratchDirectory {
+    let directory = ScratchDirectory::new("pbrt-test");
     for (name, contents) in files {
         let path = directory.join(name);
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
