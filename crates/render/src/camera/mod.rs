@@ -251,23 +251,16 @@ impl PerspectiveCamera {
             (Vec3::ZERO, on_plane.normalize())
         };
         let time = self.time(u_time);
-        if let Some(transform) = &self.static_world_from_camera {
-            let direction = transform.transform_vector3(direction);
-            return CameraRay {
-                origin: transform.transform_point3(origin),
-                // A rotation keeps the unit direction unit (to rounding).
-                direction: if self.static_keeps_length {
-                    direction
-                } else {
-                    direction.normalize()
-                },
-                time,
-            };
-        }
         let transform = self.world_from_camera(time);
+        let direction = transform.transform_vector3(direction);
         CameraRay {
             origin: transform.transform_point3(origin),
-            direction: transform.transform_vector3(direction).normalize(),
+            // A static rotation keeps the unit direction unit (to rounding).
+            direction: if self.static_keeps_length {
+                direction
+            } else {
+                direction.normalize()
+            },
             time,
         }
     }

@@ -184,16 +184,26 @@ impl AliasTable {
 
     /// An index drawn with probability proportional to its weight from `u` in `[0, 1)`.
     pub fn sample(&self, u: f32) -> usize {
-        let count = self.len();
-        let scaled = u * count as f32;
-        let bin = (scaled as usize).min(count - 1);
-        let fraction = scaled - bin as f32;
+        // Entries are indexed by `u32` aliases, so the count fits 32 bits.
+        let count = self.len() as u32;
+        let (bin, fraction) = alias_bin(u, count as f32, count - 1);
         if fraction < self.keep_probability[bin] {
             bin
         } else {
             self.alias[bin] as usize
         }
     }
+}
+
+/// The bin of an alias table of `bin_count` entries (as a float; `last_bin`
+/// = count − 1) that `u` in `[0, 1)` falls in, and where in the bin it
+/// falls, in `[0, 1)`: the keep-or-alias decision's number. In 32 bits,
+/// which convert to and from floats more cheaply than `usize`.
+#[inline]
+fn alias_bin(u: f32, bin_count: f32, last_bin: u32) -> (usize, f32) {
+    let scaled = u * bin_count;
+    let bin = (scaled as u32).min(last_bin);
+    (bin as usize, scaled - bin as f32)
 }
 
 /// One triangle of a mesh prepared for sampling points on it, with the
@@ -224,8 +234,8 @@ struct SampledTriangle {
 #[derive(Clone, Debug)]
 pub struct TriangleSampler {
     triangles: Box<[SampledTriangle]>,
-    /// The number of triangles as a float and the last index, for the bin
-    /// look-up (32 bits convert to and from floats more cheaply than `usize`).
+    /// The number of triangles as a float and the last index, for
+    /// [`alias_bin`].
     bin_count: f32,
     last_bin: u32,
 }
@@ -261,10 +271,7 @@ impl TriangleSampler {
     /// point `u` places on it: `(point, unit normal, triangle index)`.
     #[inline]
     pub fn sample(&self, u_triangle: f32, u: Vec2) -> (Vec3, Vec3, usize) {
-        let scaled = u_triangle * self.bin_count;
-        let bin = (scaled as u32).min(self.last_bin);
-        let fraction = scaled - bin as f32;
-        let bin = bin as usize;
+        let (bin, fraction) = alias_bin(u_triangle, self.bin_count, self.last_bin);
         let record = &self.triangles[bin];
         let (index, triangle) = if fraction < record.keep_probability {
             (bin, record)

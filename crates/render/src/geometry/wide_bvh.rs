@@ -1113,10 +1113,16 @@ impl<F: Fn(usize) -> Option<BuildTriangle>> Collapser<'_, F> {
         let Some((position, _)) = best else {
             return false;
         };
+        self.open(children, position);
+        true
+    }
+
+    /// Replaces the candidate at `position` (one inner binary node) by its
+    /// two children.
+    fn open(&self, children: &mut Vec<Candidate>, position: usize) {
         let opened = children.swap_remove(position).subtrees[0];
         let first = self.binary.nodes[opened].first_index as usize;
         children.extend([self.candidate(first), self.candidate(first + 1)]);
-        true
     }
 
     fn collapse(mut self) -> WideBvh {
@@ -1147,9 +1153,7 @@ impl<F: Fn(usize) -> Option<BuildTriangle>> Collapser<'_, F> {
                                 .total_cmp(&children[b].aabb.half_area())
                         });
                     if let Some(position) = largest {
-                        let opened = children.swap_remove(position).subtrees[0];
-                        let first = self.binary.nodes[opened].first_index as usize;
-                        children.extend([self.candidate(first), self.candidate(first + 1)]);
+                        self.open(&mut children, position);
                         continue;
                     }
                 }

@@ -342,11 +342,7 @@ impl Material {
             Material::Diffuse {
                 reflectance,
                 two_sided,
-            } => DiffuseBsdf::new_unchecked(
-                reflectance.evaluate(context, wavelengths).clamp(0.0, 1.0),
-                *two_sided,
-            )
-            .into(),
+            } => diffuse_bsdf(reflectance, *two_sided, context, wavelengths),
             Material::Conductor { eta, k } => ConductorBsdf::new_unchecked(
                 eta.sample(wavelengths).clamp_zero(),
                 k.sample(wavelengths).clamp_zero(),
@@ -519,11 +515,7 @@ impl Material {
         {
             return SurfaceBsdf {
                 frame: isotropic_frame(hit.shading_normal),
-                bsdf: DiffuseBsdf::new_unchecked(
-                    reflectance.evaluate(&context, wavelengths).clamp(0.0, 1.0),
-                    *two_sided,
-                )
-                .into(),
+                bsdf: diffuse_bsdf(reflectance, *two_sided, &context, wavelengths),
                 adapter: SurfaceAdapter::NONE,
             };
         }
@@ -624,6 +616,22 @@ impl Material {
             adapter: SurfaceAdapter::NONE,
         }
     }
+}
+
+/// The Lambertian BSDF of [`Material::Diffuse`] with its reflectance
+/// evaluated at `context` and clamped to [0, 1].
+#[inline]
+fn diffuse_bsdf(
+    reflectance: &SpectrumTexture,
+    two_sided: bool,
+    context: &TextureContext,
+    wavelengths: &SampledWavelengths,
+) -> Bsdf {
+    DiffuseBsdf::new_unchecked(
+        reflectance.evaluate(context, wavelengths).clamp(0.0, 1.0),
+        two_sided,
+    )
+    .into()
 }
 
 /// The shading frame of a BSDF that does not depend on the tangent: the
