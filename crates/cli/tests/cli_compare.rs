@@ -1,7 +1,11 @@
 //! End-to-end tests of `lqmc compare`.
 
+#[path = "../../render/tests/support/scratch_directory.rs"]
+mod scratch_directory;
+use scratch_directory::ScratchDirectory;
+
 use render::image::{Image, write_pfm};
-use std::path::PathBuf;
+
 use std::process::{Command, Output};
 
 fn lqmc(args: &[&str]) -> Output {
@@ -11,10 +15,9 @@ fn lqmc(args: &[&str]) -> Output {
         .expect("the lqmc binary runs")
 }
 
-fn temporary_directory(name: &str) -> PathBuf {
-    let directory = std::env::temp_dir().join(format!("lqmc-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&directory).unwrap();
-    directory
+/// A fresh directory for this test's files, removed when dropped.
+fn temporary_directory(name: &str) -> ScratchDirectory {
+    ScratchDirectory::new(name)
 }
 
 fn write(directory: &std::path::Path, name: &str, pixels: Vec<[f32; 3]>) -> String {

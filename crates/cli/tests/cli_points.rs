@@ -1,6 +1,10 @@
 //! End-to-end tests of `lqmc points` and `lqmc lattice`: output formats,
 //! values against the library and external references, and bad input.
 
+#[path = "../../render/tests/support/scratch_directory.rs"]
+mod scratch_directory;
+use scratch_directory::ScratchDirectory;
+
 use std::process::{Command, Output};
 
 fn lqmc(args: &[&str]) -> Output {
@@ -162,7 +166,8 @@ fn lattice_points_match_lattice_command() {
 
 #[test]
 fn plot_writes_an_svg() {
-    let path = std::env::temp_dir().join(format!("lqmc-plot-{}.svg", std::process::id()));
+    let directory = ScratchDirectory::new("plot");
+    let path = directory.join("points.svg");
     let path_text = path.to_str().unwrap();
     stdout(&lqmc(&[
         "points",
@@ -177,7 +182,6 @@ fn plot_writes_an_svg() {
     let svg = std::fs::read_to_string(&path).unwrap();
     assert!(svg.starts_with("<svg"));
     assert!(svg.contains("local exploration"));
-    std::fs::remove_file(path).unwrap();
 }
 
 /// Bad input: one line on stderr and exit status 2.

@@ -1,6 +1,9 @@
 //! End-to-end tests of `lqmc render` and `lqmc scenes`.
 
-use std::path::PathBuf;
+#[path = "../../render/tests/support/scratch_directory.rs"]
+mod scratch_directory;
+use scratch_directory::ScratchDirectory;
+
 use std::process::{Command, Output};
 
 fn lqmc(args: &[&str]) -> Output {
@@ -10,10 +13,9 @@ fn lqmc(args: &[&str]) -> Output {
         .expect("the lqmc binary runs")
 }
 
-fn temporary_directory(name: &str) -> PathBuf {
-    let directory = std::env::temp_dir().join(format!("lqmc-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&directory).unwrap();
-    directory
+/// A fresh directory for this test's files, removed when dropped.
+fn temporary_directory(name: &str) -> ScratchDirectory {
+    ScratchDirectory::new(name)
 }
 
 #[test]
@@ -88,7 +90,6 @@ fn render_writes_exr_and_png_with_metadata_and_reports_rates() {
     let mean = contents.image.mean();
     assert!(mean.iter().all(|&m| (m - 1.0).abs() < 0.1), "{mean:?}");
     assert!(directory.join("furnace.png").exists());
-    std::fs::remove_dir_all(directory).unwrap();
 }
 
 #[test]
@@ -110,7 +111,6 @@ fn time_budget_stops_and_still_writes() {
     let text = String::from_utf8(output.stdout).unwrap();
     assert!(text.contains("time budget reached"), "{text}");
     assert!(render::image::read_pfm(&pfm).is_ok());
-    std::fs::remove_dir_all(directory).unwrap();
 }
 
 #[test]

@@ -1,43 +1,9 @@
 //! Helpers for the crate's unit tests.
 
-use std::path::PathBuf;
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-/// A fresh, empty directory under the system's temporary directory, removed
-/// with everything in it when dropped, so that test runs leave nothing
-/// behind. Dereferences to its path.
-#[derive(Debug)]
-pub(crate) struct ScratchDirectory(PathBuf);
-
-impl ScratchDirectory {
-    /// A new directory named `lqmc-PREFIX-PROCESS-COUNTER`, unique within
-    /// the test process.
-    pub(crate) fn new(prefix: &str) -> Self {
-        static COUNTER: AtomicUsize = AtomicUsize::new(0);
-        let path = std::env::temp_dir().join(format!(
-            "lqmc-{prefix}-{}-{}",
-            std::process::id(),
-            COUNTER.fetch_add(1, Ordering::Relaxed)
-        ));
-        let _ = std::fs::remove_dir_all(&path);
-        std::fs::create_dir_all(&path).expect("the temporary directory is writable");
-        Self(path)
-    }
-}
-
-impl std::ops::Deref for ScratchDirectory {
-    type Target = PathBuf;
-
-    fn deref(&self) -> &PathBuf {
-        &self.0
-    }
-}
-
-impl Drop for ScratchDirectory {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+// The definition is shared with the integration tests (see the file).
+#[path = "../tests/support/scratch_directory.rs"]
+mod scratch_directory;
+pub(crate) use scratch_directory::ScratchDirectory;
 
 #[cfg(test)]
 mod tests {

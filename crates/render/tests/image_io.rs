@@ -1,19 +1,20 @@
 //! Round trips and error messages of the image readers and writers, and
 //! reading a reference render of the Cornell box by Tungsten.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
+
+#[path = "support/scratch_directory.rs"]
+mod scratch_directory;
+use scratch_directory::ScratchDirectory;
 
 use render::image::{
     Image, ImageError, Metadata, VARIANCE_LAYER, linear_to_srgb, read_exr, read_image, read_pfm,
     read_png, write_exr, write_image, write_pfm, write_png,
 };
 
-/// A fresh directory for this test's files.
-fn scratch_directory(name: &str) -> PathBuf {
-    let directory =
-        std::env::temp_dir().join(format!("lqmc-image-io-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&directory).unwrap();
-    directory
+/// A fresh directory for this test's files, removed when dropped.
+fn scratch_directory(name: &str) -> ScratchDirectory {
+    ScratchDirectory::new(&format!("image-io-{name}"))
 }
 
 /// A deterministic test image with values spread over many binades,

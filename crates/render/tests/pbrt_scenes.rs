@@ -13,6 +13,10 @@
 //! which catches a mirrored camera. Our standard error (about 0.3 % in R
 //! and G, 0.6 % in B) is printed.
 
+#[path = "support/scratch_directory.rs"]
+mod scratch_directory;
+use scratch_directory::ScratchDirectory;
+
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
@@ -234,8 +238,7 @@ fn cornell_box_image_mean_matches_tungsten() {
 #[test]
 fn truncated_and_corrupted_files_never_panic() {
     let original = std::fs::read(bitterli("cornell-box").join("scene-v4.pbrt")).unwrap();
-    let directory = std::env::temp_dir().join(format!("lqmc-pbrt-corrupt-{}", std::process::id()));
-    std::fs::create_dir_all(&directory).unwrap();
+    let directory = ScratchDirectory::new("pbrt-corrupt");
     let path = directory.join("scene.pbrt");
     let mut variants: Vec<Vec<u8>> = (0..original.len())
         .step_by(97)
@@ -260,7 +263,6 @@ fn truncated_and_corrupted_files_never_panic() {
         }
     }
     assert!(loaded > 0);
-    let _ = std::fs::remove_dir_all(&directory);
 }
 
 /// A scene written here: a diffuse sphere (pbrt's default material,
@@ -271,8 +273,7 @@ fn truncated_and_corrupted_files_never_panic() {
 /// (`maxdepth 1`: one scattering event is enough) end to end.
 #[test]
 fn a_diffuse_sphere_under_a_uniform_sky_reflects_half() {
-    let directory = std::env::temp_dir().join(format!("lqmc-pbrt-sky-{}", std::process::id()));
-    std::fs::create_dir_all(&directory).unwrap();
+    let directory = ScratchDirectory::new("pbrt-sky");
     let path = directory.join("sky.pbrt");
     std::fs::write(
         &path,
@@ -312,7 +313,6 @@ fn a_diffuse_sphere_under_a_uniform_sky_reflects_half() {
             );
         }
     }
-    let _ = std::fs::remove_dir_all(&directory);
 }
 
 /// The directional albedo at normal incidence of a layered BSDF, from
@@ -344,9 +344,7 @@ fn normal_incidence_albedo(
 /// uniform sky of radiance 1 with one bounce, and checks the centre 2 × 2
 /// pixels against `expected` ± (4σ of the render + `tolerance`).
 fn furnace_sphere(name: &str, material: &str, expected: f64, tolerance: f64) -> LoadedScene {
-    let directory =
-        std::env::temp_dir().join(format!("lqmc-pbrt-furnace-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&directory).unwrap();
+    let directory = ScratchDirectory::new(&format!("pbrt-furnace-{name}"));
     let path = directory.join("furnace.pbrt");
     std::fs::write(
         &path,
@@ -392,7 +390,6 @@ fn furnace_sphere(name: &str, material: &str, expected: f64, tolerance: f64) -> 
             );
         }
     }
-    let _ = std::fs::remove_dir_all(&directory);
     loaded
 }
 

@@ -3,6 +3,10 @@
 //! `scripts/texture_reference.py`), decoding, spectral upsampling, and the
 //! bump-map, normal-map and mask material adapters.
 
+#[path = "support/scratch_directory.rs"]
+mod scratch_directory;
+use scratch_directory::ScratchDirectory;
+
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -154,8 +158,7 @@ fn write_grey_bmp(path: &Path, level: u8) {
 
 #[test]
 fn encodings_scale_invert_and_flip() {
-    let directory = std::env::temp_dir().join(format!("lqmc-texture-{}", std::process::id()));
-    std::fs::create_dir_all(&directory).unwrap();
+    let directory = ScratchDirectory::new("texture");
     let path = directory.join("grey.bmp");
     write_grey_bmp(&path, 128);
     let encoded = 128.0f32 / 255.0;
@@ -219,7 +222,6 @@ fn encodings_scale_invert_and_flip() {
         error.contains("missing.png") && error.contains("reflectance"),
         "{error}"
     );
-    std::fs::remove_dir_all(&directory).ok();
 }
 
 fn wood(filter: TextureFilter) -> TextureDescription {

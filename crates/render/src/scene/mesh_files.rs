@@ -255,12 +255,30 @@ pub fn read_ply(path: &Path) -> Result<MeshData, SceneFileError> {
 mod tests {
     use super::*;
 
-    fn temporary(name: &str, contents: &[u8]) -> std::path::PathBuf {
-        let directory = std::env::temp_dir().join(format!("lqmc-mesh-{}", std::process::id()));
-        std::fs::create_dir_all(&directory).unwrap();
+    /// A file `name` holding `contents` in a scratch directory, which is
+    /// removed when the returned guard is dropped.
+    fn temporary(name: &str, contents: &[u8]) -> TemporaryFile {
+        let directory = crate::test_support::ScratchDirectory::new("mesh");
         let path = directory.join(name);
         std::fs::write(&path, contents).unwrap();
-        path
+        TemporaryFile {
+            path,
+            _directory: directory,
+        }
+    }
+
+    /// A file in a scratch directory; dereferences to its path.
+    struct TemporaryFile {
+        path: std::path::PathBuf,
+        _directory: crate::test_support::ScratchDirectory,
+    }
+
+    impl std::ops::Deref for TemporaryFile {
+        type Target = std::path::Path;
+
+        fn deref(&self) -> &std::path::Path {
+            &self.path
+        }
     }
 
     #[test]
