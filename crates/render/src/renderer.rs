@@ -430,11 +430,22 @@ fn render_tile<S: PixelSampler + ?Sized>(
             for sample_index in samples.clone() {
                 sampler.start_pixel_sample((x as u32, y as u32), sample_index);
                 let position = film.camera_sample_position([x, y], sampler.get_2d(layout::FILM));
-                let camera_ray = scene.camera.generate_ray(
-                    Vec2::from(position.raster_position),
-                    sampler.get_2d(layout::LENS),
-                    sampler.get(layout::TIME),
-                );
+                // Numbers the camera does not use (a pinhole's lens, a
+                // closed shutter's time) are not drawn: a hash each saved.
+                let u_lens = if scene.camera.uses_lens_sample() {
+                    sampler.get_2d(layout::LENS)
+                } else {
+                    [0.5; 2]
+                };
+                let u_time = if scene.camera.uses_time_sample() {
+                    sampler.get(layout::TIME)
+                } else {
+                    0.5
+                };
+                let camera_ray =
+                    scene
+                        .camera
+                        .generate_ray(Vec2::from(position.raster_position), u_lens, u_time);
                 let mut wavelengths =
                     SampledWavelengths::sample_visible(sampler.get(layout::WAVELENGTH));
                 let ray = Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time);

@@ -1,7 +1,7 @@
 //! Independent uniform random numbers: the Monte Carlo baseline.
 
-use super::{PixelSampler, SampleSource, pixel_sample_key};
-use qmc::hash::mix64;
+use super::{PixelSampler, SampleSource, pixel_key};
+use qmc::hash::{hash2, mix64};
 use qmc::random::u32_to_unit_f32;
 
 /// The increment of SplitMix64's state (2⁶⁴ / φ, odd), the "golden gamma"
@@ -22,12 +22,37 @@ pub struct IndependentSampler {
     seed: u64,
     /// The key of the current pixel sample.
     key: u64,
+    /// The pixel of the current sample and the part of its key that does
+    /// not depend on the sample index (see [`IndependentSampler::pixel_part`]).
+    pixel: Option<((u32, u32), u64)>,
 }
 
 impl IndependentSampler {
     /// A sampler whose numbers are determined by `seed`.
     pub fn new(seed: u64) -> Self {
-        Self { seed, key: seed }
+        Self {
+            seed,
+            key: seed,
+            pixel: None,
+        }
+    }
+
+    /// The seed and `pixel` hashed together: the key of a pixel sample,
+    /// [`super::pixel_sample_key`], is this hashed with the sample index.
+    /// A tile renders the samples of a pass pixel by pixel, so the part is
+    /// kept and computed again only when the pixel changes: that saves two
+    /// of the key's four SplitMix64 finalisers for all but the first sample
+    /// of each pixel (about 26 instructions per path).
+    #[inline]
+    fn pixel_part(&mut self, pixel: (u32, u32)) -> u64 {
+        match self.pixel {
+            Some((kept, part)) if kept == pixel => part,
+            _ => {
+                let part = hash2(self.seed, pixel_key(pixel));
+                self.pixel = Some((pixel, part));
+                part
+            }
+        }
     }
 }
 
@@ -42,8 +67,11 @@ impl SampleSource for IndependentSampler {
 }
 
 impl PixelSampler for IndependentSampler {
+    #[inline]
     fn start_pixel_sample(&mut self, pixel: (u32, u32), sample_index: u64) {
-        self.key = pixel_sample_key(self.seed, pixel, sample_index);
+        // `pixel_sample_key`, which is hash3(seed, pixel, index) =
+        // hash2(hash2(seed, pixel), index), with its first half kept.
+        self.key = hash2(self.pixel_part(pixel), sample_index);
     }
 
     fn clone_sampler(&self) -> Box<dyn PixelSampler> {
@@ -97,6 +125,27 @@ mod tests {
             assert!(
                 result.p_value > 1e-4,
                 "dimensions {first}, {second}: {result:?}"
+            );
+        }
+    }
+
+    /// The key built from the kept pixel part equals the full hash of the
+    /// seed, pixel and index, whatever order pixels and indices come in.
+    #[test]
+    fn kept_pixel_part_gives_the_full_key() {
+        let seed = 9;
+        let mut sampler = IndependentSampler::new(seed);
+        for (pixel, index) in [
+            ((1, 2), 0),
+            ((1, 2), 1),
+            ((3, 2), 1),
+            ((1, 2), 5),
+            ((1, 2), 5),
+        ] {
+            sampler.start_pixel_sample(pixel, index);
+            assert_eq!(
+                sampler.key,
+                crate::sampler::pixel_sample_key(seed, pixel, index)
             );
         }
     }
