@@ -75,9 +75,7 @@ impl MisHeuristic {
             }
         }
     }
-}
 
-impl MisHeuristic {
     /// `weight(own, other) / own`: what a sample drawn with density `own`
     /// is multiplied by. For the power heuristic that is `own / (own² +
     /// other²)`, one division where the weight and the estimator's division

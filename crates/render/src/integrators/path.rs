@@ -9,7 +9,7 @@
 
 use super::path_vertex::PathVertex;
 use super::{MisHeuristic, TraceCounters};
-use crate::geometry::{OffsetPoint, Ray, SHADOW_EPSILON, SurfaceHit, offset_ray_origin, spawn_ray};
+use crate::geometry::{OffsetPoint, Ray, SurfaceHit, occlusion_segment_to_point, spawn_ray};
 use crate::material::SurfaceBsdf;
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
@@ -358,35 +358,6 @@ fn sample_light<S: SampleSource + ?Sized>(
         settings.heuristic.weight_over_density(light_pdf, bsdf_pdf)
     };
     value * sample.radiance * weight_over_pdf
-}
-
-/// The shadow ray from `origin` (already offset off its surface) to a
-/// sampled light `point` with unit `normal`, and the `t_max` to trace it to,
-/// as [`crate::geometry::spawn_segment_to_point`] but without the square root and division
-/// of a unit direction: the direction is the segment itself (the target,
-/// offset towards `origin`, minus `origin`) and the ray is traced to `t = 1
-/// − SHADOW_EPSILON`, the same fraction of the segment. Every intersection
-/// test (watertight triangles, spheres, disks, BVH boxes) solves for `t` in
-/// units of the direction's length, so an occlusion query finds the same
-/// surfaces; only callers that read `t` as a distance need a unit
-/// direction. Measured on the Cornell box: about 15 instructions and a
-/// sqrt-then-divide chain less per shadow ray. `None` for coincident or
-/// non-finite ends (the light is then not visible, as before).
-#[inline]
-fn occlusion_segment_to_point(
-    origin: Vec3,
-    time: f32,
-    point: Vec3,
-    normal: Vec3,
-) -> Option<(Ray, f32)> {
-    let target = offset_ray_origin(point, normal, origin - point);
-    let segment = target - origin;
-    // The same rejections as the unit-direction version's length test.
-    let length_squared = segment.length_squared();
-    if !(length_squared > 0.0 && length_squared < f32::INFINITY) {
-        return None;
-    }
-    Some((Ray::with_time(origin, segment, time), 1.0 - SHADOW_EPSILON))
 }
 
 /// Russian roulette at vertex `depth` (pbrt-v4's rule): from
