@@ -56,6 +56,15 @@ use super::triangle_packet::{
 };
 use super::{PrimitiveReference, Ray};
 
+/// Scenes of at most this many primitives get [`SMALL_SCENE_EXTRA_REINSERTIONS`]
+/// more reinsertion passes over all nodes after the build (see
+/// [`WideBvh::build`]).
+const SMALL_SCENE_PRIMITIVES: usize = 1024;
+
+/// Extra reinsertion passes (batch ratio 1: every node a candidate) for
+/// scenes of at most [`SMALL_SCENE_PRIMITIVES`] primitives.
+const SMALL_SCENE_EXTRA_REINSERTIONS: usize = 4;
+
 /// Groups of four children per node, each tested with one 4-lane slab test.
 const GROUPS: usize = 2;
 /// Children per node.
@@ -539,7 +548,17 @@ impl WideBvh {
             parameters.sort_precision,
             parameters.search_depth_threshold,
         );
-        ReinsertionOptimizer::default().run(&mut binary, parameters.reinsertion_batch_ratio, None);
+        let mut optimizer = ReinsertionOptimizer::default();
+        optimizer.run(&mut binary, parameters.reinsertion_batch_ratio, None);
+        if aabbs.len() <= SMALL_SCENE_PRIMITIVES {
+            // Small scenes build in microseconds, so reinsertion can consider
+            // every node a few more times: on the Cornell box the SAH cost
+            // fell from 3.99 to 3.69 and a closest-hit ray took about 11 %
+            // fewer instructions (callgrind). Large scenes keep the preset.
+            for _ in 0..SMALL_SCENE_EXTRA_REINSERTIONS {
+                optimizer.run(&mut binary, 1.0, None);
+            }
+        }
         // Every packet holds at least one primitive and every node at least
         // two children, so neither array outgrows `aabbs.len()` (the unused
         // capacity is never touched, so never backed by memory).
@@ -947,7 +966,9 @@ impl WideBvh {
         mut analytic: impl FnMut(u32, f32) -> bool,
         mut stack: impl TraversalStack,
     ) -> bool {
-        let packet_ray = PacketRay::new(WatertightRay::new(ray.origin, ray.direction));
+        // Built at the first leaf: many shadow rays leave the tree from its
+        // nodes, and the watertight set-up costs about 40 instructions.
+        let mut packet_ray: Option<PacketRay> = None;
         let mut current = 0u32;
         loop {
             if current & LEAF_BIT == 0 {
@@ -967,8 +988,11 @@ impl WideBvh {
                 }
             } else {
                 let contents = self.leaf_contents(current);
+                let packet_ray = packet_ray.get_or_insert_with(|| {
+                    PacketRay::new(WatertightRay::new(ray.origin, ray.direction))
+                });
                 for packet in contents.packets {
-                    if triangles.any_hit(&packet_ray, packet, t_max) {
+                    if triangles.any_hit(packet_ray, packet, t_max) {
                         return true;
                     }
                 }
