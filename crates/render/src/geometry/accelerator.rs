@@ -306,11 +306,20 @@ impl Geometry {
 
     /// Whether a ray can be traced: finite origin, finite non-zero direction,
     /// positive `t_max`.
+    ///
+    /// Every ray pays for this check, so it is written without branches:
+    /// `x - x` is zero for a finite `x` and NaN for an infinite or NaN one,
+    /// so the sum of the six differences is zero exactly when all six
+    /// coordinates are finite (`Vec3::is_finite` tests them one by one,
+    /// about twice the instructions).
+    #[inline(always)]
     fn traceable(ray: &Ray, t_max: f32) -> bool {
-        ray.origin.is_finite()
-            && ray.direction.is_finite()
-            && ray.direction != Vec3::ZERO
-            && t_max > 0.0
+        let origin = ray.origin - ray.origin;
+        let direction = ray.direction - ray.direction;
+        let probe = origin + direction;
+        let finite = probe.x + probe.y + probe.z == 0.0;
+        let non_zero = ray.direction.cmpne(Vec3::ZERO).any();
+        finite & non_zero & (t_max > 0.0)
     }
 
     /// Tests the analytic primitive in `slot` (a sphere or a disk).
@@ -502,6 +511,31 @@ mod tests {
                 assert!(hits.iter().all(|&count| count > 20), "{hits:?}");
             }
         }
+    }
+
+    #[test]
+    fn traceable_rejects_non_finite_zero_and_non_positive() {
+        let ray = |origin: Vec3, direction: Vec3| Ray::new(origin, direction);
+        let good = ray(Vec3::new(1.0, -2.0, 3.0), Vec3::new(0.0, -1e-30, 0.0));
+        assert!(Geometry::traceable(&good, 1.0));
+        assert!(Geometry::traceable(&good, f32::INFINITY));
+        assert!(!Geometry::traceable(&good, 0.0));
+        assert!(!Geometry::traceable(&good, -1.0));
+        assert!(!Geometry::traceable(&good, f32::NAN));
+        let bad = [f32::INFINITY, f32::NEG_INFINITY, f32::NAN];
+        for value in bad {
+            for axis in 0..3 {
+                let mut coordinates = [1.0f32; 3];
+                coordinates[axis] = value;
+                let odd = Vec3::from_array(coordinates);
+                assert!(!Geometry::traceable(&ray(odd, Vec3::Z), 1.0), "{odd}");
+                assert!(!Geometry::traceable(&ray(Vec3::ZERO, odd), 1.0), "{odd}");
+            }
+        }
+        assert!(!Geometry::traceable(&ray(Vec3::ZERO, Vec3::ZERO), 1.0));
+        assert!(!Geometry::traceable(&ray(Vec3::ZERO, -Vec3::ZERO), 1.0));
+        let huge = Vec3::splat(f32::MAX);
+        assert!(Geometry::traceable(&ray(huge, huge), 1.0));
     }
 
     #[test]
