@@ -41,15 +41,18 @@ impl WatertightRay {
     #[inline]
     pub(crate) fn new(origin: Vec3, direction: Vec3) -> Self {
         let abs = direction.abs();
-        let kz = if abs.x > abs.y {
-            if abs.x > abs.z { 0 } else { 2 }
+        // The dominant axis `kz`, with `kx = (kz + 1) % 3` and
+        // `ky = (kx + 1) % 3` chosen in the same branches: constants the
+        // compiler knows to be below 3 (a lookup table indexed by `kz` was
+        // written to the stack for every ray, and its entries then
+        // bounds-checked).
+        let (mut kx, mut ky, kz) = if abs.x > abs.y {
+            if abs.x > abs.z { (1, 2, 0) } else { (0, 1, 2) }
         } else if abs.y > abs.z {
-            1
+            (2, 0, 1)
         } else {
-            2
+            (0, 1, 2)
         };
-        // `kx = (kz + 1) % 3`, `ky = (kx + 1) % 3` by table (no divisions).
-        let (mut kx, mut ky) = [(1, 2), (2, 0), (0, 1)][kz];
         // Swapping kx and ky when the dominant component is negative keeps the
         // winding (and so the sign of the determinant) consistent.
         // Array indexing: `Vec3`'s `Index` is a bounds-checked `match`.
