@@ -308,15 +308,13 @@ impl Geometry {
     /// positive `t_max`.
     ///
     /// Every ray pays for this check, so it is written without branches:
-    /// `x - x` is zero for a finite `x` and NaN for an infinite or NaN one,
-    /// so the sum of the six differences is zero exactly when all six
+    /// `0 · x` is (signed) zero for a finite `x` and NaN for an infinite or
+    /// NaN one, so the sum of the six products is zero exactly when all six
     /// coordinates are finite (`Vec3::is_finite` tests them one by one,
     /// about twice the instructions).
     #[inline(always)]
     fn traceable(ray: &Ray, t_max: f32) -> bool {
-        let origin = ray.origin - ray.origin;
-        let direction = ray.direction - ray.direction;
-        let probe = origin + direction;
+        let probe = ray.origin * 0.0 + ray.direction * 0.0;
         let finite = probe.x + probe.y + probe.z == 0.0;
         let non_zero = ray.direction.cmpne(Vec3::ZERO).any();
         finite & non_zero & (t_max > 0.0)
