@@ -20,6 +20,9 @@ pub struct TriangleMesh {
     normals: Option<Vec<Vec3>>,
     uvs: Option<Vec<Vec2>>,
     indices: Vec<[u32; 3]>,
+    /// Per triangle, what [`TriangleMesh::surface_hit`] needs that does not
+    /// depend on the hit point (same order as `indices`).
+    frames: Vec<TriangleFrame>,
     /// Picks a triangle with probability proportional to its area; `None` if the
     /// mesh has zero total area (it can then not be sampled).
     area_distribution: Option<AliasTable>,
@@ -102,11 +105,15 @@ impl TriangleMesh {
             normals,
             uvs,
             indices,
+            frames: Vec::new(),
             area_distribution: None,
             surface_area: 0.0,
             inverse_surface_area: 0.0,
             triangle_sampler: OnceLock::new(),
         };
+        mesh.frames = (0..mesh.triangle_count())
+            .map(|index| mesh.triangle_frame(index))
+            .collect();
         let areas: Vec<f32> = (0..mesh.triangle_count())
             .map(|i| mesh.triangle_area(i))
             .collect();
@@ -232,8 +239,7 @@ impl TriangleMesh {
 
     /// Unit geometric (winding) normal of triangle `index` (zero if degenerate).
     pub fn triangle_normal(&self, index: usize) -> Vec3 {
-        let [p0, p1, p2] = self.triangle_vertices(index);
-        (p1 - p0).cross(p2 - p0).normalize_or_zero()
+        self.frames[index].geometric_normal
     }
 
     fn vertex_uvs(&self, index: usize) -> [Vec2; 3] {
@@ -248,8 +254,39 @@ impl TriangleMesh {
         }
     }
 
+    /// The hit-independent part of triangle `index`'s hit record: its unit
+    /// geometric normal and surface derivatives. Computed once per triangle at
+    /// load so that [`TriangleMesh::surface_hit`] only interpolates (a cross
+    /// product, a normalisation and the uv-derivative solve saved per hit).
+    fn triangle_frame(&self, index: usize) -> TriangleFrame {
+        let [p0, p1, p2] = self.triangle_vertices(index);
+        let geometric_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+        let (dpdu, dpdv) = match &self.uvs {
+            Some(_) => uv_derivatives(geometric_normal, [p0, p1, p2], self.vertex_uvs(index)),
+            // pbrt's default uvs (0, 0), (1, 0), (1, 1), for which the general
+            // formula reduces to ∂p/∂u = p1 − p0 and ∂p/∂v = p2 − p1. Both are
+            // edges of the triangle, so they are usable tangents whenever its
+            // normal is (a zero normal means a degenerate or overflowing one).
+            None if geometric_normal != Vec3::ZERO => {
+                let (dpdu, dpdv) = (p1 - p0, p2 - p1);
+                debug_assert!(
+                    usable_tangent(dpdu, geometric_normal)
+                        && usable_tangent(dpdv, geometric_normal)
+                );
+                (dpdu, dpdv)
+            }
+            None => uv_derivatives(geometric_normal, [p0, p1, p2], self.vertex_uvs(index)),
+        };
+        TriangleFrame {
+            geometric_normal,
+            dpdu,
+            dpdv,
+        }
+    }
+
     /// The full hit record for triangle `index` hit at barycentrics `barycentric`
     /// and ray parameter `t` (shape index filled in as 0; the caller sets it).
+    #[inline]
     pub fn surface_hit(
         &self,
         index: usize,
@@ -257,40 +294,26 @@ impl TriangleMesh {
         t: f32,
         time: f32,
     ) -> SurfaceHit {
-        let [p0, p1, p2] = self.triangle_vertices(index);
+        let [a, b, c] = self.indices[index];
+        let [p0, p1, p2] = [
+            self.positions[a as usize],
+            self.positions[b as usize],
+            self.positions[c as usize],
+        ];
+        let TriangleFrame {
+            geometric_normal,
+            dpdu,
+            dpdv,
+        } = self.frames[index];
         let [b0, b1, b2] = barycentric;
         let point = b0 * p0 + b1 * p1 + b2 * p2;
-        let geometric_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-        let (uv, dpdu, dpdv) = match &self.uvs {
-            Some(uvs) => {
-                let uv_vertices = self.indices[index].map(|i| uvs[i as usize]);
-                let uv = b0 * uv_vertices[0] + b1 * uv_vertices[1] + b2 * uv_vertices[2];
-                let (dpdu, dpdv) = uv_derivatives(geometric_normal, [p0, p1, p2], uv_vertices);
-                (uv, dpdu, dpdv)
-            }
-            // pbrt's default uvs (0, 0), (1, 0), (1, 1), for which the general
-            // formula reduces to ∂p/∂u = p1 − p0 and ∂p/∂v = p2 − p1. Both are
-            // edges of the triangle, so they are usable tangents whenever its
-            // normal is (a zero normal means a degenerate or overflowing one).
-            None => {
-                let uv = Vec2::new(b1 + b2, b2);
-                let (dpdu, dpdv) = (p1 - p0, p2 - p1);
-                if geometric_normal != Vec3::ZERO {
-                    debug_assert!(
-                        usable_tangent(dpdu, geometric_normal)
-                            && usable_tangent(dpdv, geometric_normal)
-                    );
-                    (uv, dpdu, dpdv)
-                } else {
-                    let (dpdu, dpdv) =
-                        uv_derivatives(geometric_normal, [p0, p1, p2], self.vertex_uvs(index));
-                    (uv, dpdu, dpdv)
-                }
-            }
+        let uv = match &self.uvs {
+            Some(uvs) => b0 * uvs[a as usize] + b1 * uvs[b as usize] + b2 * uvs[c as usize],
+            // pbrt's default uvs (0, 0), (1, 0), (1, 1).
+            None => Vec2::new(b1 + b2, b2),
         };
         let shading_normal = match &self.normals {
             Some(normals) => {
-                let [a, b, c] = self.indices[index];
                 let n = (b0 * normals[a as usize]
                     + b1 * normals[b as usize]
                     + b2 * normals[c as usize])
@@ -349,6 +372,19 @@ impl TriangleMesh {
     pub fn pdf_area(&self) -> f32 {
         self.inverse_surface_area
     }
+}
+
+/// The part of a triangle's hit record that is the same at every point of
+/// it, precomputed per triangle (36 bytes each; see
+/// [`TriangleMesh::surface_hit`]).
+#[derive(Clone, Copy, Debug)]
+struct TriangleFrame {
+    /// Unit geometric (winding) normal, zero if the triangle is degenerate.
+    geometric_normal: Vec3,
+    /// `∂p/∂u`, as [`SurfaceHit::dpdu`].
+    dpdu: Vec3,
+    /// `∂p/∂v`, as [`SurfaceHit::dpdv`].
+    dpdv: Vec3,
 }
 
 /// Whether `tangent` can serve as a surface derivative: finite and not
@@ -431,7 +467,52 @@ mod tests {
         }
         let rectangle = TriangleMesh::rectangle(&Transform::IDENTITY).unwrap();
         assert_eq!(rectangle.surface_area(), 4.0);
+        assert!(rectangle.triangle_area(0) > 0.0);
         assert_eq!(rectangle.triangle_normal(0), Vec3::Z);
         assert_eq!(rectangle.triangle_normal(1), Vec3::Z);
+    }
+
+    #[test]
+    fn surface_hit_uses_the_triangle_frame() {
+        let positions = vec![
+            Vec3::ZERO,
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(0.0, 3.0, 0.0),
+        ];
+        let uvs = vec![Vec2::ZERO, Vec2::new(1.0, 0.0), Vec2::new(0.0, 1.0)];
+        let with_uvs = TriangleMesh::new(
+            positions.clone(),
+            None,
+            Some(uvs),
+            vec![[0, 1, 2]],
+            &Transform::IDENTITY,
+        )
+        .unwrap();
+        let hit = with_uvs.surface_hit(0, [0.5, 0.25, 0.25], 1.0, 0.0);
+        assert_eq!(hit.geometric_normal, Vec3::Z);
+        assert_eq!(hit.shading_normal, Vec3::Z);
+        assert_eq!(hit.dpdu, Vec3::new(2.0, 0.0, 0.0));
+        assert_eq!(hit.dpdv, Vec3::new(0.0, 3.0, 0.0));
+        assert_eq!(hit.uv, Vec2::new(0.25, 0.25));
+        assert_eq!(hit.point, Vec3::new(0.5, 0.75, 0.0));
+        let default_uvs =
+            TriangleMesh::new(positions, None, None, vec![[0, 1, 2]], &Transform::IDENTITY)
+                .unwrap();
+        let hit = default_uvs.surface_hit(0, [0.5, 0.25, 0.25], 1.0, 0.0);
+        assert_eq!(hit.dpdu, Vec3::new(2.0, 0.0, 0.0));
+        assert_eq!(hit.dpdv, Vec3::new(-2.0, 3.0, 0.0));
+        assert_eq!(hit.uv, Vec2::new(0.5, 0.25));
+        // A degenerate triangle still gets usable tangents.
+        let degenerate = TriangleMesh::new(
+            vec![Vec3::ZERO, Vec3::X, 2.0 * Vec3::X],
+            None,
+            None,
+            vec![[0, 1, 2]],
+            &Transform::IDENTITY,
+        )
+        .unwrap();
+        let hit = degenerate.surface_hit(0, [0.5, 0.25, 0.25], 1.0, 0.0);
+        assert_eq!(hit.geometric_normal, Vec3::ZERO);
+        assert!(hit.dpdu.is_finite() && hit.dpdv.is_finite());
     }
 }

@@ -480,6 +480,18 @@ impl SurfaceBsdf {
             let wi = Vec3::new(0.0, 0.0, wi_world.dot(normal));
             return (diffuse.evaluate(wo, wi), diffuse.pdf(wo, wi));
         }
+        self.evaluate_with_pdf_general(wo_world, wi_world, wavelengths)
+    }
+
+    /// [`Self::evaluate_with_pdf`] for every BSDF but the plain Lambertian
+    /// one: kept out of line so that the common case inlines small.
+    #[inline(never)]
+    fn evaluate_with_pdf_general(
+        &self,
+        wo_world: Vec3,
+        wi_world: Vec3,
+        wavelengths: &SampledWavelengths,
+    ) -> (SampledSpectrum, f32) {
         let wi = self.frame.to_local(wi_world);
         if self.adapter.opacity <= 0.0 || !self.adapter.sides_agree(wi_world, wi) {
             return (SampledSpectrum::zero(), 0.0);
@@ -512,6 +524,19 @@ impl SurfaceBsdf {
             sample.wi = self.frame.to_world(sample.wi);
             return Some(sample);
         }
+        self.sample_general(wo_world, u_component, u, wavelengths)
+    }
+
+    /// [`Self::sample`] for every BSDF but the plain Lambertian one: kept out
+    /// of line so that the common case inlines small.
+    #[inline(never)]
+    fn sample_general(
+        &self,
+        wo_world: Vec3,
+        u_component: f32,
+        u: [f32; 2],
+        wavelengths: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
         let wo = self.frame.to_local(wo_world);
         let Some(u_component) = self.adapter.nested_component_sample(u_component) else {
             let mut sample = self.adapter.pass_through_sample(wo)?;
@@ -546,6 +571,13 @@ impl SurfaceBsdf {
         if let Some(diffuse) = self.plain_diffuse() {
             return diffuse.flags();
         }
+        self.flags_general()
+    }
+
+    /// [`Self::flags`] for every BSDF but the plain Lambertian one (out of
+    /// line, as [`Self::sample_general`]).
+    #[inline(never)]
+    fn flags_general(&self) -> BsdfFlags {
         self.adapter.flags(self.bsdf.flags())
     }
 

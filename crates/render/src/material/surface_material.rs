@@ -501,24 +501,40 @@ impl Material {
     /// normal and `∂p/∂u` (so anisotropic roughness follows the surface's
     /// parameterisation). This is what integrators call; `hit` must already
     /// be oriented (normals flipped for shapes with `flip_normals`).
+    ///
+    /// Lambertian reflection, the common case, is built here (inline in the
+    /// integrator) without the generic dispatch; every other material goes
+    /// through the out-of-line [`Self::surface_bsdf_at_general`].
+    #[inline]
     pub fn surface_bsdf_at(
         &self,
         hit: &SurfaceHit,
         wavelengths: &SampledWavelengths,
     ) -> SurfaceBsdf {
-        let context = TextureContext::from_hit(hit);
-        // Lambertian reflection, the common case, skips the generic dispatch.
         if let Material::Diffuse {
             reflectance,
             two_sided,
         } = self
         {
+            let context = TextureContext::from_hit(hit);
             return SurfaceBsdf {
                 frame: isotropic_frame(hit.shading_normal),
                 bsdf: diffuse_bsdf(reflectance, *two_sided, &context, wavelengths),
                 adapter: SurfaceAdapter::NONE,
             };
         }
+        self.surface_bsdf_at_general(hit, wavelengths)
+    }
+
+    /// [`Self::surface_bsdf_at`] for every material but the plain diffuse
+    /// one: kept out of line so that the common case inlines small.
+    #[inline(never)]
+    fn surface_bsdf_at_general(
+        &self,
+        hit: &SurfaceHit,
+        wavelengths: &SampledWavelengths,
+    ) -> SurfaceBsdf {
+        let context = TextureContext::from_hit(hit);
         let frame = if self.is_tangent_independent() {
             isotropic_frame(hit.shading_normal)
         } else {

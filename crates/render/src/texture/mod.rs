@@ -38,6 +38,7 @@ pub struct TextureContext {
 
 impl TextureContext {
     /// The lookup position of a surface hit.
+    #[inline]
     pub fn from_hit(hit: &SurfaceHit) -> Self {
         Self {
             uv: hit.uv,
@@ -59,7 +60,23 @@ pub enum SpectrumTexture {
 
 impl SpectrumTexture {
     /// The texture's spectrum at `context` for the path's `wavelengths`.
+    /// A constant, the common case, is handled inline; images and
+    /// checkerboards in the out-of-line [`Self::evaluate_general`].
+    #[inline]
     pub fn evaluate(
+        &self,
+        context: &TextureContext,
+        wavelengths: &SampledWavelengths,
+    ) -> SampledSpectrum {
+        match self {
+            SpectrumTexture::Constant(spectrum) => spectrum.sample(wavelengths),
+            _ => self.evaluate_general(context, wavelengths),
+        }
+    }
+
+    /// [`Self::evaluate`] for textures that are not constant.
+    #[inline(never)]
+    fn evaluate_general(
         &self,
         context: &TextureContext,
         wavelengths: &SampledWavelengths,
