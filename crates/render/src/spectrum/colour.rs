@@ -2,6 +2,7 @@
 //! spectrum, XYZ ↔ linear sRGB, luminance, and the sRGB transfer function.
 
 use super::cie::{CIE_Y_INTEGRAL, cie_y, cmf_tables};
+use super::padded_table::PaddedTableIndexer;
 use super::sampled_spectrum::SampledSpectrum;
 use super::wavelengths::{SPECTRUM_SAMPLE_COUNT, SampledWavelengths};
 
@@ -84,8 +85,10 @@ pub fn to_xyz(spectrum: &SampledSpectrum, wavelengths: &SampledWavelengths) -> [
     let weighted = spectrum.safe_div(&wavelengths.pdf());
     let table = interleaved_cmf();
     let mut sums = [0.0f32; 3];
-    for (&lambda, &weight) in wavelengths.lambdas().iter().zip(weighted.values()) {
-        let [x, y, z, _] = table.evaluate(lambda);
+    let indices = table.indexer.indices(wavelengths.lambdas());
+    for (index, &weight) in indices.into_iter().zip(weighted.values()) {
+        // The index is always inside the padded table.
+        let [x, y, z, _] = table.values.get(index).copied().unwrap_or([0.0; 4]);
         sums[0] += x * weight;
         sums[1] += y * weight;
         sums[2] += z * weight;
@@ -97,24 +100,21 @@ pub fn to_xyz(spectrum: &SampledSpectrum, wavelengths: &SampledWavelengths) -> [
 
 /// x̄, ȳ, z̄ (and a zero pad to 16 bytes) at every integer wavelength of the
 /// CIE tables, evaluated as [`super::DenselySampledSpectrum::evaluate`] does
-/// (nearest nm, 0 outside), so [`to_xyz`] reads one entry per wavelength.
+/// (nearest nm, 0 outside, through a [`PaddedTableIndexer`] with a zero entry
+/// at each end), so [`to_xyz`] reads one entry per wavelength.
 struct InterleavedCmf {
-    lambda_min: i32,
+    indexer: PaddedTableIndexer,
     values: Vec<[f32; 4]>,
 }
 
+#[cfg(test)]
 impl InterleavedCmf {
-    #[inline]
+    /// The entry for one wavelength (the tests compare it with the three tables).
     fn evaluate(&self, lambda: f32) -> [f32; 4] {
-        if lambda.is_nan() || lambda <= 0.0 {
-            return [0.0; 4];
-        }
-        let offset = (lambda + 0.5) as i64 - self.lambda_min as i64;
-        if offset >= 0 && (offset as usize) < self.values.len() {
-            self.values[offset as usize]
-        } else {
-            [0.0; 4]
-        }
+        self.values
+            .get(self.indexer.index(lambda))
+            .copied()
+            .unwrap_or([0.0; 4])
     }
 }
 
@@ -125,16 +125,19 @@ fn interleaved_cmf() -> &'static InterleavedCmf {
         debug_assert!(
             x_bar.lambda_min() == y_bar.lambda_min() && y_bar.lambda_min() == z_bar.lambda_min()
         );
-        let values = x_bar
+        let values: Vec<[f32; 4]> = x_bar
             .values()
             .iter()
             .zip(y_bar.values())
             .zip(z_bar.values())
             .map(|((&x, &y), &z)| [x, y, z, 0.0])
             .collect();
+        // The CIE tables (360–830 nm) are part of the build and always in range.
+        let indexer = PaddedTableIndexer::new(x_bar.lambda_min(), values.len())
+            .expect("the CIE tables fit a padded table");
         InterleavedCmf {
-            lambda_min: x_bar.lambda_min(),
-            values,
+            values: indexer.pad(&values),
+            indexer,
         }
     })
 }

@@ -2,20 +2,28 @@
 //! evaluation, used for the CIE tables and to cache expensive spectra.
 
 use super::error::{SpectrumError, require_finite};
+use super::padded_table::PaddedTableIndexer;
 use super::sampled_spectrum::SampledSpectrum;
 use super::wavelengths::{SPECTRUM_SAMPLE_COUNT, SampledWavelengths};
 
 /// Values at λ = `lambda_min`, `lambda_min` + 1, … nm. Evaluation rounds λ to the
 /// nearest integer nm (as pbrt-v4 does) and returns 0 outside the table.
+///
+/// The values are stored with a zero before and after them and looked up with
+/// a [`PaddedTableIndexer`], so evaluation has no range test.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DenselySampledSpectrum {
+    indexer: PaddedTableIndexer,
     lambda_min: i32,
-    values: Vec<f32>,
+    /// The values with one zero at each end.
+    padded: Vec<f32>,
 }
 
 impl DenselySampledSpectrum {
     /// A table whose first value belongs to `lambda_min` nm, one value per nm.
-    /// Fails if `values` is empty or holds a non-finite number.
+    /// Fails if `values` is empty or holds a non-finite number, and with
+    /// [`SpectrumError::TableOutOfRange`] if it has more than 2²⁰ entries or
+    /// `lambda_min` is outside [1, 2²⁰] nm (wavelengths are positive).
     pub fn from_values(lambda_min: i32, values: Vec<f32>) -> Result<Self, SpectrumError> {
         if values.is_empty() {
             return Err(SpectrumError::NoSamples);
@@ -23,7 +31,12 @@ impl DenselySampledSpectrum {
         for &value in &values {
             require_finite("tabulated spectrum value", value)?;
         }
-        Ok(Self { lambda_min, values })
+        let indexer = PaddedTableIndexer::new(lambda_min, values.len())?;
+        Ok(Self {
+            indexer,
+            lambda_min,
+            padded: indexer.pad(&values),
+        })
     }
 
     /// Tabulates `function` (a spectrum's value at λ nm) at every integer
@@ -52,45 +65,40 @@ impl DenselySampledSpectrum {
 
     /// The last tabulated wavelength in nm.
     pub fn lambda_max(&self) -> i32 {
-        self.lambda_min + self.values.len() as i32 - 1
+        self.lambda_min + self.values().len() as i32 - 1
     }
 
     /// The tabulated values, one per nm from [`Self::lambda_min`].
     pub fn values(&self) -> &[f32] {
-        &self.values
+        &self.padded[1..self.padded.len() - 1]
     }
 
     /// The value at `lambda` nm (nearest tabulated wavelength; 0 outside).
     #[inline]
     pub fn evaluate(&self, lambda: f32) -> f32 {
-        // Rounding by truncation of λ + 0.5 (λ > 0 here) avoids a libm call
-        // for `round` on CPUs without SSE4.1, the default target.
-        if lambda.is_nan() || lambda <= 0.0 {
-            return 0.0;
-        }
-        let nearest = (lambda + 0.5) as i64;
-        let offset = nearest - self.lambda_min as i64;
-        if offset >= 0 && (offset as usize) < self.values.len() {
-            self.values[offset as usize]
-        } else {
-            0.0
-        }
+        // The index is always inside the padded table, so `get` never fails.
+        self.padded
+            .get(self.indexer.index(lambda))
+            .copied()
+            .unwrap_or(0.0)
     }
 
-    /// The values at the sampled wavelengths.
+    /// The values at the sampled wavelengths (the four indices computed
+    /// together, see [`PaddedTableIndexer::indices`]).
     #[inline]
     pub fn sample(&self, wavelengths: &SampledWavelengths) -> SampledSpectrum {
-        // An indexed loop: `array::map` did not inline in the path tracer.
+        let indices = self.indexer.indices(wavelengths.lambdas());
         let mut values = [0.0; SPECTRUM_SAMPLE_COUNT];
-        for (value, &lambda) in values.iter_mut().zip(wavelengths.lambdas()) {
-            *value = self.evaluate(lambda);
+        for (value, index) in values.iter_mut().zip(indices) {
+            // The index is always inside the padded table.
+            *value = self.padded.get(index).copied().unwrap_or(0.0);
         }
         SampledSpectrum::new(values)
     }
 
     /// The largest tabulated value.
     pub fn max_value(&self) -> f32 {
-        self.values
+        self.values()
             .iter()
             .copied()
             .fold(f32::NEG_INFINITY, f32::max)
@@ -98,9 +106,13 @@ impl DenselySampledSpectrum {
 
     /// A copy with every value multiplied by `factor`.
     pub fn scaled(&self, factor: f32) -> Self {
+        // Only the real values are scaled: the pads stay 0 even for an
+        // infinite factor.
+        let values: Vec<f32> = self.values().iter().map(|value| value * factor).collect();
         Self {
+            indexer: self.indexer,
             lambda_min: self.lambda_min,
-            values: self.values.iter().map(|value| value * factor).collect(),
+            padded: self.indexer.pad(&values),
         }
     }
 }
@@ -138,5 +150,15 @@ mod tests {
             Err(SpectrumError::NoSamples)
         );
         assert!(DenselySampledSpectrum::from_values(0, vec![f32::NAN]).is_err());
+        assert!(matches!(
+            DenselySampledSpectrum::from_values(i32::MAX, vec![1.0]),
+            Err(SpectrumError::TableOutOfRange { .. })
+        ));
+        assert!(matches!(
+            DenselySampledSpectrum::from_values(0, vec![1.0]),
+            Err(SpectrumError::TableOutOfRange { .. })
+        ));
+        let pads = DenselySampledSpectrum::from_values(400, vec![1.0]).unwrap();
+        assert_eq!(pads.scaled(f32::INFINITY).evaluate(401.0), 0.0);
     }
 }

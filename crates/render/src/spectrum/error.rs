@@ -67,6 +67,16 @@ pub enum SpectrumError {
         /// The requested resolution.
         resolution: usize,
     },
+    /// A table tabulated per nm was empty, too long, or started too far from
+    /// 0 nm for its indices to be computed without overflow (see
+    /// [`super::DenselySampledSpectrum::from_values`]).
+    #[error("a per-nm table of {len} entries from {lambda_min} nm is out of the supported range")]
+    TableOutOfRange {
+        /// The first tabulated wavelength in nm.
+        lambda_min: i64,
+        /// The number of entries.
+        len: usize,
+    },
     /// Stored RGB-to-spectrum table data (see
     /// [`super::RgbToSpectrumTable::from_bytes`]) was malformed.
     #[error("malformed RGB-to-spectrum table data: {reason}")]

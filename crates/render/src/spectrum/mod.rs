@@ -20,6 +20,8 @@ mod colour;
 mod constant;
 mod densely_sampled;
 mod error;
+mod lanes;
+mod padded_table;
 mod piecewise_linear;
 mod rgb_spectra;
 mod rgb_to_spectrum_table;

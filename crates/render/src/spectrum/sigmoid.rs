@@ -16,15 +16,26 @@ use super::wavelengths::{
 /// S(±∞) = 1 or 0 (used for exactly black and exactly white reflectances).
 #[inline]
 pub fn algebraic_sigmoid(x: f32) -> f32 {
-    // Written as a select rather than an early return so that the four
-    // wavelengths of [`RgbSigmoidPolynomial::sample`] vectorise.
-    let finite = 0.5 + x / (2.0 * (1.0 + x * x).sqrt());
-    if x.is_infinite() {
-        if x > 0.0 { 1.0 } else { 0.0 }
+    // Clamping the argument to ±2⁶⁰ keeps x² (2¹²⁰ at most) finite, and at
+    // ±2⁶⁰ the formula already rounds to exactly 1 or 0; so infinities (exactly
+    // black and white reflectances) and huge finite arguments need no branch,
+    // and the four wavelengths of [`RgbSigmoidPolynomial::sample`] vectorise.
+    // (Before, x² overflowed for |x| > 2⁶⁴ and such x gave 1/2.) NaN gives 0.
+    let above = if x > -SIGMOID_ARGUMENT_LIMIT {
+        x
     } else {
-        finite
-    }
+        -SIGMOID_ARGUMENT_LIMIT
+    };
+    let x = if above < SIGMOID_ARGUMENT_LIMIT {
+        above
+    } else {
+        SIGMOID_ARGUMENT_LIMIT
+    };
+    0.5 + x / (2.0 * (1.0 + x * x).sqrt())
 }
+
+/// 2⁶⁰: the largest |x| [`algebraic_sigmoid`] computes with (see there).
+const SIGMOID_ARGUMENT_LIMIT: f32 = 1_152_921_504_606_846_976.0;
 
 /// Coefficients of s(λ) = S(c₀ λ² + c₁ λ + c₂), with λ in nm.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -101,6 +112,11 @@ mod tests {
         assert_eq!(algebraic_sigmoid(0.0), 0.5);
         assert_eq!(algebraic_sigmoid(f32::INFINITY), 1.0);
         assert_eq!(algebraic_sigmoid(f32::NEG_INFINITY), 0.0);
+        assert_eq!(algebraic_sigmoid(f32::MAX), 1.0);
+        assert_eq!(algebraic_sigmoid(-f32::MAX), 0.0);
+        assert_eq!(algebraic_sigmoid(SIGMOID_ARGUMENT_LIMIT), 1.0);
+        assert_eq!(algebraic_sigmoid(1e20), 1.0);
+        assert_eq!(algebraic_sigmoid(f32::NAN), 0.0);
         for x in [0.1_f32, 1.0, 10.0, 1000.0] {
             assert!((algebraic_sigmoid(x) + algebraic_sigmoid(-x) - 1.0).abs() < 1e-6);
         }

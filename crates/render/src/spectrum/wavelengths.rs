@@ -15,6 +15,7 @@
 //! inverse are derived here from ∫ sech²(k t) dt = tanh(k t) / k.
 
 use super::error::{SpectrumError, require_finite};
+use super::lanes::{self, Lanes};
 use super::sampled_spectrum::SampledSpectrum;
 
 /// How many wavelengths one [`SampledWavelengths`] carries (pbrt-v4's default).
@@ -37,18 +38,29 @@ const VISIBLE_DENSITY_CENTRE: f64 = 538.0;
 
 /// tanh(k (λ − centre)) at both ends of the visible range: the CDF of
 /// sech²(k (λ − centre)) is proportional to tanh(k (λ − centre)) minus its value at
-/// [`VISIBLE_LAMBDA_MIN`].
-/// Computed once: every path samples four wavelengths, and two `tanh`
-/// calls per wavelength were a measurable part of a path's cost.
+/// [`VISIBLE_LAMBDA_MIN`]. Literals (tanh(0.0072 (360 − 538)) and
+/// tanh(0.0072 (830 − 538)) in f64; a test recomputes them) rather than values
+/// computed at run time: every path samples four wavelengths.
 fn visible_tanh_at_ends() -> (f64, f64) {
-    static ENDS: std::sync::LazyLock<(f64, f64)> = std::sync::LazyLock::new(|| {
-        let k = VISIBLE_DENSITY_STEEPNESS;
-        let at_min = (k * (f64::from(VISIBLE_LAMBDA_MIN) - VISIBLE_DENSITY_CENTRE)).tanh();
-        let at_max = (k * (f64::from(VISIBLE_LAMBDA_MAX) - VISIBLE_DENSITY_CENTRE)).tanh();
-        (at_min, at_max)
-    });
-    *ENDS
+    (VISIBLE_TANH_AT_MIN, VISIBLE_TANH_AT_MAX)
 }
+
+/// tanh(k (360 − c)) for k = 0.0072 nm⁻¹, c = 538 nm.
+const VISIBLE_TANH_AT_MIN: f64 = -0.856_910_625_469_828;
+
+/// tanh(k (830 − c)) for k = 0.0072 nm⁻¹, c = 538 nm.
+const VISIBLE_TANH_AT_MAX: f64 = 0.970_591_346_940_269_8;
+
+/// [`VISIBLE_TANH_AT_MIN`] rounded to f32, for the sampler.
+const SAMPLING_TANH_AT_MIN: f32 = -0.856_910_65;
+
+/// The tanh range of the visible interval, [`VISIBLE_TANH_AT_MAX`] −
+/// [`VISIBLE_TANH_AT_MIN`], rounded to f32.
+const SAMPLING_TANH_RANGE: f32 = 1.827_502;
+
+/// k divided by [`SAMPLING_TANH_RANGE`] (in f64, then rounded to f32): the
+/// density's normalisation.
+const SAMPLING_PDF_SCALE: f32 = 0.003_939_804;
 
 /// Density (1/nm) of [`sample_visible_wavelength`] at `lambda` nm; 0 outside
 /// [360, 830] nm.
@@ -82,21 +94,6 @@ pub fn sample_visible_wavelength(u: f32) -> f32 {
     sample_visible_wavelength_with_pdf(u).0
 }
 
-/// The constants of [`sample_visible_wavelength_with_pdf`] in f32:
-/// tanh(k (360 − c)), the tanh range of the visible interval and k divided
-/// by that range.
-fn visible_sampling_constants() -> (f32, f32, f32) {
-    static CONSTANTS: std::sync::LazyLock<(f32, f32, f32)> = std::sync::LazyLock::new(|| {
-        let (at_min, at_max) = visible_tanh_at_ends();
-        (
-            at_min as f32,
-            (at_max - at_min) as f32,
-            (VISIBLE_DENSITY_STEEPNESS / (at_max - at_min)) as f32,
-        )
-    });
-    *CONSTANTS
-}
-
 /// [`sample_visible_wavelength`] and the density there. The density comes
 /// from the same tanh value as the wavelength, t = tanh(k (λ − c)), as
 /// k (1 − t²) / (tanh(k (830 − c)) − tanh(k (360 − c))) (since
@@ -109,12 +106,42 @@ fn visible_sampling_constants() -> (f32, f32, f32) {
 /// (the f64 `atanh`, a `log1p` call, was 3 % of a Cornell-box path).
 #[inline]
 fn sample_visible_wavelength_with_pdf(u: f32) -> (f32, f32) {
-    let (at_min, range, pdf_scale) = visible_sampling_constants();
-    let target = at_min + u * range;
-    let atanh = 0.5 * ((1.0 + target) / (1.0 - target)).ln();
-    let lambda = VISIBLE_DENSITY_CENTRE as f32 + atanh / VISIBLE_DENSITY_STEEPNESS as f32;
-    let pdf = pdf_scale * (1.0 - target * target);
-    (lambda.clamp(VISIBLE_LAMBDA_MIN, VISIBLE_LAMBDA_MAX), pdf)
+    let (lambda, pdf) = sample_visible_wavelengths_with_pdf([u; SPECTRUM_SAMPLE_COUNT]);
+    (lambda[0], pdf[0])
+}
+
+/// [`sample_visible_wavelength_with_pdf`] for four samples at once, with the
+/// four-lane logarithm of [`lanes::ln`] (the wavelength differs from one
+/// computed with `f32::ln` by at most a few f32 roundings).
+#[inline]
+fn sample_visible_wavelengths_with_pdf(u: Lanes) -> (Lanes, Lanes) {
+    let mut target = [0.0; SPECTRUM_SAMPLE_COUNT];
+    let mut ratio = [0.0; SPECTRUM_SAMPLE_COUNT];
+    for index in 0..SPECTRUM_SAMPLE_COUNT {
+        target[index] = SAMPLING_TANH_AT_MIN + u[index] * SAMPLING_TANH_RANGE;
+        ratio[index] = (1.0 + target[index]) / (1.0 - target[index]);
+    }
+    let logarithm = lanes::ln(ratio);
+    let mut lambda = [0.0; SPECTRUM_SAMPLE_COUNT];
+    let mut pdf = [0.0; SPECTRUM_SAMPLE_COUNT];
+    for index in 0..SPECTRUM_SAMPLE_COUNT {
+        let atanh = 0.5 * logarithm[index];
+        let unclamped = VISIBLE_DENSITY_CENTRE as f32 + atanh / VISIBLE_DENSITY_STEEPNESS as f32;
+        // max then min rather than `clamp`: no NaN check, and one SSE
+        // instruction each.
+        let above = if unclamped > VISIBLE_LAMBDA_MIN {
+            unclamped
+        } else {
+            VISIBLE_LAMBDA_MIN
+        };
+        lambda[index] = if above < VISIBLE_LAMBDA_MAX {
+            above
+        } else {
+            VISIBLE_LAMBDA_MAX
+        };
+        pdf[index] = SAMPLING_PDF_SCALE * (1.0 - target[index] * target[index]);
+    }
+    (lambda, pdf)
 }
 
 /// The i-th of N stratified rotations of a primary sample: (u + i/N) mod 1.
@@ -156,12 +183,11 @@ impl SampledWavelengths {
     /// `u` should lie in [0, 1); other values are wrapped into it.
     pub fn sample_visible(u: f32) -> Self {
         let u = wrap_unit(u);
-        let mut lambda = [0.0; SPECTRUM_SAMPLE_COUNT];
-        let mut pdf = [0.0; SPECTRUM_SAMPLE_COUNT];
-        for index in 0..SPECTRUM_SAMPLE_COUNT {
-            (lambda[index], pdf[index]) =
-                sample_visible_wavelength_with_pdf(rotated_sample(u, index));
+        let mut rotated = [0.0; SPECTRUM_SAMPLE_COUNT];
+        for (index, rotated) in rotated.iter_mut().enumerate() {
+            *rotated = rotated_sample(u, index);
         }
+        let (lambda, pdf) = sample_visible_wavelengths_with_pdf(rotated);
         Self { lambda, pdf }
     }
 
@@ -260,6 +286,36 @@ impl SampledWavelengths {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sampling_constants_match_their_definitions() {
+        let k = VISIBLE_DENSITY_STEEPNESS;
+        let at_min = (k * (f64::from(VISIBLE_LAMBDA_MIN) - VISIBLE_DENSITY_CENTRE)).tanh();
+        let at_max = (k * (f64::from(VISIBLE_LAMBDA_MAX) - VISIBLE_DENSITY_CENTRE)).tanh();
+        assert!((at_min - VISIBLE_TANH_AT_MIN).abs() < 1e-15);
+        assert!((at_max - VISIBLE_TANH_AT_MAX).abs() < 1e-15);
+        assert_eq!(SAMPLING_TANH_AT_MIN, at_min as f32);
+        assert_eq!(SAMPLING_TANH_RANGE, (at_max - at_min) as f32);
+        assert_eq!(SAMPLING_PDF_SCALE, (k / (at_max - at_min)) as f32);
+    }
+
+    #[test]
+    fn four_lane_sampler_matches_the_scalar_formula() {
+        for step in 0..=1000 {
+            let u = step as f32 / 1000.0 * (1.0 - f32::EPSILON);
+            let (lambda, pdf) = sample_visible_wavelength_with_pdf(u);
+            let target = SAMPLING_TANH_AT_MIN + u * SAMPLING_TANH_RANGE;
+            let atanh = 0.5 * ((1.0 + target) / (1.0 - target)).ln();
+            let expected = (VISIBLE_DENSITY_CENTRE as f32
+                + atanh / VISIBLE_DENSITY_STEEPNESS as f32)
+                .clamp(VISIBLE_LAMBDA_MIN, VISIBLE_LAMBDA_MAX);
+            assert!(
+                (lambda - expected).abs() < 1e-3,
+                "u {u}: {lambda} vs {expected}"
+            );
+            assert_eq!(pdf, SAMPLING_PDF_SCALE * (1.0 - target * target));
+        }
+    }
 
     #[test]
     fn cdf_inverts_the_sampler() {
