@@ -261,21 +261,18 @@ impl TriangleMesh {
     fn triangle_frame(&self, index: usize) -> TriangleFrame {
         let [p0, p1, p2] = self.triangle_vertices(index);
         let geometric_normal = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-        let (dpdu, dpdv) = match &self.uvs {
-            Some(_) => uv_derivatives(geometric_normal, [p0, p1, p2], self.vertex_uvs(index)),
+        let (dpdu, dpdv) = if self.uvs.is_none() && geometric_normal != Vec3::ZERO {
             // pbrt's default uvs (0, 0), (1, 0), (1, 1), for which the general
             // formula reduces to ∂p/∂u = p1 − p0 and ∂p/∂v = p2 − p1. Both are
             // edges of the triangle, so they are usable tangents whenever its
             // normal is (a zero normal means a degenerate or overflowing one).
-            None if geometric_normal != Vec3::ZERO => {
-                let (dpdu, dpdv) = (p1 - p0, p2 - p1);
-                debug_assert!(
-                    usable_tangent(dpdu, geometric_normal)
-                        && usable_tangent(dpdv, geometric_normal)
-                );
-                (dpdu, dpdv)
-            }
-            None => uv_derivatives(geometric_normal, [p0, p1, p2], self.vertex_uvs(index)),
+            let (dpdu, dpdv) = (p1 - p0, p2 - p1);
+            debug_assert!(
+                usable_tangent(dpdu, geometric_normal) && usable_tangent(dpdv, geometric_normal)
+            );
+            (dpdu, dpdv)
+        } else {
+            uv_derivatives(geometric_normal, [p0, p1, p2], self.vertex_uvs(index))
         };
         TriangleFrame {
             geometric_normal,

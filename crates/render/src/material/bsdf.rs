@@ -304,10 +304,7 @@ impl Bsdf {
                     ..sample
                 }),
         }?;
-        if sample.pdf == 0.0 || sample.value.is_black() || sample.wi.z == 0.0 {
-            return None;
-        }
-        Some(sample)
+        sample.scatters().then_some(sample)
     }
 
     /// The density per unit solid angle with which [`Self::sample`] produces
@@ -516,9 +513,9 @@ impl SurfaceBsdf {
         if let Some(diffuse) = self.plain_diffuse() {
             let wo = Vec3::new(0.0, 0.0, wo_world.dot(self.frame.normal()));
             let mut sample = diffuse.sample(wo, u)?;
-            // The checks of `Bsdf::sample` (the value is black only for a
+            // The check of `Bsdf::sample` (the value is black only for a
             // black reflectance).
-            if sample.pdf == 0.0 || sample.value.is_black() || sample.wi.z == 0.0 {
+            if !sample.scatters() {
                 return None;
             }
             sample.wi = self.frame.to_world(sample.wi);

@@ -49,6 +49,14 @@ impl BsdfSample {
         self.flags.is_transmissive()
     }
 
+    /// Whether the sample carries light: a positive density, a non-black
+    /// value and a `wi` off the tangent plane (local frame). Samples failing
+    /// this are reported as no scattering, as pbrt-v4 does.
+    #[inline]
+    pub fn scatters(&self) -> bool {
+        self.pdf != 0.0 && !self.value.is_black() && self.wi.z != 0.0
+    }
+
     /// The sample's Monte Carlo weight f · |cos θi| / pdf (0 if pdf is 0).
     pub fn weight(&self) -> SampledSpectrum {
         (self.value * self.wi.z.abs()).safe_div_scalar(self.pdf)

@@ -1,7 +1,7 @@
 //! Independent uniform random numbers: the Monte Carlo baseline.
 
-use super::{PixelSampler, SampleSource, pixel_key};
-use qmc::hash::{hash2, mix64};
+use super::{PixelSampler, SampleSource, pixel_part_of_key, sample_key_in_pixel};
+use qmc::hash::mix64;
 use qmc::random::u32_to_unit_f32;
 
 /// The increment of SplitMix64's state (2⁶⁴ / φ, odd), the "golden gamma"
@@ -37,9 +37,7 @@ impl IndependentSampler {
         }
     }
 
-    /// The seed and `pixel` hashed together: the key of a pixel sample,
-    /// [`super::pixel_sample_key`], is this hashed with the sample index.
-    /// A tile renders the samples of a pass pixel by pixel, so the part is
+    /// [`pixel_part_of_key`] of `pixel`. A tile renders the samples of a pass pixel by pixel, so the part is
     /// kept and computed again only when the pixel changes: that saves two
     /// of the key's four SplitMix64 finalisers for all but the first sample
     /// of each pixel (about 26 instructions per path).
@@ -48,7 +46,7 @@ impl IndependentSampler {
         match self.pixel {
             Some((kept, part)) if kept == pixel => part,
             _ => {
-                let part = hash2(self.seed, pixel_key(pixel));
+                let part = pixel_part_of_key(self.seed, pixel);
                 self.pixel = Some((pixel, part));
                 part
             }
@@ -69,9 +67,8 @@ impl SampleSource for IndependentSampler {
 impl PixelSampler for IndependentSampler {
     #[inline]
     fn start_pixel_sample(&mut self, pixel: (u32, u32), sample_index: u64) {
-        // `pixel_sample_key`, which is hash3(seed, pixel, index) =
-        // hash2(hash2(seed, pixel), index), with its first half kept.
-        self.key = hash2(self.pixel_part(pixel), sample_index);
+        // `pixel_sample_key` with its pixel part kept.
+        self.key = sample_key_in_pixel(self.pixel_part(pixel), sample_index);
     }
 
     fn clone_sampler(&self) -> Box<dyn PixelSampler> {

@@ -194,10 +194,26 @@ pub(crate) fn pixel_key(pixel: (u32, u32)) -> u64 {
     ((pixel.0 as u64) << 32) | pixel.1 as u64
 }
 
-/// A key for one pixel sample, hashed from the seed, the pixel and the index.
+/// A key for one pixel sample, hashed from the seed, the pixel and the index:
+/// [`sample_key_in_pixel`] of [`pixel_part_of_key`].
 #[inline]
 pub(crate) fn pixel_sample_key(seed: u64, pixel: (u32, u32), sample_index: u64) -> u64 {
-    qmc::hash::hash3(seed, pixel_key(pixel), sample_index)
+    sample_key_in_pixel(pixel_part_of_key(seed, pixel), sample_index)
+}
+
+/// The part of [`pixel_sample_key`] that does not depend on the sample index:
+/// the seed and the pixel hashed together. Samplers that start many samples
+/// of one pixel keep it.
+#[inline]
+pub(crate) fn pixel_part_of_key(seed: u64, pixel: (u32, u32)) -> u64 {
+    qmc::hash::hash2(seed, pixel_key(pixel))
+}
+
+/// [`pixel_sample_key`] from its [`pixel_part_of_key`] and the sample index
+/// (together `hash3(seed, pixel, index)`).
+#[inline]
+pub(crate) fn sample_key_in_pixel(pixel_part: u64, sample_index: u64) -> u64 {
+    qmc::hash::hash2(pixel_part, sample_index)
 }
 
 #[cfg(test)]

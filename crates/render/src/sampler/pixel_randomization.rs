@@ -4,7 +4,7 @@
 //! each dimension's randomization is hashed, and a PCG stream per pixel
 //! sample for the dimensions (or sample indices) the point set does not cover.
 
-use super::{pixel_key, pixel_sample_key};
+use super::{pixel_part_of_key, sample_key_in_pixel};
 use qmc::hash::hash2;
 use qmc::random::SeekablePcg;
 
@@ -31,10 +31,13 @@ impl PixelRandomization {
 
     /// Moves to sample `sample_index` of `pixel`.
     pub(crate) fn start(&mut self, pixel: (u32, u32), sample_index: u64) {
-        self.pixel_seed = hash2(self.seed, pixel_key(pixel));
+        // The pixel seed is the pixel part of the sample's key.
+        self.pixel_seed = pixel_part_of_key(self.seed, pixel);
         self.index = sample_index;
-        self.fallback =
-            SeekablePcg::new(self.seed, pixel_sample_key(self.seed, pixel, sample_index));
+        self.fallback = SeekablePcg::new(
+            self.seed,
+            sample_key_in_pixel(self.pixel_seed, sample_index),
+        );
     }
 
     /// The index of the current sample within its pixel.

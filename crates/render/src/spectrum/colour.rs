@@ -85,10 +85,10 @@ pub fn to_xyz(spectrum: &SampledSpectrum, wavelengths: &SampledWavelengths) -> [
     let weighted = spectrum.safe_div(&wavelengths.pdf());
     let table = interleaved_cmf();
     let mut sums = [0.0f32; 3];
-    let indices = table.indexer.indices(wavelengths.lambdas());
-    for (index, &weight) in indices.into_iter().zip(weighted.values()) {
-        // The index is always inside the padded table.
-        let [x, y, z, _] = table.values.get(index).copied().unwrap_or([0.0; 4]);
+    let entries = table
+        .indexer
+        .look_up_four(&table.values, wavelengths.lambdas());
+    for ([x, y, z, _], &weight) in entries.into_iter().zip(weighted.values()) {
         sums[0] += x * weight;
         sums[1] += y * weight;
         sums[2] += z * weight;
@@ -111,10 +111,7 @@ struct InterleavedCmf {
 impl InterleavedCmf {
     /// The entry for one wavelength (the tests compare it with the three tables).
     fn evaluate(&self, lambda: f32) -> [f32; 4] {
-        self.values
-            .get(self.indexer.index(lambda))
-            .copied()
-            .unwrap_or([0.0; 4])
+        self.indexer.look_up(&self.values, lambda)
     }
 }
 

@@ -4,7 +4,7 @@
 use super::error::{SpectrumError, require_finite};
 use super::padded_table::PaddedTableIndexer;
 use super::sampled_spectrum::SampledSpectrum;
-use super::wavelengths::{SPECTRUM_SAMPLE_COUNT, SampledWavelengths};
+use super::wavelengths::SampledWavelengths;
 
 /// Values at λ = `lambda_min`, `lambda_min` + 1, … nm. Evaluation rounds λ to the
 /// nearest integer nm (as pbrt-v4 does) and returns 0 outside the table.
@@ -76,24 +76,17 @@ impl DenselySampledSpectrum {
     /// The value at `lambda` nm (nearest tabulated wavelength; 0 outside).
     #[inline]
     pub fn evaluate(&self, lambda: f32) -> f32 {
-        // The index is always inside the padded table, so `get` never fails.
-        self.padded
-            .get(self.indexer.index(lambda))
-            .copied()
-            .unwrap_or(0.0)
+        self.indexer.look_up(&self.padded, lambda)
     }
 
     /// The values at the sampled wavelengths (the four indices computed
-    /// together, see [`PaddedTableIndexer::indices`]).
+    /// together, see [`PaddedTableIndexer::look_up_four`]).
     #[inline]
     pub fn sample(&self, wavelengths: &SampledWavelengths) -> SampledSpectrum {
-        let indices = self.indexer.indices(wavelengths.lambdas());
-        let mut values = [0.0; SPECTRUM_SAMPLE_COUNT];
-        for (value, index) in values.iter_mut().zip(indices) {
-            // The index is always inside the padded table.
-            *value = self.padded.get(index).copied().unwrap_or(0.0);
-        }
-        SampledSpectrum::new(values)
+        SampledSpectrum::new(
+            self.indexer
+                .look_up_four(&self.padded, wavelengths.lambdas()),
+        )
     }
 
     /// The largest tabulated value.

@@ -1,7 +1,9 @@
 //! Four-lane elementary functions for the wavelength sampler: one call works on
 //! all [`SPECTRUM_SAMPLE_COUNT`] wavelengths of a path, written as plain loops
 //! over arrays of four `f32` with no branches so that the compiler turns each
-//! step into one SSE instruction instead of four calls to the C library.
+//! step into one SSE instruction instead of four calls to the C library; and
+//! the NaN-to-minimum [`clamp`] that the spectrum code uses where a clamp must
+//! vectorise.
 
 use super::wavelengths::SPECTRUM_SAMPLE_COUNT;
 
@@ -53,6 +55,17 @@ pub(crate) fn ln(x: Lanes) -> Lanes {
         *result = exponent * LN_2_LOW + ln_mantissa + exponent * LN_2_HIGH;
     }
     result
+}
+
+/// `value` clamped to [`min`, `max`] as a maximum then a minimum, each in the
+/// form of the SSE `maxps`/`minps` instructions (`a > b ? a : b`, which
+/// picks `b` when `a` is NaN): NaN becomes `min`, and unlike `f32::clamp` it
+/// never panics (with `min > max` the result is `max`). Used where a clamp
+/// must vectorise without a NaN test.
+#[inline(always)]
+pub(crate) fn clamp(value: f32, min: f32, max: f32) -> f32 {
+    let above = if value > min { value } else { min };
+    if above < max { above } else { max }
 }
 
 #[cfg(test)]
@@ -107,6 +120,15 @@ mod tests {
         for (value, x) in values.iter().zip(x) {
             assert!((value - x.ln()).abs() <= 3e-7 * x.ln().abs(), "{x}");
         }
+    }
+
+    #[test]
+    fn clamp_sends_nan_to_the_minimum() {
+        assert_eq!(clamp(0.5, 0.0, 1.0), 0.5);
+        assert_eq!(clamp(-2.0, 0.0, 1.0), 0.0);
+        assert_eq!(clamp(f32::INFINITY, 0.0, 1.0), 1.0);
+        assert_eq!(clamp(f32::NAN, 0.0, 1.0), 0.0);
+        assert_eq!(clamp(0.5, 3.0, 1.0), 1.0);
     }
 
     #[test]

@@ -5,6 +5,7 @@
 //! f32 instructions and one load with no branch.
 
 use super::error::SpectrumError;
+use super::lanes;
 
 /// The largest first wavelength (nm) and the largest number of entries a
 /// padded table may have (2²⁰): every wavelength offset inside such a table is
@@ -62,16 +63,7 @@ impl PaddedTableIndexer {
     /// one.
     #[inline]
     pub(crate) fn index(&self, lambda: f32) -> usize {
-        let shifted = (lambda + 0.5) - self.leading_pad_lambda;
-        // `a > b ? a : b` and `a < b ? a : b`: single SSE instructions, and
-        // NaN goes to 0.
-        let above = if shifted > 0.0 { shifted } else { 0.0 };
-        let clamped = if above < self.trailing_pad_index {
-            above
-        } else {
-            self.trailing_pad_index
-        };
-        clamped as usize
+        self.clamped_index(lambda) as usize
     }
 
     /// [`Self::index`] of four wavelengths at once, written lane by lane so
@@ -82,16 +74,40 @@ impl PaddedTableIndexer {
     pub(crate) fn indices(&self, lambdas: &[f32; 4]) -> [usize; 4] {
         let mut clamped = [0i32; 4];
         for (clamped, &lambda) in clamped.iter_mut().zip(lambdas) {
-            let shifted = (lambda + 0.5) - self.leading_pad_lambda;
-            let above = if shifted > 0.0 { shifted } else { 0.0 };
-            let limited = if above < self.trailing_pad_index {
-                above
-            } else {
-                self.trailing_pad_index
-            };
-            *clamped = limited as i32;
+            *clamped = self.clamped_index(lambda) as i32;
         }
         clamped.map(|index| index as usize)
+    }
+
+    /// The entry of `padded` (a table made by [`Self::pad`]) for `lambda` nm.
+    #[inline]
+    pub(crate) fn look_up<T: Copy + Default>(&self, padded: &[T], lambda: f32) -> T {
+        // The index is always inside the padded table, so `get` never fails.
+        padded.get(self.index(lambda)).copied().unwrap_or_default()
+    }
+
+    /// [`Self::look_up`] of four wavelengths, their indices computed together
+    /// (see [`Self::indices`]).
+    #[inline]
+    pub(crate) fn look_up_four<T: Copy + Default>(
+        &self,
+        padded: &[T],
+        lambdas: &[f32; 4],
+    ) -> [T; 4] {
+        let mut entries = [T::default(); 4];
+        for (entry, index) in entries.iter_mut().zip(self.indices(lambdas)) {
+            // The index is always inside the padded table.
+            *entry = padded.get(index).copied().unwrap_or_default();
+        }
+        entries
+    }
+
+    /// λ + ½ − (`lambda_min` − 1) clamped to [0, `len` + 1] in f32, NaN to 0
+    /// (see [`Self::index`] for why this is exact), by [`lanes::clamp`].
+    #[inline(always)]
+    fn clamped_index(&self, lambda: f32) -> f32 {
+        let shifted = (lambda + 0.5) - self.leading_pad_lambda;
+        lanes::clamp(shifted, 0.0, self.trailing_pad_index)
     }
 
     /// `values` with a zero (`T::default()`) before and after, in the layout

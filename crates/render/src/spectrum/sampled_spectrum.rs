@@ -8,6 +8,7 @@ use std::ops::{
     Add, AddAssign, Div, DivAssign, Index, IndexMut, Mul, MulAssign, Neg, Sub, SubAssign,
 };
 
+use super::lanes;
 use super::wavelengths::SPECTRUM_SAMPLE_COUNT;
 
 /// Values of a spectral quantity at the wavelengths a path carries.
@@ -98,18 +99,12 @@ impl SampledSpectrum {
         self.map(|value| value.max(0.0).sqrt())
     }
 
-    /// Component-wise clamp to [`min`, `max`] (NaN components become `min`).
-    ///
-    /// Written as a lane-wise maximum then minimum, each in the form of the
-    /// SSE `maxps`/`minps` instructions (`a > b ? a : b`, which picks `b` when
-    /// `a` is NaN), instead of a NaN test and `f32::clamp`. Unlike
-    /// `f32::clamp` it never panics: if `min > max` every component becomes `max`.
+    /// Component-wise clamp to [`min`, `max`] (NaN components become `min`),
+    /// lane-wise by [`lanes::clamp`] (no NaN test; unlike `f32::clamp` it
+    /// never panics: if `min > max` every component becomes `max`).
     #[inline]
     pub fn clamp(&self, min: f32, max: f32) -> SampledSpectrum {
-        self.map(|value| {
-            let above = if value > min { value } else { min };
-            if above < max { above } else { max }
-        })
+        self.map(|value| lanes::clamp(value, min, max))
     }
 
     /// Component-wise max(value, 0), e.g. after a subtraction that may undershoot.

@@ -7,6 +7,7 @@
 //! real reflectances (the quadratic lets the spectrum be a bump or a dip) and
 //! cost a handful of flops per wavelength.
 
+use super::lanes;
 use super::sampled_spectrum::SampledSpectrum;
 use super::wavelengths::{
     SPECTRUM_SAMPLE_COUNT, SampledWavelengths, VISIBLE_LAMBDA_MAX, VISIBLE_LAMBDA_MIN,
@@ -21,16 +22,7 @@ pub fn algebraic_sigmoid(x: f32) -> f32 {
     // black and white reflectances) and huge finite arguments need no branch,
     // and the four wavelengths of [`RgbSigmoidPolynomial::sample`] vectorise.
     // (Before, x² overflowed for |x| > 2⁶⁴ and such x gave 1/2.) NaN gives 0.
-    let above = if x > -SIGMOID_ARGUMENT_LIMIT {
-        x
-    } else {
-        -SIGMOID_ARGUMENT_LIMIT
-    };
-    let x = if above < SIGMOID_ARGUMENT_LIMIT {
-        above
-    } else {
-        SIGMOID_ARGUMENT_LIMIT
-    };
+    let x = lanes::clamp(x, -SIGMOID_ARGUMENT_LIMIT, SIGMOID_ARGUMENT_LIMIT);
     0.5 + x / (2.0 * (1.0 + x * x).sqrt())
 }
 

@@ -127,18 +127,7 @@ fn sample_visible_wavelengths_with_pdf(u: Lanes) -> (Lanes, Lanes) {
     for index in 0..SPECTRUM_SAMPLE_COUNT {
         let atanh = 0.5 * logarithm[index];
         let unclamped = VISIBLE_DENSITY_CENTRE as f32 + atanh / VISIBLE_DENSITY_STEEPNESS as f32;
-        // max then min rather than `clamp`: no NaN check, and one SSE
-        // instruction each.
-        let above = if unclamped > VISIBLE_LAMBDA_MIN {
-            unclamped
-        } else {
-            VISIBLE_LAMBDA_MIN
-        };
-        lambda[index] = if above < VISIBLE_LAMBDA_MAX {
-            above
-        } else {
-            VISIBLE_LAMBDA_MAX
-        };
+        lambda[index] = lanes::clamp(unclamped, VISIBLE_LAMBDA_MIN, VISIBLE_LAMBDA_MAX);
         pdf[index] = SAMPLING_PDF_SCALE * (1.0 - target[index] * target[index]);
     }
     (lambda, pdf)
