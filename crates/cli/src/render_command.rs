@@ -13,7 +13,7 @@ use crate::error::{CliError, usage};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use render::image::{Metadata, write_png};
-use render::integrators::IntegratorKind;
+use render::integrators::{IntegratorKind, IntegratorSettings};
 use render::renderer::{RenderSettings, render};
 use render::sampler::SamplerKind;
 use render::scene::Scene;
@@ -33,6 +33,8 @@ pub enum IntegratorName {
     Volpath,
     /// Local quasi-Monte Carlo exploration (Halton-seeded path tracing).
     Lqmc,
+    /// Light tracing: paths from the lights connected to the camera.
+    Light,
 }
 
 /// The samplers, as command-line values.
@@ -255,6 +257,7 @@ fn lqmc_settings(args: &LqmcArgs) -> Result<render::integrators::lqmc::LqmcSetti
     }
     settings.jitter_tiles = !args.no_jitter;
     settings.scramble_dimensions = !args.no_scramble;
+    settings.gather_density = args.density.is_some();
     Ok(settings)
 }
 
@@ -344,11 +347,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     };
     let settings = RenderSettings {
         integrator: match args.integrator {
-            Some(IntegratorName::Path) => IntegratorKind::Path,
-            Some(IntegratorName::Volpath) => IntegratorKind::VolPath,
-            Some(IntegratorName::Lqmc) => IntegratorKind::Lqmc,
-            None if scene.has_media() => IntegratorKind::VolPath,
-            None => IntegratorKind::Path,
+            Some(IntegratorName::Path) => IntegratorKind::Path.into(),
+            Some(IntegratorName::Volpath) => IntegratorKind::VolPath.into(),
+            Some(IntegratorName::Lqmc) => IntegratorSettings::Lqmc(lqmc_settings(&args.lqmc)?),
+            Some(IntegratorName::Light) => IntegratorKind::Light.into(),
+            None if scene.has_media() => IntegratorKind::VolPath.into(),
+            None => IntegratorKind::Path.into(),
         },
         sampler: match args.sampler {
             SamplerName::Halton => SamplerKind::Halton,
@@ -366,8 +370,6 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         },
         russian_roulette_depth: args.rr_depth.or(scene.russian_roulette_depth).unwrap_or(3),
         threads: args.threads,
-        lqmc: lqmc_settings(&args.lqmc)?,
-        lqmc_density: args.lqmc.density.is_some(),
         ..RenderSettings::default()
     };
 
@@ -422,32 +424,27 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         "rrDepth".into(),
         settings.russian_roulette_depth.to_string(),
     );
+    // Pixel samples traced per pixel (a partial last pass included; the
+    // metadata's `spp` counts the whole passes).
     let spp = output.statistics.samples as f64
         / (scene.camera.resolution()[0] as f64 * scene.camera.resolution()[1] as f64);
-    let splat_scale = 1.0 / spp.max(1.0);
     output
-        .write(&args.output, splat_scale, &metadata)
+        .write(&args.output, &metadata)
         .map_err(|error| CliError::Failure(error.to_string()))?;
     let mut written = vec![args.output.display().to_string()];
-    if let (Some(path), Some([classes, next_event])) = (&args.lqmc.density, &output.lqmc_density) {
-        render::image::write_exr(
-            path,
-            &classes.image(splat_scale),
-            &[("nee", &next_event.image(splat_scale))],
-            &metadata,
-        )
-        .map_err(|error| CliError::Failure(error.to_string()))?;
+    if let (Some(path), Some(layers)) = (&args.lqmc.density, output.auxiliary_image("density")) {
+        let named: Vec<(&str, &render::image::Image)> = layers[1..]
+            .iter()
+            .map(|(name, image)| (*name, image))
+            .collect();
+        render::image::write_exr(path, &layers[0].1, &named, &metadata)
+            .map_err(|error| CliError::Failure(error.to_string()))?;
         written.push(path.display().to_string());
     }
     if extension.as_deref() != Some("png") {
         let png = args.output.with_extension("png");
-        write_png(
-            &png,
-            &output.film.image(splat_scale),
-            args.exposure,
-            &metadata,
-        )
-        .map_err(|error| CliError::Failure(error.to_string()))?;
+        write_png(&png, &output.image(), args.exposure, &metadata)
+            .map_err(|error| CliError::Failure(error.to_string()))?;
         written.push(png.display().to_string());
     }
     let stopped = if stop.load(Ordering::Relaxed) {
@@ -471,13 +468,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         statistics.rays as f64 / seconds / 1e6,
         statistics.nonfinite_samples,
     );
-    if args.lqmc.stats && settings.integrator == IntegratorKind::Lqmc {
+    if let (true, Some(details)) = (args.lqmc.stats, &output.details) {
         let threads = if settings.threads == 0 {
             std::thread::available_parallelism().map_or(1, |count| count.get())
         } else {
             settings.threads
         };
-        say!("{}", statistics.lqmc.report(seconds, threads));
+        say!("{}", details.report(seconds, threads));
     }
     say!("wrote {}", written.join(" and "));
     Ok(())

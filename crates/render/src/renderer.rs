@@ -1,27 +1,26 @@
-//! The render loop: image tiles in parallel with rayon, one pixel sample at a
-//! time, in passes so that a time budget or an interruption still leaves a
-//! consistent image. Tiles are merged into the film in a fixed order, so a
-//! seed gives the same image whatever the number of threads.
+//! The renderer: builds the thread pool and the integrator a render's
+//! settings name, runs it under a [`RunControl`], and normalises what it
+//! returns (the splat scale from the whole passes). It knows no
+//! integrator's internals: see [`crate::integrators`] for the interface
+//! and [`crate::integrators::driver`] for the passes, tiles and the
+//! deterministic merge order.
 
-use crate::film::{Film, FilmError, PixelBounds, SplatBuffer};
-use crate::geometry::Ray;
-use crate::integrators::lqmc::{self, LqmcSettings, LqmcStatistics};
-use crate::integrators::path::{self, PathSettings};
-use crate::integrators::volpath;
-use crate::integrators::{IntegratorKind, MisHeuristic, TraceCounters};
-use crate::sampler::{IndependentSampler, PixelSampler, SampleSource, SamplerKind, layout};
+use crate::film::Film;
+use crate::image::Image;
+use crate::integrators::path::PathSettings;
+use crate::integrators::{IntegratorDetails, IntegratorSettings, MisHeuristic, RunControl};
+use crate::sampler::SamplerKind;
 use crate::scene::Scene;
-use crate::spectrum::{SampledWavelengths, to_linear_srgb};
-use glam::Vec2;
-use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
+
+pub use crate::integrators::RenderError;
 
 /// What to render and how.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RenderSettings {
-    /// The integrator (default path).
-    pub integrator: IntegratorKind,
+    /// The integrator with its own settings (default path).
+    pub integrator: IntegratorSettings,
     /// The sampler (default Halton).
     pub sampler: SamplerKind,
     /// Samples per pixel to render (with a time budget: at most this many).
@@ -41,16 +40,12 @@ pub struct RenderSettings {
     pub threads: usize,
     /// Tile side in pixels (default 16).
     pub tile_size: usize,
-    /// Settings of the LQMC integrator (used with [`IntegratorKind::Lqmc`]).
-    pub lqmc: LqmcSettings,
-    /// Gather LQMC's sample density per class ([`RenderOutput::lqmc_density`]).
-    pub lqmc_density: bool,
 }
 
 impl Default for RenderSettings {
     fn default() -> Self {
         Self {
-            integrator: IntegratorKind::Path,
+            integrator: IntegratorSettings::Path,
             sampler: SamplerKind::Halton,
             samples_per_pixel: 16,
             time_budget: None,
@@ -60,8 +55,17 @@ impl Default for RenderSettings {
             russian_roulette_depth: PathSettings::default().russian_roulette_depth,
             threads: 0,
             tile_size: 16,
-            lqmc: LqmcSettings::default(),
-            lqmc_density: false,
+        }
+    }
+}
+
+impl RenderSettings {
+    /// The settings every path-building integrator shares.
+    pub fn path_settings(&self) -> PathSettings {
+        PathSettings {
+            max_depth: self.max_depth,
+            heuristic: self.heuristic,
+            russian_roulette_depth: self.russian_roulette_depth,
         }
     }
 }
@@ -69,7 +73,7 @@ impl Default for RenderSettings {
 /// What a render measured.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct RenderStatistics {
-    /// Pixel samples (camera paths) traced.
+    /// Pixel samples (camera or light paths) traced.
     pub samples: u64,
     /// Rays traced (closest hit and shadow).
     pub rays: u64,
@@ -77,74 +81,83 @@ pub struct RenderStatistics {
     pub nonfinite_samples: u64,
     /// Wall-clock time of the render.
     pub elapsed: Duration,
-    /// Samples per pixel completed by every pixel.
+    /// Samples per pixel completed by every pixel (whole passes).
     pub completed_samples_per_pixel: u64,
     /// True if the render stopped early (time budget or interruption).
     pub stopped_early: bool,
-    /// LQMC's counters (zero for other integrators).
-    pub lqmc: LqmcStatistics,
 }
 
-/// Why a render failed.
-#[derive(Debug, thiserror::Error)]
-pub enum RenderError {
-    /// The film could not be set up.
-    #[error(transparent)]
-    Film(#[from] FilmError),
-    /// The thread pool could not be created.
-    #[error("cannot start {threads} render threads: {message}")]
-    Threads { threads: usize, message: String },
-}
-
-/// The rendered film and statistics.
+/// The rendered film and what else the integrator returned.
 pub struct RenderOutput {
     /// The accumulated film.
     pub film: Film,
     /// Measurements of the render.
     pub statistics: RenderStatistics,
-    /// LQMC's sample density per class, when asked for: splatted members
-    /// per pixel (box filter, before the splat scale) of normal, caustic and
-    /// depth-of-field paths as red, green and blue, and of next-event paths.
-    pub lqmc_density: Option<[Film; 2]>,
-    /// For LQMC renders, the estimated variance of each pixel's value from
-    /// the images of the complete progressions (see
-    /// [`lqmc::ProgressionVariance`]); `None` for other integrators, whose
-    /// film has a per-pixel sample variance.
-    pub lqmc_variance: Option<lqmc::ProgressionVariance>,
+    /// The factor of the film's splats: one over the samples per pixel of
+    /// the whole passes (partial passes' splats are not in the film).
+    pub splat_scale: f64,
+    /// The integrator's estimate of each pixel's variance where the film's
+    /// per-pixel sample variance does not describe it (splatting
+    /// integrators).
+    pub variance: Option<Image>,
+    /// Further images of the render (e.g. LQMC's `density`): named layers,
+    /// scaled by [`Self::splat_scale`].
+    pub auxiliary_images: Vec<(&'static str, Vec<(&'static str, Image)>)>,
+    /// The integrator's own statistics, if any.
+    pub details: Option<Box<dyn IntegratorDetails>>,
 }
 
 impl RenderOutput {
+    /// The image: camera samples' means plus the scaled splats.
+    pub fn image(&self) -> Image {
+        self.film.image(self.splat_scale)
+    }
+
     /// The estimated variance of each pixel's value, the EXR's variance
-    /// layer: from the progressions for LQMC, else the film's variance of
-    /// the pixel mean.
-    pub fn variance_image(&self) -> crate::image::Image {
-        match &self.lqmc_variance {
-            Some(progressions) => progressions.variance_image(),
+    /// layer: the integrator's estimate, else the film's variance of the
+    /// pixel mean.
+    pub fn variance_image(&self) -> Image {
+        match &self.variance {
+            Some(variance) => variance.clone(),
             None => self.film.variance_image(),
         }
     }
 
-    /// Writes the film's image to `path` in the format of its extension, as
-    /// [`Film::write`] does, but an EXR file's variance layer is
-    /// [`Self::variance_image`] (so LQMC renders get theirs).
+    /// The integrator's statistics as the type `T` it keeps them in.
+    pub fn details<T: 'static>(&self) -> Option<&T> {
+        self.details
+            .as_ref()
+            .and_then(|details| details.as_any().downcast_ref::<T>())
+    }
+
+    /// The auxiliary image called `name`, if the integrator made one.
+    pub fn auxiliary_image(&self, name: &str) -> Option<&[(&'static str, Image)]> {
+        self.auxiliary_images
+            .iter()
+            .find(|(own, _)| *own == name)
+            .map(|(_, layers)| layers.as_slice())
+    }
+
+    /// Writes the image to `path` in the format of its extension, as
+    /// [`Film::write`] does, with [`Self::variance_image`] as an EXR file's
+    /// variance layer.
     pub fn write(
         &self,
         path: impl AsRef<std::path::Path>,
-        splat_scale: f64,
         metadata: &crate::image::Metadata,
     ) -> Result<(), crate::image::ImageError> {
         let path = path.as_ref();
-        if self.lqmc_variance.is_some()
+        if self.variance.is_some()
             && crate::image::ImageFormat::from_path(path)? == crate::image::ImageFormat::OpenExr
         {
             crate::image::write_exr(
                 path,
-                &self.film.image(splat_scale),
+                &self.image(),
                 &[(crate::image::VARIANCE_LAYER, &self.variance_image())],
                 metadata,
             )
         } else {
-            self.film.write(path, splat_scale, metadata)
+            self.film.write(path, self.splat_scale, metadata)
         }
     }
 }
@@ -165,317 +178,46 @@ pub fn render(
             threads: settings.threads,
             message: error.to_string(),
         })?;
-    pool.install(|| render_in_pool(scene, settings, stop, progress))
-}
-
-fn render_in_pool(
-    scene: &Scene,
-    settings: &RenderSettings,
-    stop: &AtomicBool,
-    progress: &(dyn Fn(u64, u64) + Sync),
-) -> Result<RenderOutput, RenderError> {
-    let start = Instant::now();
-    let [width, height] = scene.camera.resolution();
-    let mut film = Film::new([width as usize, height as usize], scene.filter)?;
-    let tiles = film.tile_bounds(settings.tile_size.max(1))?;
-    let prototype =
-        settings
-            .sampler
-            .create(settings.seed, (width, height), settings.samples_per_pixel);
-    let path_settings = PathSettings {
-        max_depth: settings.max_depth,
-        heuristic: settings.heuristic,
-        russian_roulette_depth: settings.russian_roulette_depth,
+    let integrator = settings.integrator.create(settings.path_settings());
+    let run = RunControl {
+        sampler: settings.sampler,
+        seed: settings.seed,
+        samples_per_pixel: settings.samples_per_pixel,
+        time_budget: settings.time_budget,
+        tile_size: settings.tile_size,
+        stop,
+        progress,
+        start: Instant::now(),
     };
-    if settings.integrator == IntegratorKind::Path && scene.has_media() {
-        log::warn!("the path integrator ignores participating media; use --integrator volpath");
-    }
-    let pixel_count = width as u64 * height as u64;
-    let total = pixel_count * settings.samples_per_pixel;
-    // Progressive passes keep a time budget or an interruption from leaving
-    // some pixels far behind others.
-    // LQMC renders one progression per pass: the variance layer needs the
-    // image of each progression (`lqmc::ProgressionVariance`).
-    let pass_size = if settings.time_budget.is_some() || settings.integrator == IntegratorKind::Lqmc
-    {
-        1
-    } else {
-        settings.samples_per_pixel.clamp(1, 4)
+    let rendered = pool.install(|| integrator.render(scene, &run))?;
+    let driver = rendered.statistics;
+    let splat_scale = 1.0 / driver.completed_samples_per_pixel.max(1) as f64;
+    let statistics = RenderStatistics {
+        samples: driver.samples,
+        rays: driver.rays,
+        nonfinite_samples: rendered.film.nonfinite_samples(),
+        elapsed: run.start.elapsed(),
+        completed_samples_per_pixel: driver.completed_samples_per_pixel,
+        stopped_early: driver.stopped_early,
     };
-    let out_of_time = || {
-        stop.load(Ordering::Relaxed)
-            || settings
-                .time_budget
-                .is_some_and(|budget| start.elapsed() >= budget)
-    };
-    let mut statistics = RenderStatistics::default();
-    let mut density = if settings.lqmc_density && settings.integrator == IntegratorKind::Lqmc {
-        let box_filter = crate::film::Filter::Box(crate::film::BoxFilter::new([0.5, 0.5])?);
-        Some([
-            Film::new([width as usize, height as usize], box_filter)?,
-            Film::new([width as usize, height as usize], box_filter)?,
-        ])
-    } else {
-        None
-    };
-    let mut progression_variance = (settings.integrator == IntegratorKind::Lqmc)
-        .then(|| lqmc::ProgressionVariance::new([width as usize, height as usize]));
-    let mut first_sample = 0;
-    while first_sample < settings.samples_per_pixel && !out_of_time() {
-        let end_sample = (first_sample + pass_size).min(settings.samples_per_pixel);
-        let results: Vec<Option<TileResult>> = tiles
-            .par_iter()
-            .map(|bounds| {
-                if out_of_time() {
-                    return None;
-                }
-                let mut sampler = prototype.clone_sampler();
-                let samples = first_sample..end_sample;
-                Some(match settings.integrator {
-                    IntegratorKind::Path | IntegratorKind::VolPath => {
-                        let tile_settings = TileSettings {
-                            scene,
-                            film: &film,
-                            integrator: settings.integrator,
-                            path_settings: &path_settings,
-                            bounds: *bounds,
-                        };
-                        // The independent sampler (what `SamplerKind::create`
-                        // makes for it) as its own type: its hash then inlines
-                        // into the path loop.
-                        let (tile, counters, count) =
-                            if settings.sampler == SamplerKind::Independent {
-                                render_tile(
-                                    &tile_settings,
-                                    samples,
-                                    &mut IndependentSampler::new(settings.seed),
-                                )
-                            } else {
-                                render_tile(&tile_settings, samples, sampler.as_mut())
-                            };
-                        TileResult {
-                            tile,
-                            splats: None,
-                            counters,
-                            samples: count,
-                            lqmc: LqmcStatistics::default(),
-                            density: None,
-                        }
-                    }
-                    IntegratorKind::Lqmc => {
-                        let context = lqmc::LqmcContext {
-                            scene,
-                            settings: &settings.lqmc,
-                            path_settings,
-                            seed: settings.seed,
-                        };
-                        render_tile_lqmc(
-                            &context,
-                            &film,
-                            *bounds,
-                            samples,
-                            sampler.as_mut(),
-                            settings.lqmc_density,
-                        )
-                    }
-                })
-            })
-            .collect();
-        let mut complete = true;
-        // Tiles and their splats merge in the fixed tile order: the image
-        // does not depend on the number of threads.
-        for result in results {
-            match result {
-                Some(result) => {
-                    film.merge_tile(&result.tile)?;
-                    if let Some(splats) = &result.splats {
-                        film.merge_splats(splats);
-                    }
-                    statistics.rays += result.counters.rays();
-                    statistics.samples += result.samples;
-                    statistics.lqmc.add(&result.lqmc);
-                    if let (Some(films), Some(splats)) = (&mut density, &result.density) {
-                        films[0].merge_splats(&splats.rgb);
-                        films[1].merge_splats(&splats.next_event);
-                    }
-                }
-                None => complete = false,
-            }
-        }
-        if let Some(progressions) = &mut progression_variance {
-            progressions.end_progression(&film, complete);
-        }
-        if complete {
-            statistics.completed_samples_per_pixel = end_sample;
-        }
-        progress(statistics.samples, total);
-        first_sample = end_sample;
-    }
-    statistics.stopped_early = statistics.completed_samples_per_pixel < settings.samples_per_pixel;
-    statistics.nonfinite_samples = film.nonfinite_samples();
-    statistics.elapsed = start.elapsed();
+    let auxiliary_images = rendered
+        .auxiliary_images
+        .iter()
+        .map(|auxiliary| {
+            let layers = auxiliary
+                .layers
+                .iter()
+                .map(|(name, film)| (*name, film.image(splat_scale)))
+                .collect();
+            (auxiliary.name, layers)
+        })
+        .collect();
     Ok(RenderOutput {
-        film,
+        film: rendered.film,
         statistics,
-        lqmc_density: density,
-        lqmc_variance: progression_variance,
+        splat_scale,
+        variance: rendered.variance,
+        auxiliary_images,
+        details: rendered.details,
     })
-}
-
-/// What rendering one tile for one pass produced.
-struct TileResult {
-    tile: crate::film::FilmTile,
-    splats: Option<SplatBuffer>,
-    counters: TraceCounters,
-    samples: u64,
-    lqmc: LqmcStatistics,
-    density: Option<lqmc::ClassDensity>,
-}
-
-/// Renders samples `samples` of every pixel of a tile with LQMC: every
-/// contribution is a splat (members land in other pixels), gathered in the
-/// tile's own buffer.
-fn render_tile_lqmc(
-    context: &lqmc::LqmcContext<'_>,
-    film: &Film,
-    bounds: PixelBounds,
-    samples: std::ops::Range<u64>,
-    sampler: &mut dyn PixelSampler,
-    gather_density: bool,
-) -> TileResult {
-    let tile = film
-        .new_tile(bounds)
-        .expect("tiles come from the film's own bounds");
-    let mut splats = SplatBuffer::new();
-    let mut counters = TraceCounters::default();
-    let mut statistics = LqmcStatistics::default();
-    let mut scratch = lqmc::LqmcScratch::default();
-    scratch.density = gather_density.then(lqmc::ClassDensity::default);
-    let mut count = 0;
-    for y in bounds.min[1]..bounds.max[1] {
-        for x in bounds.min[0]..bounds.max[0] {
-            for sample_index in samples.clone() {
-                sampler.start_pixel_sample((x as u32, y as u32), sample_index);
-                lqmc::render_pixel_sample(
-                    context,
-                    (x as u32, y as u32),
-                    sample_index,
-                    &mut *sampler,
-                    &mut scratch,
-                    &mut splats,
-                    &mut statistics,
-                    &mut counters,
-                );
-                count += 1;
-            }
-        }
-    }
-    TileResult {
-        tile,
-        splats: Some(splats),
-        counters,
-        samples: count,
-        lqmc: statistics,
-        density: scratch.density.take(),
-    }
-}
-
-/// What [`render_tile`] renders: the scene, the film and integrator, and
-/// the tile's pixels.
-struct TileSettings<'a> {
-    scene: &'a Scene,
-    film: &'a Film,
-    integrator: IntegratorKind,
-    path_settings: &'a PathSettings,
-    bounds: PixelBounds,
-}
-
-/// A sampler seen as `dyn SampleSource`, for integrators that take one: a
-/// reference to a generic, possibly unsized sampler does not coerce to it.
-struct DynSource<'a, S: ?Sized>(&'a mut S);
-
-impl<S: SampleSource + ?Sized> SampleSource for DynSource<'_, S> {
-    #[inline]
-    fn get(&mut self, dimension: usize) -> f32 {
-        self.0.get(dimension)
-    }
-
-    #[inline]
-    fn get_2d(&mut self, dimension: usize) -> [f32; 2] {
-        self.0.get_2d(dimension)
-    }
-}
-
-/// Renders samples `samples` of every pixel of a tile. Generic over the
-/// sampler so that a concrete one inlines into the path loop.
-fn render_tile<S: PixelSampler + ?Sized>(
-    settings: &TileSettings<'_>,
-    samples: std::ops::Range<u64>,
-    sampler: &mut S,
-) -> (crate::film::FilmTile, TraceCounters, u64) {
-    let TileSettings {
-        scene,
-        film,
-        integrator,
-        path_settings,
-        bounds,
-    } = *settings;
-    let mut tile = film
-        .new_tile(bounds)
-        .expect("tiles come from the film's own bounds");
-    let mut counters = TraceCounters::default();
-    let mut count = 0;
-    for y in bounds.min[1]..bounds.max[1] {
-        for x in bounds.min[0]..bounds.max[0] {
-            for sample_index in samples.clone() {
-                sampler.start_pixel_sample((x as u32, y as u32), sample_index);
-                let position = film.camera_sample_position([x, y], sampler.get_2d(layout::FILM));
-                // Numbers the camera does not use (a pinhole's lens, a
-                // closed shutter's time) are not drawn: a hash each saved.
-                let u_lens = if scene.camera.uses_lens_sample() {
-                    sampler.get_2d(layout::LENS)
-                } else {
-                    [0.5; 2]
-                };
-                let u_time = if scene.camera.uses_time_sample() {
-                    sampler.get(layout::TIME)
-                } else {
-                    0.5
-                };
-                let camera_ray =
-                    scene
-                        .camera
-                        .generate_ray(Vec2::from(position.raster_position), u_lens, u_time);
-                let mut wavelengths =
-                    SampledWavelengths::sample_visible(sampler.get(layout::WAVELENGTH));
-                let ray = Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time);
-                let radiance = match integrator {
-                    // LQMC tiles are rendered by `render_tile_lqmc`; its seed
-                    // paths are path-traced, so the path tracer stands for it.
-                    IntegratorKind::Path | IntegratorKind::Lqmc => path::radiance(
-                        scene,
-                        path_settings,
-                        ray,
-                        &mut wavelengths,
-                        &mut *sampler,
-                        &mut counters,
-                        None,
-                    ),
-                    IntegratorKind::VolPath => volpath::radiance(
-                        scene,
-                        path_settings,
-                        ray,
-                        &mut wavelengths,
-                        &mut DynSource(&mut *sampler),
-                        &mut counters,
-                    ),
-                };
-                let rgb = to_linear_srgb(&radiance, &wavelengths);
-                // Non-finite values are counted and dropped by the tile.
-                let _ = tile.add_sample([x, y], rgb, position.weight);
-                count += 1;
-            }
-        }
-    }
-    (tile, counters, count)
 }

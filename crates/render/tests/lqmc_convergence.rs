@@ -15,8 +15,8 @@
 //! comparison with many more replications.
 
 use render::image::Image;
-use render::integrators::IntegratorKind;
-use render::integrators::lqmc::{BreakupChoice, LqmcSettings, LqmcStatistics};
+use render::integrators::lqmc::{BreakupChoice, LqmcDetails, LqmcSettings, LqmcStatistics};
+use render::integrators::{IntegratorKind, IntegratorSettings};
 use render::renderer::{RenderSettings, render};
 use render::sampler::SamplerKind;
 use render::scene::Scene;
@@ -62,12 +62,14 @@ fn render_once(
     seed: u64,
 ) -> (Image, Image, LqmcStatistics) {
     let settings = RenderSettings {
-        integrator,
+        integrator: match integrator {
+            IntegratorKind::Lqmc => IntegratorSettings::Lqmc(lqmc),
+            other => other.into(),
+        },
         sampler: SamplerKind::Independent,
         samples_per_pixel: spp,
         seed,
         max_depth: scene.max_depth.unwrap_or(6),
-        lqmc,
         ..RenderSettings::default()
     };
     let stop = AtomicBool::new(false);
@@ -75,7 +77,10 @@ fn render_once(
     (
         output.film.image(1.0 / spp as f64),
         output.film.variance_image(),
-        output.statistics.lqmc,
+        output
+            .details::<LqmcDetails>()
+            .map(|details| details.statistics)
+            .unwrap_or_default(),
     )
 }
 
@@ -443,7 +448,7 @@ fn lqmc_images_do_not_depend_on_the_thread_count() {
     let scene = scene("dof-spheres");
     let image = |threads: usize| {
         let settings = RenderSettings {
-            integrator: IntegratorKind::Lqmc,
+            integrator: IntegratorKind::Lqmc.into(),
             samples_per_pixel: 2,
             threads,
             tile_size: 8,

@@ -28,7 +28,7 @@
 use render::image::Image;
 use render::image::compare::{ReferenceVariance, compare_images};
 use render::integrators::IntegratorKind;
-use render::integrators::lqmc::LqmcSettings;
+use render::integrators::lqmc::LqmcDetails;
 use render::renderer::{RenderSettings, render};
 use render::sampler::SamplerKind;
 use render::scene::Scene;
@@ -50,18 +50,17 @@ fn scene(name: &str) -> Scene {
 /// One render's image and variance layer.
 fn render_once(scene: &Scene, integrator: IntegratorKind, spp: u64, seed: u64) -> (Image, Image) {
     let settings = RenderSettings {
-        integrator,
+        integrator: integrator.into(),
         sampler: SamplerKind::Independent,
         samples_per_pixel: spp,
         seed,
         max_depth: scene.max_depth.unwrap_or(6),
-        lqmc: LqmcSettings::default(),
         ..RenderSettings::default()
     };
     let stop = AtomicBool::new(false);
     let output = render(scene, &settings, &stop, &|_, _| {}).unwrap();
     if integrator == IntegratorKind::Lqmc {
-        let progressions = output.lqmc_variance.as_ref().unwrap();
+        let progressions = &output.details::<LqmcDetails>().unwrap().progressions;
         assert_eq!(progressions.progressions(), spp);
         // Every progression finished: their mean is the image.
         let image = output.film.image(1.0 / spp as f64);
@@ -70,7 +69,7 @@ fn render_once(scene: &Scene, integrator: IntegratorKind, spp: u64, seed: u64) -
             assert!((mean - *value as f64).abs() <= 1e-4 * (1.0 + mean.abs()));
         }
     } else {
-        assert!(output.lqmc_variance.is_none());
+        assert!(output.details.is_none() && output.variance.is_none());
     }
     (output.film.image(1.0 / spp as f64), output.variance_image())
 }

@@ -263,7 +263,7 @@ fn render_scene(
     max_depth: u32,
 ) -> RenderOutput {
     let settings = RenderSettings {
-        integrator,
+        integrator: integrator.into(),
         sampler: SamplerKind::Independent,
         samples_per_pixel,
         max_depth,

@@ -103,7 +103,7 @@ fn medium_furnace(resolution: u32) -> SceneDescription {
 
 fn volpath_settings(sampler: SamplerKind, samples_per_pixel: u64) -> RenderSettings {
     RenderSettings {
-        integrator: IntegratorKind::VolPath,
+        integrator: IntegratorKind::VolPath.into(),
         sampler,
         samples_per_pixel,
         max_depth: 1000,
@@ -244,8 +244,8 @@ fn absorbing_slab_follows_beer_lambert() {
 
 /// Per-pixel z-test of two independent renders of the same scene.
 fn assert_same_estimate(description: &SceneDescription, samples_per_pixel: u64, context: &str) {
-    let settings = |integrator, seed| RenderSettings {
-        integrator,
+    let settings = |integrator: IntegratorKind, seed| RenderSettings {
+        integrator: integrator.into(),
         sampler: SamplerKind::Independent,
         samples_per_pixel,
         max_depth: description.max_depth.unwrap_or(6),

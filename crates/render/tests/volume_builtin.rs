@@ -17,7 +17,7 @@ fn media_scenes_render_with_volpath() {
         let scene = Scene::build(&description).unwrap();
         assert!(scene.has_media(), "{name}");
         let settings = RenderSettings {
-            integrator: IntegratorKind::VolPath,
+            integrator: IntegratorKind::VolPath.into(),
             sampler: SamplerKind::Sobol,
             samples_per_pixel: 4,
             max_depth: description.max_depth.unwrap(),

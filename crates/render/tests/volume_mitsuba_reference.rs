@@ -137,7 +137,7 @@ fn media_spheres_match_mitsuba_volpath_scalar_spectral() {
 
     let scene = Scene::build(&scene()).unwrap();
     let settings = RenderSettings {
-        integrator: IntegratorKind::VolPath,
+        integrator: IntegratorKind::VolPath.into(),
         sampler: SamplerKind::Independent,
         samples_per_pixel: SAMPLES_PER_PIXEL,
         max_depth: MAX_DEPTH,

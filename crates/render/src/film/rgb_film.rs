@@ -27,6 +27,20 @@ pub struct CameraSamplePosition {
     pub weight: f32,
 }
 
+impl CameraSamplePosition {
+    /// The position of a camera sample of `pixel` placed by sampling
+    /// `filter` with `u` around the pixel's centre (what
+    /// [`Film::camera_sample_position`] does with the film's filter).
+    #[inline]
+    pub fn new(filter: &Filter, pixel: [usize; 2], u: [f32; 2]) -> Self {
+        let sample = filter.sample(u);
+        Self {
+            raster_position: [0, 1].map(|axis| pixel[axis] as f32 + 0.5 + sample.offset[axis]),
+            weight: sample.weight,
+        }
+    }
+}
+
 /// An RGB film.
 ///
 /// Camera samples: a render thread takes a [`FilmTile`] from
@@ -137,11 +151,7 @@ impl Film {
     /// for `pixel` from the 2-D sample `u` (pixel centre plus a filter
     /// offset), and the weight to accumulate it with.
     pub fn camera_sample_position(&self, pixel: [usize; 2], u: [f32; 2]) -> CameraSamplePosition {
-        let sample = self.filter.sample(u);
-        CameraSamplePosition {
-            raster_position: [0, 1].map(|axis| pixel[axis] as f32 + 0.5 + sample.offset[axis]),
-            weight: sample.weight,
-        }
+        CameraSamplePosition::new(&self.filter, pixel, u)
     }
 
     /// Adds a finished tile's samples to the film (and its rejected-sample

@@ -1,11 +1,35 @@
 //! Integrators: estimators of the radiance arriving at the camera. Each
 //! takes its numbers from a [`crate::sampler::SampleSource`] following the
 //! dimension layout of [`crate::sampler::layout`].
+//!
+//! # The integrator interface
+//!
+//! An integrator is a module with a type that implements [`Integrator`]:
+//! it renders a scene into a film under a [`RunControl`] (samples per pixel,
+//! time budget, Ctrl-C, progress) and returns an [`IntegratorRender`]. It
+//! does so through one of the shared [`driver`]s — the tile driver for
+//! estimators of one pixel sample, the splat driver for integrators that
+//! write anywhere on the film — which own the passes, the threads and the
+//! deterministic merge order. Its own settings travel in its variant of
+//! [`IntegratorSettings`]; its own statistics and images come back in
+//! [`IntegratorRender::details`] and [`IntegratorRender::auxiliary_images`].
+//! The renderer knows none of them: adding an integrator is a new module,
+//! a variant of [`IntegratorKind`] (with its name) and of
+//! [`IntegratorSettings`], and its line in [`IntegratorSettings::create`].
 
+pub mod driver;
+pub mod light;
 pub mod lqmc;
 pub mod path;
+pub mod path_space;
 pub mod path_vertex;
 pub mod volpath;
+
+pub use driver::{DriverStatistics, RenderError, RunControl};
+
+use crate::film::Film;
+use crate::image::Image;
+use crate::scene::Scene;
 
 /// The integrators a user can choose.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -19,14 +43,18 @@ pub enum IntegratorKind {
     VolPath,
     /// Local quasi-Monte Carlo exploration of Halton-seeded path tracing.
     Lqmc,
+    /// Light tracing (particle tracing): paths from the lights, every
+    /// vertex connected to the camera and splatted (see [`light`]).
+    Light,
 }
 
 impl IntegratorKind {
     /// Every integrator with its command-line name.
-    pub const ALL: [(IntegratorKind, &'static str); 3] = [
+    pub const ALL: [(IntegratorKind, &'static str); 4] = [
         (IntegratorKind::Path, "path"),
         (IntegratorKind::VolPath, "volpath"),
         (IntegratorKind::Lqmc, "lqmc"),
+        (IntegratorKind::Light, "light"),
     ];
 
     /// The integrator called `name`.
@@ -38,6 +66,114 @@ impl IntegratorKind {
     pub fn name(self) -> &'static str {
         Self::ALL.iter().find(|(k, _)| *k == self).unwrap().1
     }
+}
+
+/// An integrator with its own settings (the shared path settings — depth,
+/// Russian roulette, MIS heuristic — are [`path::PathSettings`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum IntegratorSettings {
+    /// [`IntegratorKind::Path`].
+    Path,
+    /// [`IntegratorKind::VolPath`].
+    VolPath,
+    /// [`IntegratorKind::Lqmc`] with its options.
+    Lqmc(lqmc::LqmcSettings),
+    /// [`IntegratorKind::Light`].
+    Light,
+}
+
+impl From<IntegratorKind> for IntegratorSettings {
+    /// The integrator with its default settings.
+    fn from(kind: IntegratorKind) -> Self {
+        match kind {
+            IntegratorKind::Path => Self::Path,
+            IntegratorKind::VolPath => Self::VolPath,
+            IntegratorKind::Lqmc => Self::Lqmc(lqmc::LqmcSettings::default()),
+            IntegratorKind::Light => Self::Light,
+        }
+    }
+}
+
+impl IntegratorSettings {
+    /// Which integrator these are the settings of.
+    pub fn kind(&self) -> IntegratorKind {
+        match self {
+            Self::Path => IntegratorKind::Path,
+            Self::VolPath => IntegratorKind::VolPath,
+            Self::Lqmc(_) => IntegratorKind::Lqmc,
+            Self::Light => IntegratorKind::Light,
+        }
+    }
+
+    /// The command-line name of the integrator.
+    pub fn name(&self) -> &'static str {
+        self.kind().name()
+    }
+
+    /// The integrator, with the shared path settings `path_settings`.
+    pub fn create(&self, path_settings: path::PathSettings) -> Box<dyn Integrator> {
+        match self {
+            Self::Path => Box::new(path::PathIntegrator::new(path_settings)),
+            Self::VolPath => Box::new(volpath::VolPathIntegrator::new(path_settings)),
+            Self::Lqmc(settings) => Box::new(lqmc::LqmcIntegrator::new(*settings, path_settings)),
+            Self::Light => Box::new(light::LightIntegrator::new(path_settings)),
+        }
+    }
+}
+
+/// A light-transport algorithm: renders a scene under a run control.
+pub trait Integrator: Send + Sync {
+    /// Renders `scene` (inside the renderer's thread pool) under `run`.
+    fn render(&self, scene: &Scene, run: &RunControl<'_>) -> Result<IntegratorRender, RenderError>;
+}
+
+/// What an integrator rendered.
+pub struct IntegratorRender {
+    /// The film: camera samples, and splats of whole passes to be scaled by
+    /// the renderer's splat scale.
+    pub film: Film,
+    /// The driver's measurements.
+    pub statistics: DriverStatistics,
+    /// The estimated variance of each pixel's value, where the film's own
+    /// per-pixel sample variance does not describe it (splatting
+    /// integrators); `None` uses [`Film::variance_image`].
+    pub variance: Option<Image>,
+    /// Further images of the render (splat films, scaled like the film's
+    /// splats), each written as one EXR file of named layers.
+    pub auxiliary_images: Vec<AuxiliaryImage>,
+    /// The integrator's own statistics, if it keeps any.
+    pub details: Option<Box<dyn IntegratorDetails>>,
+}
+
+impl IntegratorRender {
+    /// The render of a driver whose total the integrator keeps nothing of.
+    pub fn from_driver<T>(output: driver::DriverOutput<T>) -> Self {
+        Self {
+            film: output.film,
+            statistics: output.statistics,
+            variance: None,
+            auxiliary_images: Vec::new(),
+            details: None,
+        }
+    }
+}
+
+/// A further image of a render: named layers of splat films.
+pub struct AuxiliaryImage {
+    /// What the image is (the integrator's name for it, e.g. `density`).
+    pub name: &'static str,
+    /// The layers: the first is the image's RGB, the others named layers.
+    pub layers: Vec<(&'static str, Film)>,
+}
+
+/// An integrator's own statistics.
+pub trait IntegratorDetails: Send + std::any::Any {
+    /// A report for the command line (`--stats`), for a render of
+    /// `render_seconds` on `threads` threads.
+    fn report(&self, render_seconds: f64, threads: usize) -> String;
+
+    /// As `Any`, for callers that know the integrator (tests).
+    fn as_any(&self) -> &dyn std::any::Any;
 }
 
 /// How multiple importance sampling weighs next-event estimation against

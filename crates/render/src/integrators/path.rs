@@ -7,13 +7,16 @@
 //! 2 adds direct illumination. Russian roulette uses its own dimension of
 //! each vertex block and starts after the third vertex.
 
+use super::driver::{
+    CameraPathStart, PixelSampleEstimator, PixelSampleIndex, UnitOutput, render_pixel_samples,
+};
 use super::path_vertex::PathVertex;
-use super::{MisHeuristic, TraceCounters};
+use super::{Integrator, IntegratorRender, MisHeuristic, RenderError, RunControl, TraceCounters};
 use crate::geometry::{OffsetPoint, Ray, SurfaceHit, occlusion_segment_to_point, spawn_ray};
 use crate::material::SurfaceBsdf;
-use crate::sampler::{SampleSource, layout};
+use crate::sampler::{PixelSampler, SampleSource, layout};
 use crate::scene::Scene;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum, to_linear_srgb};
 use glam::Vec3;
 
 /// Settings of the path tracer.
@@ -35,6 +38,77 @@ impl Default for PathSettings {
             heuristic: MisHeuristic::Power,
             russian_roulette_depth: 3,
         }
+    }
+}
+
+/// The path tracer as an [`Integrator`], run by the tile driver.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathIntegrator {
+    settings: PathSettings,
+}
+
+impl PathIntegrator {
+    /// The path tracer with `settings`.
+    pub fn new(settings: PathSettings) -> Self {
+        Self { settings }
+    }
+}
+
+impl Integrator for PathIntegrator {
+    fn render(&self, scene: &Scene, run: &RunControl<'_>) -> Result<IntegratorRender, RenderError> {
+        if scene.has_media() {
+            log::warn!("the path integrator ignores participating media; use --integrator volpath");
+        }
+        let estimator = PathEstimator {
+            scene,
+            settings: &self.settings,
+        };
+        render_pixel_samples(&estimator, scene, run).map(IntegratorRender::from_driver)
+    }
+}
+
+/// One camera path per pixel sample, its radiance added to its pixel.
+struct PathEstimator<'a> {
+    scene: &'a Scene,
+    settings: &'a PathSettings,
+}
+
+impl PixelSampleEstimator for PathEstimator<'_> {
+    type Unit = ();
+    type Total = ();
+
+    fn new_total(&self, _resolution: [usize; 2]) -> Result<(), RenderError> {
+        Ok(())
+    }
+
+    fn new_unit(&self) {}
+
+    fn merge_unit(&self, _total: &mut (), _unit: (), _kept: bool) {}
+
+    #[inline]
+    fn estimate<S: PixelSampler + ?Sized>(
+        &self,
+        _unit: &mut (),
+        sample: PixelSampleIndex,
+        sampler: &mut S,
+        output: &mut UnitOutput,
+    ) {
+        let start = CameraPathStart::new(self.scene, sample.pixel, sampler);
+        let mut wavelengths = start.wavelengths;
+        let radiance = radiance(
+            self.scene,
+            self.settings,
+            start.ray,
+            &mut wavelengths,
+            sampler,
+            &mut output.counters,
+            None,
+        );
+        output.add_camera_sample(
+            [sample.pixel.0 as usize, sample.pixel.1 as usize],
+            to_linear_srgb(&radiance, &wavelengths),
+            start.position.weight,
+        );
     }
 }
 
@@ -90,7 +164,7 @@ pub(crate) fn oriented_hit(scene: &Scene, hit: &SurfaceHit) -> SurfaceHit {
 /// the path tracer needs the hit as stored only until it scatters, and a
 /// second copy of the hit cost about 20 instructions per vertex.
 #[inline]
-fn orient_hit(flip_normals: bool, hit: &mut SurfaceHit) {
+pub(crate) fn orient_hit(flip_normals: bool, hit: &mut SurfaceHit) {
     if flip_normals {
         hit.geometric_normal = -hit.geometric_normal;
         hit.shading_normal = -hit.shading_normal;

@@ -71,15 +71,18 @@
 //! depth 16). Every vertex, null or not, still takes its own dimension
 //! block, so the block index runs ahead of the depth.
 
-use super::TraceCounters;
+use super::driver::{
+    CameraPathStart, PixelSampleEstimator, PixelSampleIndex, UnitOutput, render_pixel_samples,
+};
 use super::path::{PathSettings, oriented_hit};
+use super::{Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
 use crate::geometry::{Ray, SurfaceHit, offset_ray_origin, spawn_ray, spawn_ray_to_point};
 use crate::light::LightSample;
 use crate::material::{BsdfModel, BsdfSample, SurfaceBsdf};
 use crate::medium::{medium_after, transmittance};
-use crate::sampler::{SampleSource, layout};
+use crate::sampler::{DynSource, PixelSampler, SampleSource, layout};
 use crate::scene::Scene;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
 use glam::Vec3;
 
 /// Shadow rays stop after this many index-matched boundaries (a guard
@@ -132,6 +135,72 @@ impl PathState {
         if denominator > 0.0 {
             self.radiance += self.beta * emitted / denominator;
         }
+    }
+}
+
+/// The volumetric path tracer as an [`Integrator`], run by the tile driver.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VolPathIntegrator {
+    settings: PathSettings,
+}
+
+impl VolPathIntegrator {
+    /// The volumetric path tracer with `settings`.
+    pub fn new(settings: PathSettings) -> Self {
+        Self { settings }
+    }
+}
+
+impl Integrator for VolPathIntegrator {
+    fn render(&self, scene: &Scene, run: &RunControl<'_>) -> Result<IntegratorRender, RenderError> {
+        let estimator = VolPathEstimator {
+            scene,
+            settings: &self.settings,
+        };
+        render_pixel_samples(&estimator, scene, run).map(IntegratorRender::from_driver)
+    }
+}
+
+/// One volumetric camera path per pixel sample, added to its pixel.
+struct VolPathEstimator<'a> {
+    scene: &'a Scene,
+    settings: &'a PathSettings,
+}
+
+impl PixelSampleEstimator for VolPathEstimator<'_> {
+    type Unit = ();
+    type Total = ();
+
+    fn new_total(&self, _resolution: [usize; 2]) -> Result<(), RenderError> {
+        Ok(())
+    }
+
+    fn new_unit(&self) {}
+
+    fn merge_unit(&self, _total: &mut (), _unit: (), _kept: bool) {}
+
+    fn estimate<S: PixelSampler + ?Sized>(
+        &self,
+        _unit: &mut (),
+        sample: PixelSampleIndex,
+        sampler: &mut S,
+        output: &mut UnitOutput,
+    ) {
+        let start = CameraPathStart::new(self.scene, sample.pixel, sampler);
+        let mut wavelengths = start.wavelengths;
+        let radiance = radiance(
+            self.scene,
+            self.settings,
+            start.ray,
+            &mut wavelengths,
+            &mut DynSource(sampler),
+            &mut output.counters,
+        );
+        output.add_camera_sample(
+            [sample.pixel.0 as usize, sample.pixel.1 as usize],
+            to_linear_srgb(&radiance, &wavelengths),
+            start.position.weight,
+        );
     }
 }
 

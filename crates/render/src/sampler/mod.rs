@@ -78,6 +78,19 @@ pub mod layout {
     /// Offset in a vertex block: free-flight distance.
     pub const FREE_FLIGHT: usize = 7;
 
+    /// Light subpaths (light tracing): the light's choice.
+    pub const LIGHT_CHOICE: usize = 6;
+    /// Light subpaths: the point on the light, 2 dimensions.
+    pub const LIGHT_EMISSION_POSITION: usize = 7;
+    /// Light subpaths: the direction of emission, 2 dimensions.
+    pub const LIGHT_EMISSION_DIRECTION: usize = 9;
+    /// Light subpaths: the first dimension of vertex 0's block.
+    pub const LIGHT_SUBPATH_VERTICES: usize = 11;
+    /// Offset in a light-subpath vertex block: the lens point of the
+    /// vertex's connection to the camera, 2 dimensions (the slot camera
+    /// subpaths use for the light point of next-event estimation).
+    pub const CAMERA_CONNECTION: usize = LIGHT_POSITION;
+
     /// The dimension of `offset` in the block of path vertex `vertex`.
     #[inline]
     pub const fn vertex(vertex: usize, offset: usize) -> usize {
@@ -95,6 +108,22 @@ pub trait SampleSource {
     #[inline]
     fn get_2d(&mut self, dimension: usize) -> [f32; 2] {
         [self.get(dimension), self.get(dimension + 1)]
+    }
+}
+
+/// A sampler seen as `dyn SampleSource`, for integrators that take one: a
+/// reference to a generic, possibly unsized sampler does not coerce to it.
+pub struct DynSource<'a, S: ?Sized>(pub &'a mut S);
+
+impl<S: SampleSource + ?Sized> SampleSource for DynSource<'_, S> {
+    #[inline]
+    fn get(&mut self, dimension: usize) -> f32 {
+        self.0.get(dimension)
+    }
+
+    #[inline]
+    fn get_2d(&mut self, dimension: usize) -> [f32; 2] {
+        self.0.get_2d(dimension)
     }
 }
 

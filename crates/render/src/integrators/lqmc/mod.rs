@@ -18,6 +18,7 @@
 //! through homogeneous media, as `volpath` traces them), [`segment_cache`]
 //! (members reuse the seed's traced suffix segments),
 //! [`estimator`] (Eq. 9 extended), [`statistics`] (`--stats`),
+//! [`integrator`] (LQMC behind the integrator interface),
 //! [`exploration`] (one pixel sample), [`progression_variance`] (the
 //! variance layer of LQMC renders).
 
@@ -25,6 +26,7 @@ pub mod classification;
 pub mod estimator;
 pub mod exploration;
 pub mod explored_dimensions;
+pub mod integrator;
 pub mod lattice_step;
 pub mod medium_segment;
 pub mod path_record;
@@ -40,6 +42,7 @@ pub mod volume_walk;
 
 pub use classification::PathClass;
 pub use exploration::{ClassDensity, LqmcContext, LqmcScratch, render_pixel_sample};
+pub use integrator::{LqmcDetails, LqmcIntegrator};
 pub use progression_variance::ProgressionVariance;
 pub use settings::{BreakupChoice, ClassParameters, ExploredEffects, LqmcSettings};
 pub use statistics::{ClosestPointTiming, FailureReason, LqmcStatistics};

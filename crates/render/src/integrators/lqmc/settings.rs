@@ -172,6 +172,9 @@ pub struct LqmcSettings {
     pub scramble_dimensions: bool,
     /// Jitter the tile grid once per progression (default on; Sec. 3.4).
     pub jitter_tiles: bool,
+    /// Gather the sample density per class, returned as the render's
+    /// `density` image (default off; `--lqmc-density`).
+    pub gather_density: bool,
 }
 
 impl Default for LqmcSettings {
@@ -210,6 +213,7 @@ impl Default for LqmcSettings {
             full_path_breakup: true,
             scramble_dimensions: true,
             jitter_tiles: true,
+            gather_density: false,
         }
     }
 }

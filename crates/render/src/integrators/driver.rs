@@ -1,0 +1,453 @@
+//! The drivers every integrator is run by: they own the thread pool's
+//! work, the passes, the time budget and interruptions, and the order in
+//! which work is merged into the film, so that no integrator has a render
+//! loop of its own and every image is deterministic for any thread count.
+//!
+//! - [`render_pixel_samples`], the tile driver, for integrators that
+//!   estimate one pixel sample at a time ([`PixelSampleEstimator`]): path
+//!   tracing, volumetric path tracing, LQMC. A pixel sample may add a camera
+//!   sample to its own pixel and splats anywhere on the film.
+//! - [`render_splat_paths`], the splat driver, for integrators whose every
+//!   contribution is a splat ([`SplatEstimator`]): light tracing now,
+//!   Markov chains later. Paths are numbered per pass; the sampler is
+//!   positioned at a pixel sample named by the path's number, so every
+//!   sampler (per-pixel QMC sequences included) serves it.
+//!
+//! # Passes and the splat normalisation
+//!
+//! Work is done in passes of a few samples per pixel (one with a time
+//! budget), each pass split into the film's tiles. A time budget or an
+//! interruption (the `stop` flag) is checked before each tile. When a pass
+//! is cut short:
+//! - the camera samples of its finished tiles are kept: each pixel
+//!   averages its own samples, so a pixel with one sample more is not
+//!   biased;
+//! - its splats are dropped: a splat image is normalised by one count for
+//!   the whole film (`1 / samples per pixel`), and a partial pass would
+//!   bias every pixel its tiles reached by `√(f(1−f))/(n+f)`.
+//!
+//! The splat scale is then [`DriverOutput::splat_scale`]: one over the
+//! samples per pixel of the whole passes.
+
+use crate::film::{Film, FilmError, FilmTile, PixelBounds, SampleOutcome, SplatBuffer};
+use crate::geometry::Ray;
+use crate::sampler::{IndependentSampler, PixelSampler, SamplerKind, layout};
+use crate::scene::Scene;
+use crate::spectrum::SampledWavelengths;
+use glam::Vec2;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use super::TraceCounters;
+
+/// How long a render runs and how it is observed: what every integrator
+/// is given by the renderer.
+pub struct RunControl<'a> {
+    /// The sampler.
+    pub sampler: SamplerKind,
+    /// The seed of every random choice.
+    pub seed: u64,
+    /// Samples per pixel to render (with a time budget: at most this many).
+    pub samples_per_pixel: u64,
+    /// Stop after this much time, before the next tile.
+    pub time_budget: Option<Duration>,
+    /// Tile side in pixels.
+    pub tile_size: usize,
+    /// Set from a Ctrl-C handler: stop before the next tile.
+    pub stop: &'a AtomicBool,
+    /// Receives the number of pixel samples done and the total.
+    pub progress: &'a (dyn Fn(u64, u64) + Sync),
+    /// When the render started (the time budget counts from here).
+    pub start: Instant,
+}
+
+impl RunControl<'_> {
+    /// True once the render must stop: interrupted or out of time.
+    pub fn out_of_time(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
+            || self
+                .time_budget
+                .is_some_and(|budget| self.start.elapsed() >= budget)
+    }
+}
+
+/// Why a render failed.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// The film could not be set up.
+    #[error(transparent)]
+    Film(#[from] FilmError),
+    /// The thread pool could not be created.
+    #[error("cannot start {threads} render threads: {message}")]
+    Threads { threads: usize, message: String },
+    /// The integrator cannot render this scene; the message says why.
+    #[error("{0}")]
+    Unsupported(String),
+}
+
+/// What a driver measured.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct DriverStatistics {
+    /// Pixel samples (paths) traced, those of dropped partial passes included.
+    pub samples: u64,
+    /// Rays traced (closest hit and shadow).
+    pub rays: u64,
+    /// Samples per pixel completed by every pixel: the whole passes.
+    pub completed_samples_per_pixel: u64,
+    /// True if the render stopped before all samples per pixel.
+    pub stopped_early: bool,
+}
+
+/// A driver's result: the film, its measurements and what the
+/// integrator's work units added up to.
+pub struct DriverOutput<T> {
+    /// The film with every merged tile and the splats of whole passes.
+    pub film: Film,
+    /// Measurements.
+    pub statistics: DriverStatistics,
+    /// The integrator's own sum over its work units.
+    pub total: T,
+}
+
+impl<T> DriverOutput<T> {
+    /// The scale of the film's splats: one over the samples per pixel of
+    /// the whole passes (see the module docs); 1 before any pass completed
+    /// (the film then has no splats).
+    pub fn splat_scale(&self) -> f64 {
+        1.0 / self.statistics.completed_samples_per_pixel.max(1) as f64
+    }
+}
+
+/// What one work unit (a tile of one pass) writes: camera samples into its
+/// tile, splats anywhere, and its ray counts.
+pub struct UnitOutput {
+    /// Camera samples of the tile's pixels.
+    pub tile: FilmTile,
+    /// Contributions to any pixel (kept only if the pass completes).
+    pub splats: SplatBuffer,
+    /// Rays traced.
+    pub counters: TraceCounters,
+}
+
+impl UnitOutput {
+    /// Adds a camera sample of value `rgb` to `pixel` with the filter
+    /// weight `weight` (non-finite values are counted and dropped).
+    #[inline]
+    pub fn add_camera_sample(&mut self, pixel: [usize; 2], rgb: [f32; 3], weight: f32) {
+        let _ = self.tile.add_sample(pixel, rgb, weight);
+    }
+
+    /// Adds a splat (non-finite values are counted and dropped).
+    #[inline]
+    pub fn add_splat(&mut self, raster_position: [f32; 2], rgb: [f32; 3]) -> SampleOutcome {
+        self.splats.add(raster_position, rgb)
+    }
+}
+
+/// One pixel sample to estimate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PixelSampleIndex {
+    /// The pixel.
+    pub pixel: (u32, u32),
+    /// The sample's index within its pixel.
+    pub sample_index: u64,
+}
+
+/// An integrator that estimates one pixel sample at a time, run by
+/// [`render_pixel_samples`].
+pub trait PixelSampleEstimator: Sync {
+    /// A work unit's own state: scratch buffers and statistics.
+    type Unit: Send;
+    /// The sum of every merged work unit (statistics, extra images).
+    type Total: Send;
+
+    /// Samples per pixel in one pass, for a render of `samples_per_pixel`
+    /// samples (with a time budget when `timed`). The default: up to four
+    /// (one with a time budget, so that the budget is met closely).
+    fn pass_size(&self, samples_per_pixel: u64, timed: bool) -> u64 {
+        if timed {
+            1
+        } else {
+            samples_per_pixel.clamp(1, 4)
+        }
+    }
+
+    /// The total before any work unit, for a film of `resolution` pixels.
+    fn new_total(&self, resolution: [usize; 2]) -> Result<Self::Total, RenderError>;
+
+    /// A fresh work unit.
+    fn new_unit(&self) -> Self::Unit;
+
+    /// Estimates one pixel sample; `sampler` is positioned at it.
+    fn estimate<S: PixelSampler + ?Sized>(
+        &self,
+        unit: &mut Self::Unit,
+        sample: PixelSampleIndex,
+        sampler: &mut S,
+        output: &mut UnitOutput,
+    );
+
+    /// Adds a finished work unit to the total, in the fixed tile order;
+    /// `kept` is false for a unit of a partial pass (its splats are dropped).
+    fn merge_unit(&self, total: &mut Self::Total, unit: Self::Unit, kept: bool);
+
+    /// Called after each pass has been merged into `film`; `complete` is
+    /// false for a partial pass.
+    fn end_pass(&self, _total: &mut Self::Total, _film: &Film, _complete: bool) {}
+}
+
+/// Renders `scene` with `estimator` under `run` (see the module docs).
+pub fn render_pixel_samples<E: PixelSampleEstimator>(
+    estimator: &E,
+    scene: &Scene,
+    run: &RunControl<'_>,
+) -> Result<DriverOutput<E::Total>, RenderError> {
+    let [width, height] = scene.camera.resolution();
+    let resolution = [width as usize, height as usize];
+    let mut film = Film::new(resolution, scene.filter)?;
+    let tiles = film.tile_bounds(run.tile_size.max(1))?;
+    let prototype = run
+        .sampler
+        .create(run.seed, (width, height), run.samples_per_pixel);
+    let mut total = estimator.new_total(resolution)?;
+    let pass_size = estimator.pass_size(run.samples_per_pixel, run.time_budget.is_some());
+    let pixel_count = width as u64 * height as u64;
+    let all_samples = pixel_count * run.samples_per_pixel;
+    let mut statistics = DriverStatistics::default();
+    let mut first_sample = 0;
+    while first_sample < run.samples_per_pixel && !run.out_of_time() {
+        let end_sample = (first_sample + pass_size).min(run.samples_per_pixel);
+        let samples = first_sample..end_sample;
+        let results: Vec<Option<(UnitOutput, E::Unit, u64)>> = tiles
+            .par_iter()
+            .map(|bounds| {
+                if run.out_of_time() {
+                    return None;
+                }
+                let mut output = UnitOutput {
+                    tile: film
+                        .new_tile(*bounds)
+                        .expect("tiles come from the film's own bounds"),
+                    splats: SplatBuffer::new(),
+                    counters: TraceCounters::default(),
+                };
+                let mut unit = estimator.new_unit();
+                // The independent sampler as its own type: its hash then
+                // inlines into the integrator's path loop.
+                let count = if run.sampler == SamplerKind::Independent {
+                    render_unit(
+                        estimator,
+                        &mut unit,
+                        *bounds,
+                        samples.clone(),
+                        &mut IndependentSampler::new(run.seed),
+                        &mut output,
+                    )
+                } else {
+                    let mut sampler = prototype.clone_sampler();
+                    render_unit(
+                        estimator,
+                        &mut unit,
+                        *bounds,
+                        samples.clone(),
+                        sampler.as_mut(),
+                        &mut output,
+                    )
+                };
+                Some((output, unit, count))
+            })
+            .collect();
+        let complete = results.iter().all(Option::is_some);
+        // Tiles and their splats merge in the fixed tile order: the image
+        // does not depend on the number of threads.
+        for (output, unit, count) in results.into_iter().flatten() {
+            film.merge_tile(&output.tile)?;
+            if complete {
+                film.merge_splats(&output.splats);
+            }
+            estimator.merge_unit(&mut total, unit, complete);
+            statistics.rays += output.counters.rays();
+            statistics.samples += count;
+        }
+        estimator.end_pass(&mut total, &film, complete);
+        if complete {
+            statistics.completed_samples_per_pixel = end_sample;
+        }
+        (run.progress)(statistics.samples, all_samples);
+        first_sample = end_sample;
+    }
+    statistics.stopped_early = statistics.completed_samples_per_pixel < run.samples_per_pixel;
+    Ok(DriverOutput {
+        film,
+        statistics,
+        total,
+    })
+}
+
+/// Renders samples `samples` of every pixel of one tile: pixel by pixel,
+/// the samples of a pixel in order. Generic over the sampler so that a
+/// concrete one inlines into the integrator.
+fn render_unit<E: PixelSampleEstimator, S: PixelSampler + ?Sized>(
+    estimator: &E,
+    unit: &mut E::Unit,
+    bounds: PixelBounds,
+    samples: std::ops::Range<u64>,
+    sampler: &mut S,
+    output: &mut UnitOutput,
+) -> u64 {
+    let mut count = 0;
+    for y in bounds.min[1]..bounds.max[1] {
+        for x in bounds.min[0]..bounds.max[0] {
+            for sample_index in samples.clone() {
+                let pixel = (x as u32, y as u32);
+                sampler.start_pixel_sample(pixel, sample_index);
+                estimator.estimate(
+                    unit,
+                    PixelSampleIndex {
+                        pixel,
+                        sample_index,
+                    },
+                    sampler,
+                    output,
+                );
+                count += 1;
+            }
+        }
+    }
+    count
+}
+
+/// An integrator whose every contribution is a splat, run by
+/// [`render_splat_paths`]: one path per pixel sample, numbered
+/// `pass · pixels + y · width + x` (its [`PixelSampleIndex`]); the path is
+/// not tied to that pixel, which only names its numbers.
+pub trait SplatEstimator: Sync {
+    /// A work unit's own state: scratch buffers and statistics.
+    type Unit: Send;
+    /// The sum of every merged work unit.
+    type Total: Send;
+
+    /// The total before any work unit, for a film of `resolution` pixels.
+    fn new_total(&self, resolution: [usize; 2]) -> Result<Self::Total, RenderError>;
+
+    /// A fresh work unit.
+    fn new_unit(&self) -> Self::Unit;
+
+    /// Traces one path, splatting into `splats`; `sampler` is positioned at
+    /// the path's numbers.
+    fn trace<S: PixelSampler + ?Sized>(
+        &self,
+        unit: &mut Self::Unit,
+        path: PixelSampleIndex,
+        sampler: &mut S,
+        splats: &mut SplatBuffer,
+        counters: &mut TraceCounters,
+    );
+
+    /// Adds a finished work unit to the total, in a fixed order; `kept` is
+    /// false for a unit of a partial pass (its splats were dropped).
+    fn merge_unit(&self, total: &mut Self::Total, unit: Self::Unit, kept: bool);
+}
+
+/// A [`SplatEstimator`] seen as a [`PixelSampleEstimator`] that writes no
+/// camera samples: the tile driver's passes, partial-pass rule and merge
+/// order serve both.
+struct SplatsOnly<'a, E>(&'a E);
+
+impl<E: SplatEstimator> PixelSampleEstimator for SplatsOnly<'_, E> {
+    type Unit = E::Unit;
+    type Total = E::Total;
+
+    fn new_total(&self, resolution: [usize; 2]) -> Result<Self::Total, RenderError> {
+        self.0.new_total(resolution)
+    }
+
+    fn new_unit(&self) -> Self::Unit {
+        self.0.new_unit()
+    }
+
+    #[inline]
+    fn estimate<S: PixelSampler + ?Sized>(
+        &self,
+        unit: &mut Self::Unit,
+        sample: PixelSampleIndex,
+        sampler: &mut S,
+        output: &mut UnitOutput,
+    ) {
+        self.0.trace(
+            unit,
+            sample,
+            sampler,
+            &mut output.splats,
+            &mut output.counters,
+        );
+    }
+
+    fn merge_unit(&self, total: &mut Self::Total, unit: Self::Unit, kept: bool) {
+        self.0.merge_unit(total, unit, kept);
+    }
+}
+
+/// Renders `scene` with the splatting `estimator` under `run`: passes of
+/// one path per pixel (several per pass without a time budget), split into
+/// the film's tiles, merged in a fixed order, partial passes dropped.
+pub fn render_splat_paths<E: SplatEstimator>(
+    estimator: &E,
+    scene: &Scene,
+    run: &RunControl<'_>,
+) -> Result<DriverOutput<E::Total>, RenderError> {
+    render_pixel_samples(&SplatsOnly(estimator), scene, run)
+}
+
+/// The start of a camera path: the film position of the pixel sample, the
+/// camera ray and the sampled wavelengths, from the camera dimensions of
+/// the layout. Every camera-path integrator starts here.
+#[derive(Debug, Clone, Copy)]
+pub struct CameraPathStart {
+    /// Where the sample lies on the film and its filter weight.
+    pub position: crate::film::CameraSamplePosition,
+    /// The camera ray.
+    pub ray: Ray,
+    /// The path's wavelengths.
+    pub wavelengths: SampledWavelengths,
+}
+
+impl CameraPathStart {
+    /// The camera sample of `pixel` for the sampler's current numbers.
+    #[inline]
+    pub fn new<S: crate::sampler::SampleSource + ?Sized>(
+        scene: &Scene,
+        pixel: (u32, u32),
+        sampler: &mut S,
+    ) -> Self {
+        // The film is built with the scene's filter.
+        let position = crate::film::CameraSamplePosition::new(
+            &scene.filter,
+            [pixel.0 as usize, pixel.1 as usize],
+            sampler.get_2d(layout::FILM),
+        );
+        // Numbers the camera does not use (a pinhole's lens, a closed
+        // shutter's time) are not drawn: a hash each saved.
+        let u_lens = if scene.camera.uses_lens_sample() {
+            sampler.get_2d(layout::LENS)
+        } else {
+            [0.5; 2]
+        };
+        let u_time = if scene.camera.uses_time_sample() {
+            sampler.get(layout::TIME)
+        } else {
+            0.5
+        };
+        let camera_ray =
+            scene
+                .camera
+                .generate_ray(Vec2::from(position.raster_position), u_lens, u_time);
+        let wavelengths = SampledWavelengths::sample_visible(sampler.get(layout::WAVELENGTH));
+        Self {
+            position,
+            ray: Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time),
+            wavelengths,
+        }
+    }
+}
