@@ -352,6 +352,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             Some(IntegratorName::Lqmc) => IntegratorSettings::Lqmc(lqmc_settings(&args.lqmc)?),
             Some(IntegratorName::Light) => IntegratorKind::Light.into(),
             None if scene.has_media() => IntegratorKind::VolPath.into(),
+            // Mitsuba's light tracer.
+            None if description.integrator.as_deref() == Some("ptracer") => {
+                IntegratorKind::Light.into()
+            }
             None => IntegratorKind::Path.into(),
         },
         sampler: match args.sampler {

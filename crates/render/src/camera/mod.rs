@@ -5,8 +5,17 @@
 //! Camera space: the camera looks down +z, +y is up and +x is to the right
 //! of the image. Raster space: pixel `(0, 0)` is the top-left corner, x
 //! grows to the right and y downwards.
+//!
+//! For light tracing and bidirectional methods, [`importance`] gives the
+//! camera's importance `We`, the densities of its rays and the sampling of
+//! lens points towards scene points, with the normalisation convention that
+//! makes splats agree with the film's camera samples.
 
 use glam::{Affine3A, Quat, Vec2, Vec3, Vec3A};
+
+pub mod importance;
+use importance::ImportanceFrame;
+pub use importance::{CameraImportance, CameraImportanceSample, CameraRayDensity};
 
 /// Which image axis the field of view spans (Mitsuba's `fov_axis`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -66,6 +75,10 @@ pub struct PerspectiveCamera {
     /// usual case), the raster-to-world map of ray directions, so that a
     /// camera ray costs three multiply-adds and a normalisation.
     static_pinhole: Option<PinholeRays>,
+    /// For a camera that does not move while the shutter is open, its lens
+    /// plane and image measures in world space, for the importance queries
+    /// of light tracing ([`PerspectiveCamera::importance`] and friends).
+    static_importance_frame: Option<ImportanceFrame>,
 }
 
 /// The rays of a static pinhole camera: every ray starts at `origin`, and
@@ -241,6 +254,9 @@ impl PerspectiveCamera {
         let static_pinhole = static_world_from_camera
             .filter(|_| settings.lens_radius == 0.0)
             .map(|transform| PinholeRays::new(&transform, screen_half_extent, raster_to_ndc));
+        let static_importance_frame = static_world_from_camera.map(|transform| {
+            ImportanceFrame::new(transform, screen_half_extent, settings.lens_radius)
+        });
         Ok(Self {
             world_from_camera: [settings.world_from_camera, settings.world_from_camera_end],
             shutter: settings.shutter,
@@ -252,6 +268,7 @@ impl PerspectiveCamera {
             static_world_from_camera,
             static_keeps_length: static_world_from_camera.as_ref().is_some_and(keeps_length),
             static_pinhole,
+            static_importance_frame,
         })
     }
 
@@ -403,16 +420,25 @@ impl PerspectiveCamera {
         } else {
             (Vec3::ZERO, camera_point / camera_point.z)
         };
-        let ndc = on_plane.truncate() / self.screen_half_extent;
-        let raster = Vec2::new(
-            (ndc.x + 1.0) * 0.5 * self.resolution[0] as f32,
-            (1.0 - ndc.y) * 0.5 * self.resolution[1] as f32,
-        );
         Some(CameraProjection {
-            raster,
+            raster: self.raster_of_plane_point(on_plane.truncate()),
             origin: transform.transform_point3(lens),
             axis_cosine: (camera_point - lens).normalize().z,
         })
+    }
+}
+
+impl PerspectiveCamera {
+    /// The continuous raster position of the camera-space point
+    /// `(on_plane, 1)` of the image plane at distance 1 (the inverse of the
+    /// raster-to-plane map of [`PerspectiveCamera::generate_ray`]).
+    #[inline]
+    fn raster_of_plane_point(&self, on_plane: Vec2) -> Vec2 {
+        let ndc = on_plane / self.screen_half_extent;
+        Vec2::new(
+            (ndc.x + 1.0) * 0.5 * self.resolution[0] as f32,
+            (1.0 - ndc.y) * 0.5 * self.resolution[1] as f32,
+        )
     }
 }
 

@@ -1,31 +1,349 @@
-//! Light tracing (placeholder while the path-space core is built).
+//! Light tracing (particle tracing): one path from the lights per pixel
+//! sample, built by the path-space walk in importance transport, every
+//! vertex connected to the camera and splatted (pbrt-v4's
+//! `LightPathIntegrator`; Mitsuba 3's `ptracer`).
+//!
+//! For a light path `y₀ … y_k` (`y₀` on the light) with throughput `β_i`
+//! up to `y_i`, vertex `i` adds at the raster position where it appears
+//! `β_i · f(y_i) · C · We / p_lens`, with `f` the BSDF towards the lens
+//! point, `C` the cosine with the adjoint shading-normal correction
+//! ([`super::path_space::Vertex::connection_factor`]) and `We / p_lens`
+//! the camera's importance over the density of the sampled lens point
+//! ([`crate::camera::PerspectiveCamera::sample_incident_importance`]); the
+//! splat scale is one over the light paths per pixel, so the image equals
+//! the path tracer's in expectation (see [`crate::camera::importance`]).
+//!
+//! - The light's own vertex is connected too: emitters seen directly.
+//!   Points and spots cannot be seen (their vertex is a delta in
+//!   position, as in the path tracer), and directional lights and
+//!   environments have no vertex in the scene.
+//! - Environments seen directly cannot be reached from the lights at all:
+//!   each light path's pixel sample also traces one camera ray (the
+//!   pixel's film position, uniform in the pixel) and splats the
+//!   environment radiance it escapes to; one such ray per pixel per pass
+//!   makes the same splat scale exact.
+//! - Depth counts segments as the path tracer's (Mitsuba's `max_depth`):
+//!   vertex `i` of the light path makes a path of `i + 1` segments.
+//! - Participating media are not traced yet: scenes with media are
+//!   refused with an error.
+//!
+//! Numbers: the camera dimensions of [`crate::sampler::layout`] (time,
+//! wavelength, the lens point of the light vertex's connection, the film
+//! position of the environment ray), the light's choice, point and
+//! direction, then a block per light vertex
+//! ([`super::path_space::SubpathLayout::LIGHT`]) whose connection slot holds
+//! the lens point of that vertex's connection.
 
+use super::driver::{PixelSampleIndex, SplatEstimator, render_splat_paths};
 use super::path::PathSettings;
-use super::{Integrator, IntegratorRender, RenderError, RunControl};
+use super::path_space::{SubpathLayout, Vertex, WalkSettings, WalkStart, random_walk};
+use super::{Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
+use crate::film::SplatBuffer;
+use crate::geometry::{OffsetPoint, Ray, occlusion_segment_to_point, offset_ray_origin};
+use crate::material::TransportMode;
+use crate::sampler::{PixelSampler, SampleSource, layout};
 use crate::scene::Scene;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
+use glam::{Vec2, Vec3};
 
-/// Light tracing.
+/// The light tracer.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LightIntegrator {
     settings: PathSettings,
 }
 
 impl LightIntegrator {
-    /// Light tracing with `settings`.
+    /// Light tracing with `settings` (depth and Russian roulette; the MIS
+    /// heuristic is unused: light tracing has one strategy).
     pub fn new(settings: PathSettings) -> Self {
         Self { settings }
     }
 }
 
 impl Integrator for LightIntegrator {
-    fn render(
-        &self,
-        _scene: &Scene,
-        _run: &RunControl<'_>,
-    ) -> Result<IntegratorRender, RenderError> {
-        let _ = self.settings;
-        Err(RenderError::Unsupported(
-            "light tracing is not built yet".into(),
-        ))
+    fn render(&self, scene: &Scene, run: &RunControl<'_>) -> Result<IntegratorRender, RenderError> {
+        if scene.has_media() {
+            return Err(RenderError::Unsupported(
+                "the light tracer does not trace participating media yet; use --integrator volpath"
+                    .into(),
+            ));
+        }
+        let estimator = LightTracer {
+            scene,
+            settings: &self.settings,
+        };
+        render_splat_paths(&estimator, scene, run).map(IntegratorRender::from_driver)
     }
+}
+
+/// One light path per pixel sample.
+struct LightTracer<'a> {
+    scene: &'a Scene,
+    settings: &'a PathSettings,
+}
+
+impl SplatEstimator for LightTracer<'_> {
+    /// The light path's vertices, reused from path to path.
+    type Unit = Vec<Vertex>;
+    type Total = ();
+
+    fn new_total(&self, _resolution: [usize; 2]) -> Result<(), RenderError> {
+        Ok(())
+    }
+
+    fn new_unit(&self) -> Vec<Vertex> {
+        Vec::new()
+    }
+
+    fn merge_unit(&self, _total: &mut (), _unit: Vec<Vertex>, _kept: bool) {}
+
+    fn trace<S: PixelSampler + ?Sized>(
+        &self,
+        vertices: &mut Vec<Vertex>,
+        path: PixelSampleIndex,
+        sampler: &mut S,
+        splats: &mut SplatBuffer,
+        counters: &mut TraceCounters,
+    ) {
+        let scene = self.scene;
+        let camera = &scene.camera;
+        // Splats up to the filter's radius outside the image reach its
+        // border pixels.
+        let margin = Vec2::from(scene.filter.radius());
+        let mut wavelengths = SampledWavelengths::sample_visible(sampler.get(layout::WAVELENGTH));
+        let time = if camera.uses_time_sample() {
+            camera.time(sampler.get(layout::TIME))
+        } else {
+            camera.time(0.5)
+        };
+        if !scene.environment_lights.is_empty() {
+            splat_seen_environment(scene, path.pixel, &wavelengths, sampler, splats, counters);
+        }
+        if self.settings.max_depth == 0 {
+            return;
+        }
+        let Some((light_index, choice_probability, u_primitive)) = scene
+            .light_sampler
+            .sample(sampler.get(layout::LIGHT_CHOICE))
+        else {
+            return;
+        };
+        let light = &scene.lights[light_index];
+        let Some(emission) = light.sample_emission(
+            &scene.geometry,
+            u_primitive,
+            sampler.get_2d(layout::LIGHT_EMISSION_POSITION),
+            sampler.get_2d(layout::LIGHT_EMISSION_DIRECTION),
+            &wavelengths,
+        ) else {
+            return;
+        };
+        if emission.radiance.is_black() || choice_probability <= 0.0 {
+            return;
+        }
+        // The emitter's own vertex seen by the camera (area lights only).
+        let on_surface =
+            !emission.is_delta_position && !light.is_infinite() && emission.normal != Vec3::ZERO;
+        if on_surface {
+            let u_lens = lens_numbers(scene, sampler, layout::LENS);
+            if let Some(camera_sample) =
+                camera.sample_incident_importance_with_margin(emission.origin, time, u_lens, margin)
+            {
+                let cosine = camera_sample.wi.dot(emission.normal);
+                // One-sided emitters radiate to the front only; their
+                // radiance does not depend on the direction there.
+                if cosine > 0.0 {
+                    let value = emission.radiance
+                        * (cosine * camera_sample.value
+                            / (choice_probability * emission.pdf_position * camera_sample.pdf));
+                    let origin =
+                        offset_ray_origin(emission.origin, emission.normal, camera_sample.wi);
+                    splat_if_visible(
+                        scene,
+                        origin,
+                        time,
+                        camera_sample.lens_point,
+                        camera_sample.raster,
+                        value,
+                        &wavelengths,
+                        splats,
+                        counters,
+                    );
+                }
+            }
+        }
+        let max_vertices = (self.settings.max_depth - 1) as usize;
+        if max_vertices == 0 {
+            return;
+        }
+        // β₁ = Le |cos| / (p_choice p_position p_direction); delta
+        // components report density 1 and a cosine of 1.
+        let cosine = if on_surface {
+            emission.normal.dot(emission.direction).abs()
+        } else {
+            1.0
+        };
+        let beta = emission.radiance
+            * (cosine / (choice_probability * emission.pdf_position * emission.pdf_direction));
+        let origin = if on_surface {
+            OffsetPoint::new(emission.origin, emission.normal, emission.direction)
+                .towards(emission.direction)
+        } else {
+            emission.origin
+        };
+        let start = WalkStart {
+            ray: Ray::with_time(origin, emission.direction, time),
+            beta,
+            pdf_direction: if emission.is_delta_direction {
+                0.0
+            } else {
+                emission.pdf_direction
+            },
+        };
+        let walk = WalkSettings {
+            mode: TransportMode::Importance,
+            max_vertices,
+            russian_roulette_depth: self.settings.russian_roulette_depth,
+            layout: SubpathLayout::LIGHT,
+        };
+        random_walk(
+            scene,
+            start,
+            &walk,
+            &mut wavelengths,
+            sampler,
+            counters,
+            vertices,
+        );
+        for (index, vertex) in vertices.iter().enumerate() {
+            if !vertex.is_connectible() {
+                continue;
+            }
+            let u_lens = lens_numbers(
+                scene,
+                sampler,
+                SubpathLayout::LIGHT.dimension(index, layout::CAMERA_CONNECTION),
+            );
+            let Some(camera_sample) = camera.sample_incident_importance_with_margin(
+                vertex.point,
+                vertex.time,
+                u_lens,
+                margin,
+            ) else {
+                continue;
+            };
+            let factor =
+                vertex.connection_factor(camera_sample.wi, &wavelengths, TransportMode::Importance);
+            if factor.is_black() {
+                continue;
+            }
+            let value = vertex.beta * factor * (camera_sample.value / camera_sample.pdf);
+            let origin = offset_ray_origin(vertex.point, vertex.geometric_normal, camera_sample.wi);
+            splat_if_visible(
+                scene,
+                origin,
+                vertex.time,
+                camera_sample.lens_point,
+                camera_sample.raster,
+                value,
+                &wavelengths,
+                splats,
+                counters,
+            );
+        }
+    }
+}
+
+/// The lens numbers at `dimension` (0.5, 0.5 for a pinhole, which has no
+/// lens: the number is not drawn).
+#[inline]
+fn lens_numbers<S: SampleSource + ?Sized>(
+    scene: &Scene,
+    sampler: &mut S,
+    dimension: usize,
+) -> [f32; 2] {
+    if scene.camera.uses_lens_sample() {
+        sampler.get_2d(dimension)
+    } else {
+        [0.5; 2]
+    }
+}
+
+/// Splats `value` at `raster` if the segment from `origin` to the lens
+/// point is unoccluded.
+#[allow(clippy::too_many_arguments)]
+fn splat_if_visible(
+    scene: &Scene,
+    origin: Vec3,
+    time: f32,
+    lens_point: Vec3,
+    raster: Vec2,
+    value: SampledSpectrum,
+    wavelengths: &SampledWavelengths,
+    splats: &mut SplatBuffer,
+    counters: &mut TraceCounters,
+) {
+    if value.is_black() {
+        return;
+    }
+    counters.shadow_rays += 1;
+    // The lens has no surface to offset from: the segment ends at its point.
+    let visible = match occlusion_segment_to_point(origin, time, lens_point, Vec3::ZERO) {
+        Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
+        None => false,
+    };
+    if visible {
+        let _ = splats.add(raster.to_array(), to_linear_srgb(&value, wavelengths));
+    }
+}
+
+/// The environment seen directly: one camera ray per pixel sample, at a
+/// position uniform in the pixel's share of the image grown by the
+/// filter's radius on every side (border pixels' filters reach that far
+/// out, as the path tracer's camera samples do), splatted there if it
+/// leaves the scene, scaled by the grown image's area over the image's.
+fn splat_seen_environment<S: SampleSource + ?Sized>(
+    scene: &Scene,
+    pixel: (u32, u32),
+    wavelengths: &SampledWavelengths,
+    sampler: &mut S,
+    splats: &mut SplatBuffer,
+    counters: &mut TraceCounters,
+) {
+    let [u, v] = sampler.get_2d(layout::FILM);
+    let [width, height] = scene.camera.resolution().map(|size| size as f32);
+    let [margin_x, margin_y] = scene.filter.radius();
+    let (grown_width, grown_height) = (width + 2.0 * margin_x, height + 2.0 * margin_y);
+    let raster = Vec2::new(
+        -margin_x + (pixel.0 as f32 + u) * grown_width / width,
+        -margin_y + (pixel.1 as f32 + v) * grown_height / height,
+    );
+    let area_ratio = grown_width * grown_height / (width * height);
+    let u_lens = lens_numbers(scene, sampler, layout::LENS);
+    let u_time = if scene.camera.uses_time_sample() {
+        sampler.get(layout::TIME)
+    } else {
+        0.5
+    };
+    let camera_ray = scene.camera.generate_ray(raster, u_lens, u_time);
+    let mut ray = Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time);
+    loop {
+        counters.closest_hit_rays += 1;
+        match scene.geometry.intersect(&ray, f32::INFINITY) {
+            // Index-matched boundaries are crossed, as the path tracer does.
+            Some(hit) if scene.shapes[hit.shape_index as usize].is_interface => {
+                ray = crate::geometry::spawn_ray(&hit, ray.direction);
+            }
+            Some(_) => return,
+            None => break,
+        }
+    }
+    let mut radiance = SampledSpectrum::zero();
+    for &index in &scene.environment_lights {
+        radiance += scene.lights[index as usize].environment_radiance(ray.direction, wavelengths);
+    }
+    let _ = splats.add(
+        raster.to_array(),
+        to_linear_srgb(&(radiance * area_ratio), wavelengths),
+    );
 }
