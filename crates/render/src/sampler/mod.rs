@@ -26,6 +26,17 @@
 //! | 6 + 8k + 6 | vertex k: light selection (next-event estimation) |
 //! | 6 + 8k + 7 | vertex k: free-flight distance in a medium |
 //!
+//! A light subpath (light tracing) uses the same time (4) and wavelength
+//! (5) dimensions; 0, 1 place its environment camera ray and 2, 3 the lens
+//! point of its light vertex's connection; then the light's choice (6),
+//! point (7, 8) and direction of emission (9, 10), and vertex blocks from
+//! 11 + 8k with the same offsets, the light-position pair (4, 5) holding
+//! the lens point of the vertex's camera connection
+//! ([`layout::LIGHT_CHOICE`] and after). Every subpath's blocks are a
+//! [`crate::integrators::path_space::SubpathLayout`] (first block and
+//! stride): interleaving a camera and a light subpath as Kollig & Keller do
+//! is a stride of two blocks.
+//!
 //! Vertex 0 is the first surface (or medium) interaction seen from the
 //! camera. Medium interactions are vertices like surface ones: the phase
 //! function is sampled with the scattering-direction pair, next-event
