@@ -199,12 +199,14 @@ impl SplatEstimator for LightTracer<'_> {
             } else {
                 emission.pdf_direction
             },
+            medium: None,
         };
         let walk = WalkSettings {
             mode: TransportMode::Importance,
             max_vertices,
             russian_roulette_depth: self.settings.russian_roulette_depth,
             layout: SubpathLayout::LIGHT,
+            media: false,
         };
         random_walk(
             scene,

@@ -22,7 +22,6 @@ pub mod light;
 pub mod lqmc;
 pub mod path;
 pub mod path_space;
-pub mod path_vertex;
 pub mod volpath;
 
 pub use driver::{DriverStatistics, RenderError, RunControl};

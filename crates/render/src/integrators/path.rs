@@ -10,10 +10,13 @@
 use super::driver::{
     CameraPathStart, PixelSampleEstimator, PixelSampleIndex, UnitOutput, render_pixel_samples,
 };
-use super::path_vertex::PathVertex;
+use super::path_space::{
+    ScattererRef, SubpathLayout, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState, walk,
+};
+pub(crate) use super::path_space::{orient_hit, russian_roulette};
 use super::{Integrator, IntegratorRender, MisHeuristic, RenderError, RunControl, TraceCounters};
-use crate::geometry::{OffsetPoint, Ray, SurfaceHit, occlusion_segment_to_point, spawn_ray};
-use crate::material::SurfaceBsdf;
+use crate::geometry::{OffsetPoint, Ray, SurfaceHit, occlusion_segment_to_point};
+use crate::material::{SurfaceBsdf, TransportMode};
 use crate::sampler::{PixelSampler, SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum, to_linear_srgb};
@@ -102,7 +105,6 @@ impl PixelSampleEstimator for PathEstimator<'_> {
             &mut wavelengths,
             sampler,
             &mut output.counters,
-            None,
         );
         output.add_camera_sample(
             [sample.pixel.0 as usize, sample.pixel.1 as usize],
@@ -160,193 +162,144 @@ pub(crate) fn oriented_hit(scene: &Scene, hit: &SurfaceHit) -> SurfaceHit {
     hit
 }
 
-/// [`oriented_hit`] in place, for a shape whose `flip_normals` is given:
-/// the path tracer needs the hit as stored only until it scatters, and a
-/// second copy of the hit cost about 20 instructions per vertex.
-#[inline]
-pub(crate) fn orient_hit(flip_normals: bool, hit: &mut SurfaceHit) {
-    if flip_normals {
-        hit.geometric_normal = -hit.geometric_normal;
-        hit.shading_normal = -hit.shading_normal;
-    }
-}
-
-/// Estimates the radiance along the camera ray `ray` for `wavelengths`.
-/// When `vertices` is given, the path's scattering vertices are recorded.
+/// Estimates the radiance along the camera ray `ray` for `wavelengths`:
+/// the path-space walk with [`PathRadiance`] as its observer.
 ///
 /// Generic over the sampler so that a concrete sampler's numbers (a hash
-/// for the independent one) inline into the loop; `dyn SampleSource`
+/// for the independent one) inline into the walk; `dyn SampleSource`
 /// works as well.
 pub fn radiance<S: SampleSource + ?Sized>(
     scene: &Scene,
     settings: &PathSettings,
-    mut ray: Ray,
+    ray: Ray,
     wavelengths: &mut SampledWavelengths,
     sampler: &mut S,
     counters: &mut TraceCounters,
-    mut vertices: Option<&mut Vec<PathVertex>>,
 ) -> SampledSpectrum {
-    let mut radiance = SampledSpectrum::zero();
-    let mut throughput = SampledSpectrum::splat(1.0);
-    // Product of relative IORs of refractions, undone for Russian roulette.
-    let mut eta_scale = 1.0f32;
-    let mut specular_bounce = true;
-    let mut previous_point = ray.origin;
-    let mut previous_bsdf_pdf = 0.0f32;
-    let mut depth = 0u32;
-    let mut area_radiance = AreaRadianceCache::new();
-    loop {
-        counters.closest_hit_rays += 1;
-        // The hit as stored (emission and light densities take its normal)
-        // until it is oriented for scattering below.
-        let Some(mut hit) = scene.geometry.intersect(&ray, f32::INFINITY) else {
-            for &index in &scene.environment_lights {
-                let light = &scene.lights[index as usize];
-                let emitted = light.environment_radiance(ray.direction, wavelengths);
-                let weight = emission_weight(
-                    scene,
-                    settings,
-                    index,
-                    specular_bounce,
-                    previous_point,
-                    previous_bsdf_pdf,
-                    previous_point + ray.direction,
-                    Vec3::ZERO,
-                );
-                radiance += throughput * emitted * weight;
-            }
-            break;
-        };
-        let info = &scene.shapes[hit.shape_index as usize];
-        let wo = -ray.direction;
+    let mut observer = PathRadiance {
+        scene,
+        settings,
+        radiance: SampledSpectrum::zero(),
+        area_radiance: AreaRadianceCache::new(),
+    };
+    walk(
+        scene,
+        WalkStart {
+            ray,
+            beta: SampledSpectrum::splat(1.0),
+            pdf_direction: 0.0,
+            medium: None,
+        },
+        &WalkSettings {
+            mode: TransportMode::Radiance,
+            max_vertices: WalkSettings::camera_vertices(settings.max_depth),
+            russian_roulette_depth: settings.russian_roulette_depth,
+            layout: SubpathLayout::CAMERA,
+            media: false,
+        },
+        wavelengths,
+        sampler,
+        counters,
+        &mut observer,
+    );
+    observer.radiance
+}
 
-        // Emission seen by this segment.
-        if let Some(light_index) = info.light {
-            let light = &scene.lights[light_index as usize];
-            let emitted = light.emitted_radiance_with_area_radiance(
+/// The path tracer's observer of the walk: emission found by BSDF sampling
+/// and next-event estimation at every non-specular vertex, MIS-weighted
+/// against each other with the settings' heuristic.
+struct PathRadiance<'a> {
+    scene: &'a Scene,
+    settings: &'a PathSettings,
+    radiance: SampledSpectrum,
+    area_radiance: AreaRadianceCache,
+}
+
+impl WalkObserver for PathRadiance<'_> {
+    const FINDS_EMISSION: bool = true;
+
+    #[inline]
+    fn emitter(
+        &mut self,
+        walk: &WalkState,
+        light_index: u32,
+        hit: &SurfaceHit,
+        wo: Vec3,
+        wavelengths: &SampledWavelengths,
+    ) {
+        let scene = self.scene;
+        let area_radiance = &mut self.area_radiance;
+        let emitted = scene.lights[light_index as usize].emitted_radiance_with_area_radiance(
+            hit.geometric_normal,
+            hit.uv,
+            wo,
+            wavelengths,
+            |spectrum| area_radiance.radiance(light_index as usize, spectrum, wavelengths),
+        );
+        if !emitted.is_black() {
+            let weight = emission_weight(
+                scene,
+                self.settings,
+                light_index,
+                walk.previous.delta,
+                walk.previous.point,
+                walk.previous.pdf,
+                hit.point,
                 hit.geometric_normal,
-                hit.uv,
-                wo,
-                wavelengths,
-                |spectrum| area_radiance.radiance(light_index as usize, spectrum, wavelengths),
             );
-            if !emitted.is_black() {
-                let weight = emission_weight(
-                    scene,
-                    settings,
-                    light_index,
-                    specular_bounce,
-                    previous_point,
-                    previous_bsdf_pdf,
-                    hit.point,
-                    hit.geometric_normal,
-                );
-                radiance += throughput * emitted * weight;
-            }
+            self.radiance += walk.beta * emitted * weight;
         }
+    }
 
-        // Index-matched boundaries (media are ignored here) are passed
-        // straight through, as pbrt-v4's PathIntegrator does.
-        if info.is_interface {
-            ray = spawn_ray(&hit, ray.direction);
-            continue;
+    #[inline]
+    fn escaped(&mut self, walk: &WalkState, direction: Vec3, wavelengths: &SampledWavelengths) {
+        for &index in &self.scene.environment_lights {
+            let light = &self.scene.lights[index as usize];
+            let emitted = light.environment_radiance(direction, wavelengths);
+            let weight = emission_weight(
+                self.scene,
+                self.settings,
+                index,
+                walk.previous.delta,
+                walk.previous.point,
+                walk.previous.pdf,
+                walk.previous.point + direction,
+                Vec3::ZERO,
+            );
+            self.radiance += walk.beta * emitted * weight;
         }
-        // A path of depth + 2 segments is the longest a scattering here can make.
-        if depth + 2 > settings.max_depth {
-            break;
-        }
-        let Some(material) = &info.material else {
-            break;
+    }
+
+    #[inline]
+    fn vertex<S: SampleSource + ?Sized>(
+        &mut self,
+        walk: &WalkState,
+        vertex: &VertexAt<'_>,
+        wavelengths: &SampledWavelengths,
+        sampler: &mut S,
+        counters: &mut TraceCounters,
+    ) {
+        // The path tracer's walk has surface vertices only.
+        let ScattererRef::Surface { hit, bsdf, offset } = vertex.scatterer else {
+            return;
         };
-        orient_hit(info.flip_normals, &mut hit);
-        let bsdf = material.surface_bsdf_at(&hit, wavelengths);
-        let flags = bsdf.flags();
-        // Light sampling and its densities are taken from the hit point moved
-        // off the surface to the side of `wo`, so that a point on a sphere
-        // light's own surface counts as inside or outside as seen from there
-        // (pbrt-v4 does the same).
-        // Rays leaving to the side of `wo` start from the same offset point.
-        let offsets = OffsetPoint::new(hit.point, hit.geometric_normal, wo);
-        let reference = offsets.origin();
-
-        // Next-event estimation.
-        if flags.is_non_specular() {
-            radiance += throughput
+        if bsdf.flags().is_non_specular() {
+            self.radiance += walk.beta
                 * sample_light(
-                    scene,
-                    settings,
-                    &hit,
-                    &offsets,
-                    &bsdf,
-                    wo,
-                    depth,
+                    self.scene,
+                    self.settings,
+                    hit,
+                    offset,
+                    bsdf,
+                    vertex.wo,
+                    walk.block,
                     wavelengths,
                     sampler,
                     counters,
-                    &mut area_radiance,
+                    &mut self.area_radiance,
                 );
         }
-
-        // Continue the path by sampling the BSDF.
-        let u_component = sampler.get(layout::vertex(depth as usize, layout::SCATTER_COMPONENT));
-        let u = sampler.get_2d(layout::vertex(depth as usize, layout::SCATTER_DIRECTION));
-        let Some(sample) = bsdf.sample(wo, u_component, u, wavelengths) else {
-            break;
-        };
-        let cosine = sample.wi.dot(bsdf.frame.normal()).abs();
-        if sample.pdf <= 0.0 || sample.value.is_black() {
-            break;
-        }
-        throughput *= sample.value * (cosine / sample.pdf);
-        // A stochastic BSDF's sample carries a path density; MIS needs the
-        // BSDF's own density estimate (the one next-event estimation uses).
-        let bsdf_pdf = if sample.pdf_is_proportional {
-            bsdf.pdf(wo, sample.wi)
-        } else {
-            sample.pdf
-        };
-        if let Some(vertices) = vertices.as_deref_mut() {
-            vertices.push(PathVertex {
-                point: hit.point,
-                geometric_normal: hit.geometric_normal,
-                shading_normal: hit.shading_normal,
-                shape_index: hit.shape_index,
-                primitive_index: hit.primitive_index,
-                wo,
-                wi: sample.wi,
-                flags,
-                sampled: sample.flags,
-                pdf_forward: bsdf_pdf,
-                pdf_reverse: if sample.is_specular() {
-                    sample.pdf
-                } else {
-                    bsdf.pdf(sample.wi, wo)
-                },
-                first_dimension: layout::vertex(depth as usize, 0),
-            });
-        }
-        specular_bounce = sample.is_specular();
-        previous_bsdf_pdf = bsdf_pdf;
-        previous_point = reference;
-        if sample.is_transmission() {
-            eta_scale *= sample.eta * sample.eta;
-        }
-        ray = Ray::with_time(offsets.towards(sample.wi), sample.wi, hit.time);
-
-        // Russian roulette on the throughput without the refraction scaling.
-        let roulette_throughput = (throughput * eta_scale).max_component();
-        match russian_roulette(
-            roulette_throughput,
-            depth,
-            settings.russian_roulette_depth,
-            || sampler.get(layout::vertex(depth as usize, layout::RUSSIAN_ROULETTE)),
-        ) {
-            Some(survival) => throughput /= survival,
-            None => break,
-        }
-        depth += 1;
     }
-    radiance
 }
 
 /// The MIS weight of emission reached by BSDF sampling: 1 after a specular
@@ -432,27 +385,6 @@ fn sample_light<S: SampleSource + ?Sized>(
         settings.heuristic.weight_over_density(light_pdf, bsdf_pdf)
     };
     value * sample.radiance * weight_over_pdf
-}
-
-/// Russian roulette at vertex `depth` (pbrt-v4's rule): from
-/// `start_depth` on, a path whose `roulette_throughput` is below 1 survives
-/// with probability max(throughput, 0.05), decided by the number `u` gives
-/// (read only then). Returns the probability to divide the throughput by (1
-/// without roulette), or `None` when the path ends. Every integrator and
-/// LQMC's walks decide here, so a rebuilt path takes its seed's decision
-/// from the same number.
-pub(crate) fn russian_roulette(
-    roulette_throughput: f32,
-    depth: u32,
-    start_depth: u32,
-    u: impl FnOnce() -> f32,
-) -> Option<f32> {
-    if depth + 1 >= start_depth && roulette_throughput < 1.0 {
-        let survival = roulette_throughput.max(0.05);
-        (u() < survival).then_some(survival)
-    } else {
-        Some(1.0)
-    }
 }
 
 /// A light chosen for next-event estimation at a path vertex and the point

@@ -1,38 +1,76 @@
-//! The path-space core: subpaths built by one random walk into one vertex
-//! type with area-measure forward and reverse densities (pbrt-v4's
-//! `RandomWalk` and `Vertex`, Veach 1997 §10.2), for the integrators that
-//! connect or reweigh vertices: light tracing now, BDPT, Metropolis and
-//! VCM next.
+//! The path-space core: every subpath of every integrator — camera paths
+//! of path tracing, volumetric path tracing and LQMC, light paths of light
+//! tracing, and the subpaths of the bidirectional and Metropolis methods to
+//! come — is built by one random walk ([`walk`]) into one vertex type
+//! ([`Vertex`]) (pbrt-v4's `RandomWalk` and `Vertex`, Veach 1997 §10.2).
 //!
-//! A walk starts from a ray leaving the camera or a light with its
-//! throughput and the solid-angle density of its direction, and records
-//! every scattering vertex: its position and normals, the throughput β of
-//! the subpath up to it, its BSDF (in the walk's transport mode), the
-//! density of having sampled it from the previous vertex (`pdf_forward`)
-//! and, once the next vertex is sampled, from the next one
-//! (`pdf_reverse`), both per unit area, and whether it scattered by a delta
-//! lobe. Index-matched boundaries (`is_interface` shapes) are crossed and are
-//! no vertices; Russian roulette ends walks by [`super::path::russian_roulette`],
-//! the rule of every integrator.
+//! # The walk
+//!
+//! A walk starts from a ray leaving the camera or a light ([`WalkStart`])
+//! and alternates segments and scattering vertices:
+//!
+//! - **Segments** pass index-matched boundaries (`is_interface` shapes),
+//!   which are no vertices and use no dimension, and, when the walk traces
+//!   media ([`WalkSettings::media`]), sample a free flight through the
+//!   homogeneous media they cross: one optical depth τ = −ln(1 − u) at the
+//!   hero wavelength per segment, drawn from the `FREE_FLIGHT` dimension of
+//!   the block of the vertex the segment ends at, used up piece by piece
+//!   (exact: optical depth is additive). A chromatic medium's free flights
+//!   are sampled at the hero wavelength; the walk keeps, per wavelength,
+//!   the density of the sampled distances over the hero's
+//!   ([`WalkState::spectral_density_ratio`], pbrt-v4's `r_u`) for the
+//!   spectral MIS of [`super::volpath`].
+//! - **Vertices** are surface points with a BSDF and, in media, medium
+//!   points with a phase function. At each the walk's observer is called
+//!   ([`WalkObserver::vertex`]: next-event estimation, a connection to the
+//!   camera, recording), then the walk samples the next direction from the
+//!   vertex's block of [`SubpathLayout`], multiplies the throughput β, and
+//!   decides Russian roulette by [`russian_roulette`], the rule of every
+//!   integrator.
+//! - When the walk traces media, a thin sheet's straight transmission and a
+//!   mask's pass-through are **null crossings** (Mitsuba 3's `volpath`):
+//!   chosen by BSDF sampling with their probability, they are no vertex and
+//!   do not count towards the depth, but take a dimension block each.
+//!   Without media they are ordinary specular vertices (Mitsuba's `path`).
+//! - Emitters that segments reach and the environment they escape to are
+//!   reported to observers that ask for them ([`WalkObserver::FINDS_EMISSION`]:
+//!   camera paths), with the walk's state for their MIS weights: the
+//!   previous vertex's reference point, the density of its sampled
+//!   direction and whether it was a delta.
+//!
+//! Observers are type parameters, so each integrator's walk is compiled
+//! with its observer inlined: the path tracer's walk costs what its own
+//! loop did.
+//!
+//! # Densities and transport modes
+//!
+//! Observers that record vertices for bidirectional MIS
+//! ([`WalkObserver::RECORDS_DENSITIES`]; [`random_walk`]) get each vertex's
+//! area-measure density of being sampled from the previous vertex
+//! (`pdf_forward`) and, once the next vertex is sampled, from the next one
+//! (`pdf_reverse`), and whether it scattered by a delta lobe.
 //!
 //! Light subpaths carry importance transport: the BSDF's adjoint (no
 //! 1/η² on refraction) and the adjoint shading-normal correction
 //! `|wo·ns| |wi·ng| / (|wo·ng| |wi·ns|)` (Veach 1997, Eq. 5.19) on every
 //! scattering and every connection, without which light tracing and BDPT
 //! disagree with path tracing under bump and normal maps (pbrt-v4 issues
-//! #13 and #385).
-//!
-//! Each vertex takes its numbers from its block of the subpath's
-//! [`SubpathLayout`].
+//! #13 and #385). Radiance transport's Russian roulette undoes the η² of
+//! refractions (pbrt-v4's `etaScale`), and with media divides by the mean
+//! spectral density ratio (pbrt-v4's `rrBeta`).
 
 use super::TraceCounters;
-use super::path::{orient_hit, russian_roulette};
-use crate::geometry::{Ray, spawn_ray};
-use crate::material::{SurfaceBsdf, TransportMode};
+use crate::geometry::{OffsetPoint, Ray, SurfaceHit, spawn_ray};
+use crate::material::{BsdfModel, BsdfSample, SurfaceBsdf, TransportMode};
+use crate::medium::{PhaseFunction, medium_after, transmittance};
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec3;
+
+/// A segment (and a shadow ray) stops after this many index-matched
+/// boundaries: a guard against rays stuck in coincident surfaces.
+pub const MAX_INTERFACE_CROSSINGS: u32 = 256;
 
 /// Where a subpath's numbers are: vertex `k` owns the block of
 /// [`layout::VERTEX_BLOCK`] dimensions starting at `first + k · stride`,
@@ -70,71 +108,246 @@ impl SubpathLayout {
     }
 }
 
-/// One scattering vertex of a subpath.
+/// What scatters at a vertex, borrowed from the walk while it is there.
+#[derive(Debug, Clone, Copy)]
+pub enum ScattererRef<'a> {
+    /// A surface point: the hit (normals oriented as the material sees
+    /// them), its BSDF in the walk's transport mode, and the point offset
+    /// off the surface for rays leaving it.
+    Surface {
+        /// The oriented hit.
+        hit: &'a SurfaceHit,
+        /// The BSDF.
+        bsdf: &'a SurfaceBsdf,
+        /// The hit point offset towards `wo` (and, on request, the other side).
+        offset: &'a OffsetPoint,
+    },
+    /// A point in a homogeneous medium and its phase function.
+    Medium {
+        /// The phase function.
+        phase: PhaseFunction,
+    },
+}
+
+/// What scatters at a recorded vertex ([`ScattererRef`], owned). Medium
+/// vertices waste the surface's space: recorded subpaths live in vectors
+/// reused from path to path, where boxing the surface would allocate.
+#[derive(Debug, Clone, Copy)]
+#[allow(clippy::large_enum_variant)]
+pub enum Scatterer {
+    /// A surface point: the oriented hit, its BSDF and offset point.
+    Surface {
+        /// The oriented hit.
+        hit: SurfaceHit,
+        /// The BSDF.
+        bsdf: SurfaceBsdf,
+        /// The hit point offset towards `wo`.
+        offset: OffsetPoint,
+    },
+    /// A point in a homogeneous medium and its phase function.
+    Medium {
+        /// The phase function.
+        phase: PhaseFunction,
+    },
+}
+
+impl Scatterer {
+    /// Borrowed.
+    #[inline]
+    pub fn as_ref(&self) -> ScattererRef<'_> {
+        match self {
+            Scatterer::Surface { hit, bsdf, offset } => ScattererRef::Surface { hit, bsdf, offset },
+            Scatterer::Medium { phase } => ScattererRef::Medium { phase: *phase },
+        }
+    }
+}
+
+impl ScattererRef<'_> {
+    /// Owned.
+    #[inline]
+    pub fn to_owned(self) -> Scatterer {
+        match self {
+            ScattererRef::Surface { hit, bsdf, offset } => Scatterer::Surface {
+                hit: *hit,
+                bsdf: *bsdf,
+                offset: *offset,
+            },
+            ScattererRef::Medium { phase } => Scatterer::Medium { phase },
+        }
+    }
+
+    /// True if the scattering has a lobe that a connection can evaluate
+    /// (every phase function has).
+    #[inline]
+    pub fn is_connectible(self) -> bool {
+        match self {
+            ScattererRef::Surface { bsdf, .. } => bsdf.flags().is_non_specular(),
+            ScattererRef::Medium { .. } => true,
+        }
+    }
+
+    /// The origin of a ray leaving `point` (the vertex's) in `direction`:
+    /// off the surface to that side, or the medium point itself.
+    #[inline]
+    pub fn origin_towards(self, point: Vec3, direction: Vec3) -> Vec3 {
+        match self {
+            ScattererRef::Surface { offset, .. } => offset.towards(direction),
+            ScattererRef::Medium { .. } => point,
+        }
+    }
+
+    /// The scattering value for a connection from `wo` leaving towards
+    /// unit `wi`: the BSDF times the cosine, with the adjoint
+    /// shading-normal correction in importance transport (`f(wo, wi)
+    /// |wi·ns|` for radiance, `f(wo, wi) |wo·ns| |wi·ng| / |wo·ng|` for
+    /// importance), or the phase function.
+    pub fn connection_factor(
+        self,
+        wo: Vec3,
+        wi: Vec3,
+        wavelengths: &SampledWavelengths,
+        mode: TransportMode,
+    ) -> SampledSpectrum {
+        match self {
+            ScattererRef::Surface { hit, bsdf, .. } => {
+                let value = bsdf.evaluate(wo, wi, wavelengths);
+                value
+                    * scattering_cosine_factor(
+                        wo,
+                        wi,
+                        hit.geometric_normal,
+                        bsdf.frame.normal(),
+                        mode,
+                    )
+            }
+            ScattererRef::Medium { phase } => SampledSpectrum::splat(phase.evaluate(wo, wi)),
+        }
+    }
+}
+
+/// A scattering vertex as the walk shows it to its observer.
+#[derive(Debug, Clone, Copy)]
+pub struct VertexAt<'a> {
+    /// The point.
+    pub point: Vec3,
+    /// Unit direction towards the previous vertex.
+    pub wo: Vec3,
+    /// The time of the subpath.
+    pub time: f32,
+    /// The medium the subpath arrived through.
+    pub medium: Option<u32>,
+    /// The BSDF or the phase function.
+    pub scatterer: ScattererRef<'a>,
+    /// Density per unit area (per unit volume in a medium, without the
+    /// free flight's factor) of sampling this vertex from the previous one;
+    /// 0 unless the observer records densities.
+    pub pdf_forward: f32,
+}
+
+/// One recorded scattering vertex of a subpath ([`random_walk`]).
 #[derive(Debug, Clone, Copy)]
 pub struct Vertex {
-    /// The surface point.
+    /// The point.
     pub point: Vec3,
-    /// The geometric normal, oriented as the material sees it.
+    /// The geometric normal, oriented as the material sees it (zero in a medium).
     pub geometric_normal: Vec3,
-    /// The shading normal (the BSDF frame's normal).
+    /// The shading normal, the BSDF frame's (zero in a medium).
     pub shading_normal: Vec3,
     /// Unit direction towards the previous vertex.
     pub wo: Vec3,
     /// The time of the subpath.
     pub time: f32,
-    /// The subpath's throughput up to this vertex, excluding its BSDF.
+    /// The subpath's throughput up to this vertex, excluding its scattering.
     pub beta: SampledSpectrum,
-    /// The BSDF, in the walk's transport mode.
-    pub bsdf: SurfaceBsdf,
-    /// Density per unit area of sampling this vertex from the previous one.
+    /// The medium the subpath arrived through.
+    pub medium: Option<u32>,
+    /// The BSDF or the phase function.
+    pub scatterer: Scatterer,
+    /// Density per unit area of sampling this vertex from the previous one
+    /// (per unit volume in a medium, without the free flight's factor).
     pub pdf_forward: f32,
     /// Density per unit area of sampling this vertex from the next one
     /// (0 until the next vertex is sampled; 0 for a delta scattering).
     pub pdf_reverse: f32,
     /// The next vertex was sampled by a delta lobe.
     pub delta: bool,
-    /// The shape hit.
+    /// The shape hit (`u32::MAX` in a medium).
     pub shape_index: u32,
 }
 
 impl Vertex {
-    /// True if the BSDF has a lobe that a connection can evaluate.
-    #[inline]
-    pub fn is_connectible(&self) -> bool {
-        self.bsdf.flags().is_non_specular()
+    /// The vertex the walk showed, with the throughput `beta` up to it.
+    pub fn record(vertex: &VertexAt<'_>, beta: SampledSpectrum) -> Self {
+        let (geometric_normal, shading_normal, shape_index) = match vertex.scatterer {
+            ScattererRef::Surface { hit, bsdf, .. } => {
+                (hit.geometric_normal, bsdf.frame.normal(), hit.shape_index)
+            }
+            ScattererRef::Medium { .. } => (Vec3::ZERO, Vec3::ZERO, u32::MAX),
+        };
+        Self {
+            point: vertex.point,
+            geometric_normal,
+            shading_normal,
+            wo: vertex.wo,
+            time: vertex.time,
+            beta,
+            medium: vertex.medium,
+            scatterer: vertex.scatterer.to_owned(),
+            pdf_forward: vertex.pdf_forward,
+            pdf_reverse: 0.0,
+            delta: false,
+            shape_index,
+        }
     }
 
-    /// The BSDF times the cosine for a connection leaving towards unit
-    /// `wi`, with the adjoint shading-normal correction in importance
-    /// transport: `f(wo, wi) |wi·ns|` for radiance,
-    /// `f(wo, wi) |wo·ns| |wi·ng| / |wo·ng|` for importance.
+    /// True if the scattering has a lobe that a connection can evaluate.
+    #[inline]
+    pub fn is_connectible(&self) -> bool {
+        self.scatterer.as_ref().is_connectible()
+    }
+
+    /// The origin of a ray leaving the vertex in `direction`.
+    #[inline]
+    pub fn origin_towards(&self, direction: Vec3) -> Vec3 {
+        self.scatterer
+            .as_ref()
+            .origin_towards(self.point, direction)
+    }
+
+    /// [`ScattererRef::connection_factor`] from the vertex's `wo`.
     pub fn connection_factor(
         &self,
         wi: Vec3,
         wavelengths: &SampledWavelengths,
         mode: TransportMode,
     ) -> SampledSpectrum {
-        let value = self.bsdf.evaluate(self.wo, wi, wavelengths);
-        value * scattering_cosine_factor(self, wi, mode)
+        self.scatterer
+            .as_ref()
+            .connection_factor(self.wo, wi, wavelengths, mode)
     }
 }
 
-/// The cosine factor of a scattering from `vertex.wo` to `wi`: `|wi·ns|`
-/// for radiance, `|wo·ns| |wi·ng| / |wo·ng|` for importance (the cosine
-/// times Veach's adjoint correction); 0 where `wo` grazes the geometric
-/// surface.
+/// The cosine factor of a scattering from `wo` to `wi` at a surface of
+/// geometric normal `geometric_normal` and shading normal `shading_normal`:
+/// `|wi·ns|` for radiance, `|wo·ns| |wi·ng| / |wo·ng|` for importance (the
+/// cosine times Veach's adjoint correction); 0 where `wo` grazes the
+/// geometric surface.
 #[inline]
-fn scattering_cosine_factor(vertex: &Vertex, wi: Vec3, mode: TransportMode) -> f32 {
+fn scattering_cosine_factor(
+    wo: Vec3,
+    wi: Vec3,
+    geometric_normal: Vec3,
+    shading_normal: Vec3,
+    mode: TransportMode,
+) -> f32 {
     match mode {
-        TransportMode::Radiance => wi.dot(vertex.shading_normal).abs(),
+        TransportMode::Radiance => wi.dot(shading_normal).abs(),
         TransportMode::Importance => {
-            let wo_geometric = vertex.wo.dot(vertex.geometric_normal).abs();
+            let wo_geometric = wo.dot(geometric_normal).abs();
             if wo_geometric == 0.0 {
                 0.0
             } else {
-                vertex.wo.dot(vertex.shading_normal).abs() * wi.dot(vertex.geometric_normal).abs()
-                    / wo_geometric
+                wo.dot(shading_normal).abs() * wi.dot(geometric_normal).abs() / wo_geometric
             }
         }
     }
@@ -145,13 +358,27 @@ fn scattering_cosine_factor(vertex: &Vertex, wi: Vec3, mode: TransportMode) -> f
 pub struct WalkSettings {
     /// Radiance for camera subpaths, importance for light subpaths.
     pub mode: TransportMode,
-    /// The most vertices to record.
+    /// The most scattering vertices (for a camera path of at most
+    /// `max_depth` segments, `max_depth − 1`: the segment after the last
+    /// vertex may still find an emitter).
     pub max_vertices: usize,
     /// The vertex index from which Russian roulette may end the walk
     /// (Mitsuba's `rr_depth`, as [`super::path::PathSettings`]).
     pub russian_roulette_depth: u32,
     /// Where the walk's numbers are.
     pub layout: SubpathLayout,
+    /// Trace participating media and treat thin sheets' and masks' straight
+    /// transmission as null crossings (volumetric integrators); without,
+    /// media are ignored (the path tracer).
+    pub media: bool,
+}
+
+impl WalkSettings {
+    /// The most vertices of a path of at most `max_depth` segments whose
+    /// last segment may end on an emitter.
+    pub fn camera_vertices(max_depth: u32) -> usize {
+        max_depth.saturating_sub(1) as usize
+    }
 }
 
 /// The start of a walk: a ray leaving the camera or a light.
@@ -162,26 +389,548 @@ pub struct WalkStart {
     /// The throughput carried along it.
     pub beta: SampledSpectrum,
     /// The density per unit solid angle of its direction (0 for a delta
-    /// direction: the first vertex's forward density is then 0).
+    /// direction, and for camera rays, whose emitters seen directly get no
+    /// MIS weight).
     pub pdf_direction: f32,
+    /// The medium the ray starts in (ignored unless the walk traces media).
+    pub medium: Option<u32>,
 }
 
-/// The density per unit area at `point` (normal `normal`) of a direction
-/// density `pdf_solid_angle` from `from`.
-#[inline]
-pub fn solid_angle_to_area(pdf_solid_angle: f32, from: Vec3, point: Vec3, normal: Vec3) -> f32 {
-    let offset = point - from;
-    let distance_squared = offset.length_squared();
-    if distance_squared == 0.0 {
-        return 0.0;
+/// The scattering the walk did last, as emission found after it is
+/// weighed: where it was, the density of its sampled direction and whether
+/// that was a delta.
+#[derive(Debug, Clone, Copy)]
+pub struct PreviousScattering {
+    /// The reference point of light sampling there: a surface point offset
+    /// towards `wo`, a medium point, or the walk's origin.
+    pub point: Vec3,
+    /// The solid-angle density of the sampled direction (a stochastic
+    /// BSDF's own density estimate, as next-event estimation evaluates it).
+    pub pdf: f32,
+    /// The direction was a delta (or the walk's start ray): emission found
+    /// after it cannot be sampled by next-event estimation.
+    pub delta: bool,
+}
+
+/// The walk's state between vertices, as observers see it.
+#[derive(Debug, Clone, Copy)]
+pub struct WalkState {
+    /// The throughput: the path's value over the hero wavelength's densities.
+    pub beta: SampledSpectrum,
+    /// Per wavelength, the density of the sampled free-flight distances
+    /// over the hero wavelength's (pbrt-v4's rescaled path probability
+    /// `r_u`); 1 without media.
+    pub spectral_density_ratio: SampledSpectrum,
+    /// The last scattering.
+    pub previous: PreviousScattering,
+    /// The medium the walk is in.
+    pub medium: Option<u32>,
+    /// The index of the next vertex (Mitsuba's depth: scatterings so far).
+    pub vertex_index: u32,
+    /// The dimension block of the next vertex (null crossings take one each).
+    pub block: u32,
+}
+
+/// How a vertex scattered.
+#[derive(Debug, Clone, Copy)]
+pub struct Scattering {
+    /// The sampled direction.
+    pub wi: Vec3,
+    /// Its solid-angle density (0 for a delta).
+    pub pdf_forward: f32,
+    /// The solid-angle density of sampling `wo` from `wi` (0 for a delta,
+    /// and unless the observer records densities).
+    pub pdf_reverse: f32,
+    /// The direction was sampled by a delta lobe.
+    pub delta: bool,
+}
+
+/// What an integrator does along a walk. Every method but [`vertex`](Self::vertex)
+/// does nothing by default.
+pub trait WalkObserver {
+    /// Report emitters reached and the environment escaped to, and continue
+    /// from the last vertex to find them (camera subpaths).
+    const FINDS_EMISSION: bool;
+    /// Compute vertices' area densities (bidirectional MIS).
+    const RECORDS_DENSITIES: bool = false;
+
+    /// The segment after the last scattering reached light `light_index`'s
+    /// surface at `hit` (as stored: the normal not oriented), seen from `wo`.
+    #[inline]
+    fn emitter(
+        &mut self,
+        _walk: &WalkState,
+        _light_index: u32,
+        _hit: &SurfaceHit,
+        _wo: Vec3,
+        _wavelengths: &SampledWavelengths,
+    ) {
     }
-    let cosine = (offset.dot(normal) / distance_squared.sqrt()).abs();
-    pdf_solid_angle * cosine / distance_squared
+
+    /// The segment after the last scattering left the scene in `direction`.
+    #[inline]
+    fn escaped(&mut self, _walk: &WalkState, _direction: Vec3, _wavelengths: &SampledWavelengths) {}
+
+    /// At a scattering vertex, before the walk samples its next direction.
+    fn vertex<S: SampleSource + ?Sized>(
+        &mut self,
+        walk: &WalkState,
+        vertex: &VertexAt<'_>,
+        wavelengths: &SampledWavelengths,
+        sampler: &mut S,
+        counters: &mut TraceCounters,
+    );
+
+    /// The vertex scattered (the walk's β already includes it).
+    #[inline]
+    fn scattered(&mut self, _vertex: &VertexAt<'_>, _scattering: &Scattering) {}
 }
 
-/// Walks from `start` through the scene, appending up to
-/// `settings.max_vertices` vertices to `vertices` (cleared first). Every
-/// subpath of every integrator is built here.
+/// What a segment ended at.
+enum SegmentEnd {
+    /// A scattering event in a medium at `point`.
+    Medium { point: Vec3 },
+    /// A surface that is not an index-matched boundary: the hit (as
+    /// stored) is in the segment's hit slot.
+    Surface,
+    /// The ray left the scene.
+    Escaped,
+    /// The throughput became zero, or the segment crossed too many boundaries.
+    Dead,
+}
+
+/// Walks from `start` through the scene, calling `observer` at every
+/// vertex and, if it asks, at every emitter and escape. Every subpath of
+/// every integrator is built here.
+#[inline(always)]
+pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
+    scene: &Scene,
+    start: WalkStart,
+    settings: &WalkSettings,
+    wavelengths: &mut SampledWavelengths,
+    sampler: &mut S,
+    counters: &mut TraceCounters,
+    observer: &mut O,
+) {
+    let mut ray = start.ray;
+    let mut state = WalkState {
+        beta: start.beta,
+        spectral_density_ratio: SampledSpectrum::splat(1.0),
+        previous: PreviousScattering {
+            point: start.ray.origin,
+            pdf: start.pdf_direction,
+            delta: start.pdf_direction == 0.0,
+        },
+        medium: if settings.media { start.medium } else { None },
+        vertex_index: 0,
+        block: 0,
+    };
+    // Product of relative IORs of refractions, undone for Russian roulette.
+    let mut eta_scale = 1.0f32;
+    // The previous vertex's position and direction density, for area densities.
+    let mut previous_vertex_point = start.ray.origin;
+    let mut pdf_direction = start.pdf_direction;
+    // The hit a segment ends at, written in place (a copy of the hit per
+    // segment cost the path tracer about 1 % of its instructions).
+    let mut segment_hit: Option<SurfaceHit> = None;
+    loop {
+        let end = trace_segment(
+            scene,
+            settings,
+            &mut state,
+            &mut ray,
+            &mut segment_hit,
+            wavelengths,
+            sampler,
+            counters,
+            observer,
+        );
+        let wo = -ray.direction;
+        let at_last_vertex = state.vertex_index as usize + 1 >= settings.max_vertices;
+        match end {
+            SegmentEnd::Dead => break,
+            SegmentEnd::Escaped => {
+                if O::FINDS_EMISSION {
+                    observer.escaped(&state, ray.direction, wavelengths);
+                }
+                break;
+            }
+            SegmentEnd::Medium { point } => {
+                if state.vertex_index as usize >= settings.max_vertices {
+                    break;
+                }
+                let Some(medium) = state.medium else { break };
+                let phase = scene.media[medium as usize].phase;
+                let mut vertex = VertexAt {
+                    point,
+                    wo,
+                    time: ray.time,
+                    medium: state.medium,
+                    scatterer: ScattererRef::Medium { phase },
+                    pdf_forward: 0.0,
+                };
+                if O::RECORDS_DENSITIES {
+                    // A direction density times the inverse square distance:
+                    // the volume density without the free flight's factor.
+                    let distance_squared = (point - previous_vertex_point).length_squared();
+                    if distance_squared > 0.0 {
+                        vertex.pdf_forward = pdf_direction / distance_squared;
+                    }
+                }
+                observer.vertex(&state, &vertex, wavelengths, sampler, counters);
+                if at_last_vertex && !O::FINDS_EMISSION {
+                    break;
+                }
+                let sample = phase.sample(
+                    wo,
+                    sampler.get_2d(
+                        settings
+                            .layout
+                            .dimension(state.block as usize, layout::SCATTER_DIRECTION),
+                    ),
+                );
+                if sample.pdf <= 0.0 {
+                    break;
+                }
+                state.beta *= sample.value / sample.pdf;
+                let scattering = Scattering {
+                    wi: sample.wi,
+                    pdf_forward: sample.pdf,
+                    pdf_reverse: if O::RECORDS_DENSITIES {
+                        phase.pdf(sample.wi, wo)
+                    } else {
+                        0.0
+                    },
+                    delta: false,
+                };
+                observer.scattered(&vertex, &scattering);
+                state.previous = PreviousScattering {
+                    point,
+                    pdf: sample.pdf,
+                    delta: false,
+                };
+                previous_vertex_point = point;
+                pdf_direction = sample.pdf;
+                ray = Ray::with_time(point, sample.wi, ray.time);
+            }
+            SegmentEnd::Surface => {
+                let Some(hit) = segment_hit.as_mut() else {
+                    break;
+                };
+                let info = &scene.shapes[hit.shape_index as usize];
+                if O::FINDS_EMISSION
+                    && let Some(light_index) = info.light
+                {
+                    observer.emitter(&state, light_index, hit, wo, wavelengths);
+                }
+                // Without null crossings, a path at its last vertex is over
+                // before its BSDF is built.
+                if !settings.media && state.vertex_index as usize >= settings.max_vertices {
+                    break;
+                }
+                let Some(material) = &info.material else {
+                    break;
+                };
+                orient_hit(info.flip_normals, hit);
+                let hit: &SurfaceHit = hit;
+                let mut bsdf = material.surface_bsdf_at(hit, wavelengths);
+                if settings.mode == TransportMode::Importance {
+                    bsdf.bsdf = bsdf.bsdf.with_transport_mode(settings.mode);
+                }
+                let u_component = sampler.get(
+                    settings
+                        .layout
+                        .dimension(state.block as usize, layout::SCATTER_COMPONENT),
+                );
+                if settings.media && null_transmission(&bsdf, wo) > 0.0 {
+                    // A surface with a null lobe (a thin sheet's straight
+                    // transmission, a mask's pass-through): choose it with
+                    // its probability first; it is no vertex and no depth.
+                    let u = sampler.get_2d(
+                        settings
+                            .layout
+                            .dimension(state.block as usize, layout::SCATTER_DIRECTION),
+                    );
+                    let mut probe = *wavelengths;
+                    if let Some(sample) = bsdf.sample(wo, u_component, u, &mut probe)
+                        && is_null_sample(&bsdf, u_component, &sample)
+                    {
+                        state.medium = medium_after(
+                            info.medium_interface.as_ref(),
+                            hit.geometric_normal,
+                            -wo,
+                            state.medium,
+                        );
+                        ray = spawn_ray(hit, -wo);
+                        state.block += 1;
+                        continue;
+                    }
+                }
+                if state.vertex_index as usize >= settings.max_vertices {
+                    break;
+                }
+                let offset = OffsetPoint::new(hit.point, hit.geometric_normal, wo);
+                let mut vertex = VertexAt {
+                    point: hit.point,
+                    wo,
+                    time: hit.time,
+                    medium: state.medium,
+                    scatterer: ScattererRef::Surface {
+                        hit,
+                        bsdf: &bsdf,
+                        offset: &offset,
+                    },
+                    pdf_forward: 0.0,
+                };
+                if O::RECORDS_DENSITIES {
+                    vertex.pdf_forward = solid_angle_to_area(
+                        pdf_direction,
+                        previous_vertex_point,
+                        hit.point,
+                        hit.geometric_normal,
+                    );
+                }
+                observer.vertex(&state, &vertex, wavelengths, sampler, counters);
+                if at_last_vertex && !O::FINDS_EMISSION {
+                    break;
+                }
+                let u = sampler.get_2d(
+                    settings
+                        .layout
+                        .dimension(state.block as usize, layout::SCATTER_DIRECTION),
+                );
+                let Some(sample) = bsdf.sample(wo, u_component, u, wavelengths) else {
+                    break;
+                };
+                if sample.pdf <= 0.0 || sample.value.is_black() {
+                    break;
+                }
+                let factor = scattering_cosine_factor(
+                    wo,
+                    sample.wi,
+                    hit.geometric_normal,
+                    bsdf.frame.normal(),
+                    settings.mode,
+                );
+                state.beta *= sample.value * (factor / sample.pdf);
+                // A stochastic BSDF's sample carries a path density; MIS
+                // needs the BSDF's own density (the one next-event
+                // estimation evaluates).
+                let pdf = if sample.pdf_is_proportional {
+                    bsdf.pdf(wo, sample.wi)
+                } else {
+                    sample.pdf
+                };
+                let delta = sample.is_specular();
+                if O::RECORDS_DENSITIES {
+                    let scattering = Scattering {
+                        wi: sample.wi,
+                        pdf_forward: if delta { 0.0 } else { pdf },
+                        pdf_reverse: if delta { 0.0 } else { bsdf.pdf(sample.wi, wo) },
+                        delta,
+                    };
+                    observer.scattered(&vertex, &scattering);
+                    pdf_direction = scattering.pdf_forward;
+                } else {
+                    observer.scattered(
+                        &vertex,
+                        &Scattering {
+                            wi: sample.wi,
+                            pdf_forward: pdf,
+                            pdf_reverse: 0.0,
+                            delta,
+                        },
+                    );
+                }
+                state.previous = PreviousScattering {
+                    point: offset.origin(),
+                    pdf,
+                    delta,
+                };
+                previous_vertex_point = hit.point;
+                if settings.mode == TransportMode::Radiance && sample.is_transmission() {
+                    eta_scale *= sample.eta * sample.eta;
+                }
+                if settings.media {
+                    state.medium = medium_after(
+                        info.medium_interface.as_ref(),
+                        hit.geometric_normal,
+                        sample.wi,
+                        state.medium,
+                    );
+                }
+                ray = Ray::with_time(offset.towards(sample.wi), sample.wi, hit.time);
+            }
+        }
+
+        // Russian roulette on the throughput without the refraction
+        // scaling and, with media, over the mean spectral density ratio
+        // (pbrt-v4's rrBeta).
+        let roulette_throughput = if settings.media {
+            let mean_ratio = state.spectral_density_ratio.average();
+            if mean_ratio <= 0.0 {
+                break;
+            }
+            (state.beta * (eta_scale / mean_ratio)).max_component()
+        } else {
+            (state.beta * eta_scale).max_component()
+        };
+        let block = state.block as usize;
+        match russian_roulette(
+            roulette_throughput,
+            state.vertex_index,
+            settings.russian_roulette_depth,
+            || sampler.get(settings.layout.dimension(block, layout::RUSSIAN_ROULETTE)),
+        ) {
+            Some(survival) => state.beta /= survival,
+            None => break,
+        }
+        if settings.media && state.beta.is_black() {
+            break;
+        }
+        state.vertex_index += 1;
+        state.block += 1;
+    }
+}
+
+/// Follows `ray` from the last vertex (or the walk's start) through
+/// index-matched boundaries and, when the walk traces media, through media
+/// to where the segment ends, drawing the optical depth from `FREE_FLIGHT`
+/// of the current block the first time a medium is met. Updates β and the
+/// spectral density ratio with each piece's transmittance and densities,
+/// the medium, and reports emitting boundaries passed.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn trace_segment<S: SampleSource + ?Sized, O: WalkObserver>(
+    scene: &Scene,
+    settings: &WalkSettings,
+    state: &mut WalkState,
+    ray: &mut Ray,
+    hit_slot: &mut Option<SurfaceHit>,
+    wavelengths: &SampledWavelengths,
+    sampler: &mut S,
+    counters: &mut TraceCounters,
+    observer: &mut O,
+) -> SegmentEnd {
+    let mut optical_depth: Option<f32> = None;
+    for _ in 0..MAX_INTERFACE_CROSSINGS {
+        counters.closest_hit_rays += 1;
+        *hit_slot = scene.geometry.intersect(ray, f32::INFINITY);
+        let hit = hit_slot.as_ref();
+        if settings.media
+            && let Some(medium_index) = state.medium
+        {
+            let distance = hit.map_or(f32::INFINITY, |hit| hit.t);
+            let coefficients = scene.media[medium_index as usize].coefficients(wavelengths);
+            let sigma_t = coefficients.sigma_t();
+            let hero_sigma_t = sigma_t[0];
+            let tau = *optical_depth.get_or_insert_with(|| {
+                let u = sampler.get(
+                    settings
+                        .layout
+                        .dimension(state.block as usize, layout::FREE_FLIGHT),
+                );
+                -(1.0 - u).ln()
+            });
+            if hero_sigma_t > 0.0 && tau < hero_sigma_t * distance {
+                // Scattering inside this piece: p₀(t) = σt₀ T₀(t).
+                let t = tau / hero_sigma_t;
+                let piece = transmittance(sigma_t, t);
+                let hero_pdf = piece[0] * hero_sigma_t;
+                if hero_pdf <= 0.0 {
+                    return SegmentEnd::Dead;
+                }
+                state.beta *= piece * coefficients.sigma_s / hero_pdf;
+                state.spectral_density_ratio *= piece * sigma_t / hero_pdf;
+                if state.beta.is_black() {
+                    return SegmentEnd::Dead;
+                }
+                return SegmentEnd::Medium { point: ray.at(t) };
+            }
+            // Passing through the whole piece: probability T₀(distance).
+            optical_depth = Some(tau - hero_sigma_t * distance);
+            let piece = transmittance(sigma_t, distance);
+            if piece[0] <= 0.0 {
+                return SegmentEnd::Dead;
+            }
+            let ratio = piece / piece[0];
+            state.beta *= ratio;
+            state.spectral_density_ratio *= ratio;
+        }
+        let Some(hit) = hit else {
+            return SegmentEnd::Escaped;
+        };
+        let info = &scene.shapes[hit.shape_index as usize];
+        if !info.is_interface {
+            return SegmentEnd::Surface;
+        }
+        // An index-matched boundary: emission it may carry, then straight on.
+        if O::FINDS_EMISSION
+            && let Some(light_index) = info.light
+        {
+            observer.emitter(state, light_index, hit, -ray.direction, wavelengths);
+        }
+        if settings.media {
+            let oriented_normal = if info.flip_normals {
+                -hit.geometric_normal
+            } else {
+                hit.geometric_normal
+            };
+            state.medium = medium_after(
+                info.medium_interface.as_ref(),
+                oriented_normal,
+                ray.direction,
+                state.medium,
+            );
+        }
+        *ray = spawn_ray(hit, ray.direction);
+    }
+    SegmentEnd::Dead
+}
+
+/// The observer of [`random_walk`]: records every vertex with its area
+/// densities.
+struct VertexRecorder<'a> {
+    vertices: &'a mut Vec<Vertex>,
+}
+
+impl WalkObserver for VertexRecorder<'_> {
+    const FINDS_EMISSION: bool = false;
+    const RECORDS_DENSITIES: bool = true;
+
+    #[inline]
+    fn vertex<S: SampleSource + ?Sized>(
+        &mut self,
+        walk: &WalkState,
+        vertex: &VertexAt<'_>,
+        _wavelengths: &SampledWavelengths,
+        _sampler: &mut S,
+        _counters: &mut TraceCounters,
+    ) {
+        self.vertices.push(Vertex::record(vertex, walk.beta));
+    }
+
+    #[inline]
+    fn scattered(&mut self, vertex: &VertexAt<'_>, scattering: &Scattering) {
+        let count = self.vertices.len();
+        if let Some(last) = self.vertices.last_mut() {
+            last.delta = scattering.delta;
+        }
+        if count >= 2 {
+            let previous = &mut self.vertices[count - 2];
+            previous.pdf_reverse = solid_angle_to_area(
+                scattering.pdf_reverse,
+                vertex.point,
+                previous.point,
+                previous.geometric_normal,
+            );
+        }
+    }
+}
+
+/// Walks from `start`, appending up to `settings.max_vertices` vertices
+/// with their densities to `vertices` (cleared first): the subpaths of
+/// light tracing and the bidirectional methods.
 pub fn random_walk<S: SampleSource + ?Sized>(
     scene: &Scene,
     start: WalkStart,
@@ -192,97 +941,99 @@ pub fn random_walk<S: SampleSource + ?Sized>(
     vertices: &mut Vec<Vertex>,
 ) {
     vertices.clear();
-    let mut ray = start.ray;
-    let mut beta = start.beta;
-    let mut pdf_direction = start.pdf_direction;
-    // The previous vertex's position (the walk's origin at first), for the
-    // area densities: index-matched crossings are no vertices.
-    let mut previous_point = start.ray.origin;
-    while vertices.len() < settings.max_vertices {
-        counters.closest_hit_rays += 1;
-        let Some(mut hit) = scene.geometry.intersect(&ray, f32::INFINITY) else {
-            break;
-        };
-        let info = &scene.shapes[hit.shape_index as usize];
-        if info.is_interface {
-            ray = spawn_ray(&hit, ray.direction);
-            continue;
-        }
-        let Some(material) = &info.material else {
-            break;
-        };
-        orient_hit(info.flip_normals, &mut hit);
-        let mut bsdf = material.surface_bsdf_at(&hit, wavelengths);
-        bsdf.bsdf = bsdf.bsdf.with_transport_mode(settings.mode);
-        let index = vertices.len();
-        let mut vertex = Vertex {
-            point: hit.point,
-            geometric_normal: hit.geometric_normal,
-            shading_normal: bsdf.frame.normal(),
-            wo: -ray.direction,
-            time: hit.time,
-            beta,
-            bsdf,
-            pdf_forward: solid_angle_to_area(
-                pdf_direction,
-                previous_point,
-                hit.point,
-                hit.geometric_normal,
-            ),
-            pdf_reverse: 0.0,
-            delta: false,
-            shape_index: hit.shape_index,
-        };
-        if index + 1 == settings.max_vertices {
-            vertices.push(vertex);
-            break;
-        }
-        let u_component = sampler.get(settings.layout.dimension(index, layout::SCATTER_COMPONENT));
-        let u = sampler.get_2d(settings.layout.dimension(index, layout::SCATTER_DIRECTION));
-        let Some(sample) = bsdf.sample(vertex.wo, u_component, u, wavelengths) else {
-            vertices.push(vertex);
-            break;
-        };
-        if sample.pdf <= 0.0 || sample.value.is_black() {
-            vertices.push(vertex);
-            break;
-        }
-        let factor = scattering_cosine_factor(&vertex, sample.wi, settings.mode);
-        beta *= sample.value * (factor / sample.pdf);
-        vertex.delta = sample.is_specular();
-        // The densities of the two directions at this vertex: the sampled
-        // one forward, the reverse one (towards the previous vertex) for
-        // the previous vertex's reverse density. A delta lobe has neither.
-        let (pdf_forward_direction, pdf_reverse_direction) = if vertex.delta {
-            (0.0, 0.0)
-        } else {
-            let forward = if sample.pdf_is_proportional {
-                bsdf.pdf(vertex.wo, sample.wi)
-            } else {
-                sample.pdf
-            };
-            (forward, bsdf.pdf(sample.wi, vertex.wo))
-        };
-        if let Some(previous) = vertices.last_mut() {
-            previous.pdf_reverse = solid_angle_to_area(
-                pdf_reverse_direction,
-                vertex.point,
-                previous.point,
-                previous.geometric_normal,
-            );
-        }
-        vertices.push(vertex);
-        pdf_direction = pdf_forward_direction;
-        previous_point = hit.point;
-        ray = spawn_ray(&hit, sample.wi);
-        match russian_roulette(
-            beta.max_component(),
-            index as u32,
-            settings.russian_roulette_depth,
-            || sampler.get(settings.layout.dimension(index, layout::RUSSIAN_ROULETTE)),
-        ) {
-            Some(survival) => beta /= survival,
-            None => break,
-        }
+    walk(
+        scene,
+        start,
+        settings,
+        wavelengths,
+        sampler,
+        counters,
+        &mut VertexRecorder { vertices },
+    );
+}
+
+/// The density per unit area at `point` (normal `normal`) of a direction
+/// density `pdf_solid_angle` from `from`; a zero normal (a medium point)
+/// takes no cosine.
+#[inline]
+pub fn solid_angle_to_area(pdf_solid_angle: f32, from: Vec3, point: Vec3, normal: Vec3) -> f32 {
+    let offset = point - from;
+    let distance_squared = offset.length_squared();
+    if distance_squared == 0.0 {
+        return 0.0;
     }
+    if normal == Vec3::ZERO {
+        return pdf_solid_angle / distance_squared;
+    }
+    let cosine = (offset.dot(normal) / distance_squared.sqrt()).abs();
+    pdf_solid_angle * cosine / distance_squared
+}
+
+/// [`SurfaceHit`]'s normals turned as a shape's `flip_normals` asks, in
+/// place: the walk needs the hit as stored only until it scatters.
+#[inline]
+pub(crate) fn orient_hit(flip_normals: bool, hit: &mut SurfaceHit) {
+    if flip_normals {
+        hit.geometric_normal = -hit.geometric_normal;
+        hit.shading_normal = -hit.shading_normal;
+    }
+}
+
+/// Russian roulette at vertex `depth` (pbrt-v4's rule): from
+/// `start_depth` on, a path whose `roulette_throughput` is below 1 survives
+/// with probability max(throughput, 0.05), decided by the number `u` gives
+/// (read only then). Returns the probability to divide the throughput by (1
+/// without roulette), or `None` when the path ends. Every walk decides
+/// here, so a rebuilt path takes its seed's decision from the same number.
+#[inline]
+pub(crate) fn russian_roulette(
+    roulette_throughput: f32,
+    depth: u32,
+    start_depth: u32,
+    u: impl FnOnce() -> f32,
+) -> Option<f32> {
+    if depth + 1 >= start_depth && roulette_throughput < 1.0 {
+        let survival = roulette_throughput.max(0.05);
+        (u() < survival).then_some(survival)
+    } else {
+        Some(1.0)
+    }
+}
+
+/// The weight with which `bsdf` lets light arriving from `wo` pass straight
+/// through as a *null* event, not a scattering one: Mitsuba 3 flags a thin
+/// dielectric's transmission (weight 1 − R', see [`crate::material::ThinDielectricBsdf`]) and
+/// a mask's pass-through (1 − α) `Null`, so that its `volpath` lets shadow
+/// rays through them with this weight and does not count crossing them as
+/// a bounce. Their expectation is the same as that of a specular vertex;
+/// counting them in the depth would end paths earlier than Mitsuba does.
+pub(crate) fn null_transmission(bsdf: &SurfaceBsdf, wo: Vec3) -> f32 {
+    let opacity = bsdf.adapter.opacity.clamp(0.0, 1.0);
+    let thin = match (bsdf.bsdf.model(), bsdf.bsdf.back_model()) {
+        (BsdfModel::ThinDielectric(thin), None | Some(BsdfModel::ThinDielectric(_))) => {
+            let cosine = wo.dot(bsdf.frame.normal());
+            if cosine == 0.0 {
+                0.0
+            } else {
+                let back = bsdf.bsdf.back_model();
+                let sheet = match back {
+                    Some(BsdfModel::ThinDielectric(back)) if cosine < 0.0 => back,
+                    _ => thin,
+                };
+                1.0 - sheet.reflectance(cosine)
+            }
+        }
+        _ => 0.0,
+    };
+    (1.0 - opacity) + opacity * thin
+}
+
+/// Whether `sample` (drawn with component sample `u_component`) took the
+/// null lobe of [`null_transmission`]: a mask's pass-through, or a thin
+/// dielectric's straight transmission.
+pub(crate) fn is_null_sample(bsdf: &SurfaceBsdf, u_component: f32, sample: &BsdfSample) -> bool {
+    if bsdf.adapter.nested_component_sample(u_component).is_none() {
+        return true;
+    }
+    matches!(bsdf.bsdf.model(), BsdfModel::ThinDielectric(_)) && sample.is_transmission()
 }

@@ -75,68 +75,19 @@ use super::driver::{
     CameraPathStart, PixelSampleEstimator, PixelSampleIndex, UnitOutput, render_pixel_samples,
 };
 use super::path::{PathSettings, oriented_hit};
+use super::path_space::{
+    MAX_INTERFACE_CROSSINGS, ScattererRef, SubpathLayout, VertexAt, WalkObserver, WalkSettings,
+    WalkStart, WalkState, null_transmission, walk,
+};
 use super::{Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
 use crate::geometry::{Ray, SurfaceHit, offset_ray_origin, spawn_ray, spawn_ray_to_point};
 use crate::light::LightSample;
-use crate::material::{BsdfModel, BsdfSample, SurfaceBsdf};
-use crate::medium::{medium_after, transmittance};
-use crate::sampler::{DynSource, PixelSampler, SampleSource, layout};
+use crate::material::TransportMode;
+use crate::medium::medium_after;
+use crate::sampler::{DynSource, PixelSampler, SampleSource};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
 use glam::Vec3;
-
-/// Shadow rays stop after this many index-matched boundaries (a guard
-/// against rays stuck in coincident surfaces).
-const MAX_INTERFACE_CROSSINGS: u32 = 256;
-
-/// What the free flight of one path segment ended at.
-enum SegmentEnd {
-    /// A scattering event in a medium at `point`.
-    Medium { point: Vec3 },
-    /// A surface that is not an index-matched boundary.
-    Surface { raw_hit: SurfaceHit },
-    /// The ray left the scene.
-    Escaped,
-    /// The throughput became zero.
-    Dead,
-}
-
-/// The state of a camera path between vertices.
-struct PathState {
-    radiance: SampledSpectrum,
-    /// Throughput divided by the hero wavelength's sampling densities.
-    beta: SampledSpectrum,
-    /// Rescaled unidirectional path probabilities per wavelength.
-    r_u: SampledSpectrum,
-    /// Rescaled light-sampling path probabilities (without the light's
-    /// own density, multiplied in when an emitter is found).
-    r_l: SampledSpectrum,
-    /// The last vertex's direction was a delta (or there is none yet).
-    specular_bounce: bool,
-    /// Where the light density of found emission is measured from.
-    previous_point: Vec3,
-    /// The medium the path is in.
-    medium: Option<u32>,
-}
-
-impl PathState {
-    /// Adds emission `emitted` found after the last vertex, balance-weighted
-    /// against next-event estimation with light density `light_pdf` (the
-    /// selection probability included; ignored after a delta bounce).
-    fn add_emission(&mut self, emitted: SampledSpectrum, light_pdf: f32) {
-        if emitted.is_black() {
-            return;
-        }
-        let denominator = if self.specular_bounce {
-            self.r_u.average()
-        } else {
-            (self.r_u + self.r_l * light_pdf).average()
-        };
-        if denominator > 0.0 {
-            self.radiance += self.beta * emitted / denominator;
-        }
-    }
-}
 
 /// The volumetric path tracer as an [`Integrator`], run by the tile driver.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -193,7 +144,7 @@ impl PixelSampleEstimator for VolPathEstimator<'_> {
             self.settings,
             start.ray,
             &mut wavelengths,
-            &mut DynSource(sampler),
+            sampler,
             &mut output.counters,
         );
         output.add_camera_sample(
@@ -205,339 +156,175 @@ impl PixelSampleEstimator for VolPathEstimator<'_> {
 }
 
 /// Estimates the radiance along the camera ray `ray` for `wavelengths`,
-/// starting in the scene's camera medium.
-pub fn radiance(
+/// starting in the scene's camera medium: the path-space walk through
+/// media with [`VolPathRadiance`] as its observer.
+pub fn radiance<S: SampleSource + ?Sized>(
     scene: &Scene,
     settings: &PathSettings,
     ray: Ray,
     wavelengths: &mut SampledWavelengths,
-    sampler: &mut dyn SampleSource,
+    sampler: &mut S,
     counters: &mut TraceCounters,
 ) -> SampledSpectrum {
-    let mut state = PathState {
+    let mut observer = VolPathRadiance {
+        scene,
         radiance: SampledSpectrum::zero(),
-        beta: SampledSpectrum::splat(1.0),
-        r_u: SampledSpectrum::splat(1.0),
-        r_l: SampledSpectrum::splat(1.0),
-        specular_bounce: true,
-        previous_point: ray.origin,
-        medium: scene.camera_medium,
     };
-    let mut ray = ray;
-    let mut eta_scale = 1.0f32;
-    // Mitsuba's depth (scattering events; null crossings do not count) and
-    // the dimension block of the current vertex (every vertex, null or not).
-    let mut depth = 0u32;
-    let mut block = 0u32;
-    loop {
-        let end = free_flight(
-            scene,
-            &mut state,
-            &mut ray,
-            block,
+    walk(
+        scene,
+        WalkStart {
+            ray,
+            beta: SampledSpectrum::splat(1.0),
+            pdf_direction: 0.0,
+            medium: scene.camera_medium,
+        },
+        &WalkSettings {
+            mode: TransportMode::Radiance,
+            max_vertices: WalkSettings::camera_vertices(settings.max_depth),
+            russian_roulette_depth: settings.russian_roulette_depth,
+            layout: SubpathLayout::CAMERA,
+            media: true,
+        },
+        wavelengths,
+        sampler,
+        counters,
+        &mut observer,
+    );
+    observer.radiance
+}
+
+/// The volumetric path tracer's observer of the walk: emission found by
+/// BSDF and phase sampling and next-event estimation through media at every
+/// non-specular vertex, weighted by the balance heuristic over the
+/// techniques and the hero wavelengths.
+struct VolPathRadiance<'a> {
+    scene: &'a Scene,
+    radiance: SampledSpectrum,
+}
+
+impl VolPathRadiance<'_> {
+    /// Adds emission `emitted` found after the walk's last scattering,
+    /// balance-weighted against next-event estimation with light density
+    /// `light_pdf` (the selection probability included; ignored after a
+    /// delta). The rescaled light-sampling probability of the path is its
+    /// unidirectional one over the density of the last sampled direction.
+    fn add_emission(&mut self, walk: &WalkState, emitted: SampledSpectrum, light_pdf: f32) {
+        if emitted.is_black() {
+            return;
+        }
+        let r_u = walk.spectral_density_ratio;
+        let denominator = if walk.previous.delta {
+            r_u.average()
+        } else {
+            let r_l = r_u / walk.previous.pdf;
+            (r_u + r_l * light_pdf).average()
+        };
+        if denominator > 0.0 {
+            self.radiance += walk.beta * emitted / denominator;
+        }
+    }
+
+    /// The density (selection included) with which next-event estimation
+    /// from the walk's previous scattering would have sampled `point` on
+    /// light `light_index`.
+    fn light_density(&self, walk: &WalkState, light_index: u32, point: Vec3, normal: Vec3) -> f32 {
+        if walk.previous.delta {
+            return 0.0;
+        }
+        let light = &self.scene.lights[light_index as usize];
+        self.scene.light_sampler.probability(light_index as usize)
+            * light.pdf_incident(&self.scene.geometry, walk.previous.point, point, normal)
+    }
+}
+
+impl WalkObserver for VolPathRadiance<'_> {
+    const FINDS_EMISSION: bool = true;
+
+    fn emitter(
+        &mut self,
+        walk: &WalkState,
+        light_index: u32,
+        hit: &SurfaceHit,
+        wo: Vec3,
+        wavelengths: &SampledWavelengths,
+    ) {
+        let emitted = self.scene.lights[light_index as usize].emitted_radiance(
+            hit.geometric_normal,
+            hit.uv,
+            wo,
             wavelengths,
-            sampler,
-            counters,
         );
-        let wo = -ray.direction;
-        match end {
-            SegmentEnd::Dead => break,
-            SegmentEnd::Escaped => {
-                add_environment(scene, &mut state, ray.direction, wavelengths);
-                break;
-            }
-            SegmentEnd::Medium { point } => {
-                if depth + 2 > settings.max_depth {
-                    break;
-                }
-                let medium =
-                    &scene.media[state.medium.expect("scattering happens in a medium") as usize];
-                let phase = medium.phase;
+        if emitted.is_black() {
+            return;
+        }
+        let light_pdf = self.light_density(walk, light_index, hit.point, hit.geometric_normal);
+        self.add_emission(walk, emitted, light_pdf);
+    }
+
+    fn escaped(&mut self, walk: &WalkState, direction: Vec3, wavelengths: &SampledWavelengths) {
+        for &index in &self.scene.environment_lights {
+            let emitted =
+                self.scene.lights[index as usize].environment_radiance(direction, wavelengths);
+            let light_pdf =
+                self.light_density(walk, index, walk.previous.point + direction, Vec3::ZERO);
+            self.add_emission(walk, emitted, light_pdf);
+        }
+    }
+
+    fn vertex<S: SampleSource + ?Sized>(
+        &mut self,
+        walk: &WalkState,
+        vertex: &VertexAt<'_>,
+        wavelengths: &SampledWavelengths,
+        sampler: &mut S,
+        counters: &mut TraceCounters,
+    ) {
+        let wo = vertex.wo;
+        let next_event = match vertex.scatterer {
+            ScattererRef::Medium { phase } => {
                 let scatter = |wi: Vec3| {
                     let value = phase.evaluate(wo, wi);
                     (SampledSpectrum::splat(value), value)
                 };
-                let next_event = sample_light(
-                    scene,
-                    point,
+                sample_light(
+                    self.scene,
+                    vertex.point,
                     None,
-                    state.medium,
+                    vertex.medium,
                     &scatter,
-                    state.r_u,
-                    block,
+                    walk.spectral_density_ratio,
+                    walk.block,
                     wavelengths,
-                    sampler,
+                    &mut DynSource(sampler),
                     counters,
-                );
-                state.radiance += state.beta * next_event;
-                let sample = phase.sample(
-                    wo,
-                    sampler.get_2d(layout::vertex(block as usize, layout::SCATTER_DIRECTION)),
-                );
-                if sample.pdf <= 0.0 {
-                    break;
-                }
-                state.beta *= sample.value / sample.pdf;
-                state.r_l = state.r_u / sample.pdf;
-                state.specular_bounce = false;
-                state.previous_point = point;
-                ray = Ray::with_time(point, sample.wi, ray.time);
+                )
             }
-            SegmentEnd::Surface { raw_hit } => {
-                let hit = oriented_hit(scene, &raw_hit);
-                let info = &scene.shapes[hit.shape_index as usize];
-                if let Some(light_index) = info.light {
-                    let emitted = scene.lights[light_index as usize].emitted_radiance(
-                        raw_hit.geometric_normal,
-                        raw_hit.uv,
-                        wo,
-                        wavelengths,
-                    );
-                    let light_pdf = light_density(
-                        scene,
-                        light_index,
-                        &state,
-                        raw_hit.point,
-                        raw_hit.geometric_normal,
-                    );
-                    state.add_emission(emitted, light_pdf);
+            ScattererRef::Surface { hit, bsdf, offset } => {
+                if !bsdf.flags().is_non_specular() {
+                    return;
                 }
-                let Some(material) = &info.material else {
-                    break;
+                let normal = bsdf.frame.normal();
+                let scatter = |wi: Vec3| {
+                    (
+                        bsdf.evaluate(wo, wi, wavelengths) * wi.dot(normal).abs(),
+                        bsdf.pdf(wo, wi),
+                    )
                 };
-                let bsdf = material.surface_bsdf_at(&hit, wavelengths);
-                let u_component =
-                    sampler.get(layout::vertex(block as usize, layout::SCATTER_COMPONENT));
-                if null_transmission(&bsdf, wo) > 0.0 {
-                    // A surface with a null lobe (a thin dielectric's
-                    // transmission, a mask's pass-through): choose it with
-                    // its probability first; it is no vertex and no depth.
-                    let u =
-                        sampler.get_2d(layout::vertex(block as usize, layout::SCATTER_DIRECTION));
-                    let mut probe = *wavelengths;
-                    if let Some(sample) = bsdf.sample(wo, u_component, u, &mut probe)
-                        && is_null_sample(&bsdf, u_component, &sample)
-                    {
-                        state.medium = medium_after(
-                            info.medium_interface.as_ref(),
-                            hit.geometric_normal,
-                            -wo,
-                            state.medium,
-                        );
-                        ray = spawn_ray(&raw_hit, -wo);
-                        block += 1;
-                        continue;
-                    }
-                }
-                if depth + 2 > settings.max_depth {
-                    break;
-                }
-                let flags = bsdf.flags();
-                let reference = offset_ray_origin(hit.point, hit.geometric_normal, wo);
-                if flags.is_non_specular() {
-                    let normal = bsdf.frame.normal();
-                    let scatter = |wi: Vec3| {
-                        (
-                            bsdf.evaluate(wo, wi, wavelengths) * wi.dot(normal).abs(),
-                            bsdf.pdf(wo, wi),
-                        )
-                    };
-                    let next_event = sample_light(
-                        scene,
-                        reference,
-                        Some(&hit),
-                        state.medium,
-                        &scatter,
-                        state.r_u,
-                        block,
-                        wavelengths,
-                        sampler,
-                        counters,
-                    );
-                    state.radiance += state.beta * next_event;
-                }
-                let u = sampler.get_2d(layout::vertex(block as usize, layout::SCATTER_DIRECTION));
-                let Some(sample) = bsdf.sample(wo, u_component, u, wavelengths) else {
-                    break;
-                };
-                if sample.pdf <= 0.0 || sample.value.is_black() {
-                    break;
-                }
-                let cosine = sample.wi.dot(bsdf.frame.normal()).abs();
-                state.beta *= sample.value * (cosine / sample.pdf);
-                let pdf_for_mis = if sample.pdf_is_proportional {
-                    bsdf.pdf(wo, sample.wi)
-                } else {
-                    sample.pdf
-                };
-                state.r_l = state.r_u / pdf_for_mis;
-                state.specular_bounce = sample.is_specular();
-                state.previous_point = reference;
-                if sample.is_transmission() {
-                    eta_scale *= sample.eta * sample.eta;
-                }
-                state.medium = medium_after(
-                    info.medium_interface.as_ref(),
-                    hit.geometric_normal,
-                    sample.wi,
-                    state.medium,
-                );
-                ray = spawn_ray(&raw_hit, sample.wi);
+                sample_light(
+                    self.scene,
+                    offset.origin(),
+                    Some(hit),
+                    vertex.medium,
+                    &scatter,
+                    walk.spectral_density_ratio,
+                    walk.block,
+                    wavelengths,
+                    &mut DynSource(sampler),
+                    counters,
+                )
             }
-        }
-
-        // Russian roulette on the MIS-rescaled throughput without the
-        // refraction scaling (pbrt-v4's rrBeta).
-        let r_u_mean = state.r_u.average();
-        if r_u_mean <= 0.0 {
-            break;
-        }
-        let roulette_throughput = (state.beta * (eta_scale / r_u_mean)).max_component();
-        match crate::integrators::path::russian_roulette(
-            roulette_throughput,
-            depth,
-            settings.russian_roulette_depth,
-            || sampler.get(layout::vertex(block as usize, layout::RUSSIAN_ROULETTE)),
-        ) {
-            Some(survival) => state.beta /= survival,
-            None => break,
-        }
-        if state.beta.is_black() {
-            break;
-        }
-        depth += 1;
-        block += 1;
-    }
-    state.radiance
-}
-
-/// Follows `ray` from the last vertex (or the camera) through media and
-/// index-matched boundaries to where the segment ends, drawing the optical
-/// depth from `FREE_FLIGHT` of block `block` the first time a medium is met.
-/// Updates `beta`, `r_u`, `r_l` with each piece's transmittance and
-/// densities, the medium, and adds emission of boundaries passed.
-#[allow(clippy::too_many_arguments)]
-fn free_flight(
-    scene: &Scene,
-    state: &mut PathState,
-    ray: &mut Ray,
-    block: u32,
-    wavelengths: &SampledWavelengths,
-    sampler: &mut dyn SampleSource,
-    counters: &mut TraceCounters,
-) -> SegmentEnd {
-    let mut optical_depth: Option<f32> = None;
-    for _ in 0..MAX_INTERFACE_CROSSINGS {
-        counters.closest_hit_rays += 1;
-        let hit = scene.geometry.intersect(ray, f32::INFINITY);
-        let distance = hit.map_or(f32::INFINITY, |hit| hit.t);
-        if let Some(medium_index) = state.medium {
-            let coefficients = scene.media[medium_index as usize].coefficients(wavelengths);
-            let sigma_t = coefficients.sigma_t();
-            let hero_sigma_t = sigma_t[0];
-            let tau = *optical_depth.get_or_insert_with(|| {
-                let u = sampler.get(layout::vertex(block as usize, layout::FREE_FLIGHT));
-                -(1.0 - u).ln()
-            });
-            if hero_sigma_t > 0.0 && tau < hero_sigma_t * distance {
-                // Scattering inside this piece: p₀(t) = σt₀ T₀(t).
-                let t = tau / hero_sigma_t;
-                let piece = transmittance(sigma_t, t);
-                let hero_pdf = piece[0] * hero_sigma_t;
-                if hero_pdf <= 0.0 {
-                    return SegmentEnd::Dead;
-                }
-                state.beta *= piece * coefficients.sigma_s / hero_pdf;
-                let ratio = piece * sigma_t / hero_pdf;
-                state.r_u *= ratio;
-                state.r_l *= ratio;
-                if state.beta.is_black() {
-                    return SegmentEnd::Dead;
-                }
-                return SegmentEnd::Medium { point: ray.at(t) };
-            }
-            // Passing through the whole piece: probability T₀(distance).
-            optical_depth = Some(tau - hero_sigma_t * distance);
-            let piece = transmittance(sigma_t, distance);
-            if piece[0] <= 0.0 {
-                return SegmentEnd::Dead;
-            }
-            let ratio = piece / piece[0];
-            state.beta *= ratio;
-            state.r_u *= ratio;
-            state.r_l *= ratio;
-        }
-        let Some(raw_hit) = hit else {
-            return SegmentEnd::Escaped;
         };
-        let info = &scene.shapes[raw_hit.shape_index as usize];
-        if !info.is_interface {
-            return SegmentEnd::Surface { raw_hit };
-        }
-        // An index-matched boundary: emission it may carry, then straight on.
-        if let Some(light_index) = info.light {
-            let emitted = scene.lights[light_index as usize].emitted_radiance(
-                raw_hit.geometric_normal,
-                raw_hit.uv,
-                -ray.direction,
-                wavelengths,
-            );
-            let light_pdf = light_density(
-                scene,
-                light_index,
-                state,
-                raw_hit.point,
-                raw_hit.geometric_normal,
-            );
-            state.add_emission(emitted, light_pdf);
-        }
-        let hit = oriented_hit(scene, &raw_hit);
-        state.medium = medium_after(
-            info.medium_interface.as_ref(),
-            hit.geometric_normal,
-            ray.direction,
-            state.medium,
-        );
-        *ray = spawn_ray(&raw_hit, ray.direction);
-    }
-    SegmentEnd::Dead
-}
-
-/// The density (selection included) with which next-event estimation from
-/// the path's previous vertex would have sampled `point` on light
-/// `light_index`.
-fn light_density(
-    scene: &Scene,
-    light_index: u32,
-    state: &PathState,
-    point: Vec3,
-    normal: Vec3,
-) -> f32 {
-    if state.specular_bounce {
-        return 0.0;
-    }
-    let light = &scene.lights[light_index as usize];
-    scene.light_sampler.probability(light_index as usize)
-        * light.pdf_incident(&scene.geometry, state.previous_point, point, normal)
-}
-
-/// Radiance of the lights at infinity reached by an escaping ray.
-fn add_environment(
-    scene: &Scene,
-    state: &mut PathState,
-    direction: Vec3,
-    wavelengths: &SampledWavelengths,
-) {
-    for &index in &scene.environment_lights {
-        let emitted = scene.lights[index as usize].environment_radiance(direction, wavelengths);
-        let light_pdf = light_density(
-            scene,
-            index,
-            state,
-            state.previous_point + direction,
-            Vec3::ZERO,
-        );
-        state.add_emission(emitted, light_pdf);
+        self.radiance += walk.beta * next_event;
     }
 }
 
@@ -606,44 +393,6 @@ fn sample_light(
         return SampledSpectrum::zero();
     }
     value * transmittance * sample.radiance / denominator
-}
-
-/// The weight with which `bsdf` lets light arriving from `wo` pass straight
-/// through as a *null* event, not a scattering one: Mitsuba 3 flags a thin
-/// dielectric's transmission (weight 1 − R', see [`crate::material::ThinDielectricBsdf`]) and
-/// a mask's pass-through (1 − α) `Null`, so that its `volpath` lets shadow
-/// rays through them with this weight and does not count crossing them as
-/// a bounce. Their expectation is the same as that of a specular vertex;
-/// counting them in the depth would end paths earlier than Mitsuba does.
-fn null_transmission(bsdf: &SurfaceBsdf, wo: Vec3) -> f32 {
-    let opacity = bsdf.adapter.opacity.clamp(0.0, 1.0);
-    let thin = match (bsdf.bsdf.model(), bsdf.bsdf.back_model()) {
-        (BsdfModel::ThinDielectric(thin), None | Some(BsdfModel::ThinDielectric(_))) => {
-            let cosine = wo.dot(bsdf.frame.normal());
-            if cosine == 0.0 {
-                0.0
-            } else {
-                let back = bsdf.bsdf.back_model();
-                let sheet = match back {
-                    Some(BsdfModel::ThinDielectric(back)) if cosine < 0.0 => back,
-                    _ => thin,
-                };
-                1.0 - sheet.reflectance(cosine)
-            }
-        }
-        _ => 0.0,
-    };
-    (1.0 - opacity) + opacity * thin
-}
-
-/// Whether `sample` (drawn with component sample `u_component`) took the
-/// null lobe of [`null_transmission`]: a mask's pass-through, or a thin
-/// dielectric's straight transmission.
-fn is_null_sample(bsdf: &SurfaceBsdf, u_component: f32, sample: &BsdfSample) -> bool {
-    if bsdf.adapter.nested_component_sample(u_component).is_none() {
-        return true;
-    }
-    matches!(bsdf.bsdf.model(), BsdfModel::ThinDielectric(_)) && sample.is_transmission()
 }
 
 /// The shadow ray of a light sample and its extent: from a surface hit
