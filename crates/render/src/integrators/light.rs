@@ -24,8 +24,14 @@
 //!   makes the same splat scale exact.
 //! - Depth counts segments as the path tracer's (Mitsuba's `max_depth`):
 //!   vertex `i` of the light path makes a path of `i + 1` segments.
-//! - Participating media are not traced yet: scenes with media are
-//!   refused with an error.
+//! - Participating media (volumetric light tracing): the walk samples
+//!   free flights and medium vertices as `volpath`'s camera paths do, medium
+//!   vertices connect to the camera with their phase function, and every
+//!   connection and the environment camera ray carry their transmittance
+//!   through media and null surfaces. A particle starts in the medium on
+//!   the emitting side of its area light's medium interface, or else in
+//!   the camera's medium (the medium that fills the scene); environment
+//!   and directional lights in a scene-filling medium are refused.
 //!
 //! Numbers: the camera dimensions of [`crate::sampler::layout`] (time,
 //! wavelength, the lens point of the light vertex's connection, the film
@@ -36,11 +42,18 @@
 
 use super::driver::{PixelSampleIndex, SplatEstimator, render_splat_paths};
 use super::path::PathSettings;
-use super::path_space::{SubpathLayout, Vertex, WalkSettings, WalkStart, random_walk};
+use super::path_space::{
+    MAX_INTERFACE_CROSSINGS, SubpathLayout, Vertex, WalkSettings, WalkStart, random_walk,
+};
+use super::volpath::shadow_transmittance;
 use super::{Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
 use crate::film::SplatBuffer;
-use crate::geometry::{OffsetPoint, Ray, occlusion_segment_to_point, offset_ray_origin};
+use crate::geometry::{
+    OffsetPoint, Ray, occlusion_segment_to_point, offset_ray_origin, spawn_segment_to_point,
+};
+use crate::light::Light;
 use crate::material::TransportMode;
+use crate::medium::medium_after;
 use crate::sampler::{PixelSampler, SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
@@ -62,15 +75,24 @@ impl LightIntegrator {
 
 impl Integrator for LightIntegrator {
     fn render(&self, scene: &Scene, run: &RunControl<'_>) -> Result<IntegratorRender, RenderError> {
-        if scene.has_media() {
+        if scene.camera_medium.is_some() && scene.lights.iter().any(|light| light.is_infinite()) {
             return Err(RenderError::Unsupported(
-                "the light tracer does not trace participating media yet; use --integrator volpath"
+                "the light tracer cannot start particles of environment or directional lights \
+                 in a medium that fills the scene; use --integrator volpath"
                     .into(),
             ));
         }
+        let light_media = if scene.has_media() {
+            (0..scene.lights.len())
+                .map(|index| medium_around_light(scene, index))
+                .collect()
+        } else {
+            vec![Some(None); scene.lights.len()]
+        };
         let estimator = LightTracer {
             scene,
             settings: &self.settings,
+            light_media,
         };
         render_splat_paths(&estimator, scene, run).map(IntegratorRender::from_driver)
     }
@@ -80,6 +102,9 @@ impl Integrator for LightIntegrator {
 struct LightTracer<'a> {
     scene: &'a Scene,
     settings: &'a PathSettings,
+    /// Per light, the medium around it where that is one medium for all
+    /// its points ([`medium_around_light`]; `None` without media).
+    light_media: Vec<Option<Option<u32>>>,
 }
 
 impl SplatEstimator for LightTracer<'_> {
@@ -141,6 +166,9 @@ impl SplatEstimator for LightTracer<'_> {
         if emission.radiance.is_black() || choice_probability <= 0.0 {
             return;
         }
+        // The medium around the particle's origin.
+        let around = self.light_media[light_index]
+            .unwrap_or_else(|| medium_at(scene, emission.origin, emission.normal));
         // The emitter's own vertex seen by the camera (area lights only).
         let on_surface =
             !emission.is_delta_position && !light.is_infinite() && emission.normal != Vec3::ZERO;
@@ -161,6 +189,7 @@ impl SplatEstimator for LightTracer<'_> {
                     splat_if_visible(
                         scene,
                         origin,
+                        emission_medium(scene, light, around, emission.normal, camera_sample.wi),
                         time,
                         camera_sample.lens_point,
                         camera_sample.raster,
@@ -199,14 +228,14 @@ impl SplatEstimator for LightTracer<'_> {
             } else {
                 emission.pdf_direction
             },
-            medium: None,
+            medium: emission_medium(scene, light, around, emission.normal, emission.direction),
         };
         let walk = WalkSettings {
             mode: TransportMode::Importance,
             max_vertices,
             russian_roulette_depth: self.settings.russian_roulette_depth,
             layout: SubpathLayout::LIGHT,
-            media: false,
+            media: scene.has_media(),
         };
         random_walk(
             scene,
@@ -240,10 +269,10 @@ impl SplatEstimator for LightTracer<'_> {
                 continue;
             }
             let value = vertex.beta * factor * (camera_sample.value / camera_sample.pdf);
-            let origin = offset_ray_origin(vertex.point, vertex.geometric_normal, camera_sample.wi);
             splat_if_visible(
                 scene,
-                origin,
+                vertex.origin_towards(camera_sample.wi),
+                vertex.medium_towards(scene, camera_sample.wi),
                 vertex.time,
                 camera_sample.lens_point,
                 camera_sample.raster,
@@ -271,12 +300,14 @@ fn lens_numbers<S: SampleSource + ?Sized>(
     }
 }
 
-/// Splats `value` at `raster` if the segment from `origin` to the lens
-/// point is unoccluded.
+/// Splats `value` at `raster` if the segment from `origin` (in `medium`)
+/// to the lens point is unoccluded, times its transmittance through the
+/// media and null surfaces in scenes with media.
 #[allow(clippy::too_many_arguments)]
 fn splat_if_visible(
     scene: &Scene,
     origin: Vec3,
+    medium: Option<u32>,
     time: f32,
     lens_point: Vec3,
     raster: Vec2,
@@ -288,15 +319,112 @@ fn splat_if_visible(
     if value.is_black() {
         return;
     }
-    counters.shadow_rays += 1;
-    // The lens has no surface to offset from: the segment ends at its point.
-    let visible = match occlusion_segment_to_point(origin, time, lens_point, Vec3::ZERO) {
-        Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
-        None => false,
+    // The lens has no surface to offset from: the segment ends at its
+    // point. Transmittance needs distances, so a unit direction; an
+    // occlusion query does with the unnormalised segment.
+    let value = if scene.has_media() {
+        let Some((ray, t_max)) = spawn_segment_to_point(origin, time, lens_point, Vec3::ZERO)
+        else {
+            return;
+        };
+        value * shadow_transmittance(scene, ray, t_max, medium, wavelengths, counters)
+    } else {
+        let Some((ray, t_max)) = occlusion_segment_to_point(origin, time, lens_point, Vec3::ZERO)
+        else {
+            return;
+        };
+        counters.shadow_rays += 1;
+        if scene.geometry.occluded(&ray, t_max) {
+            return;
+        }
+        value
     };
-    if visible {
+    if !value.is_black() {
         let _ = splats.add(raster.to_array(), to_linear_srgb(&value, wavelengths));
     }
+}
+
+/// The medium a particle leaving light `light` (emitting normal `normal`)
+/// in `direction` enters: for an area light on a shape with a medium
+/// interface, the medium on that side; otherwise `around`, the medium the
+/// light sits in ([`medium_around_light`]).
+fn emission_medium(
+    scene: &Scene,
+    light: &Light,
+    around: Option<u32>,
+    normal: Vec3,
+    direction: Vec3,
+) -> Option<u32> {
+    match light {
+        Light::Area { shape_index, .. } => medium_after(
+            scene.shapes[*shape_index as usize]
+                .medium_interface
+                .as_ref(),
+            normal,
+            direction,
+            around,
+        ),
+        _ => around,
+    }
+}
+
+/// The medium a light sits in, where that is the same for all its points:
+/// the medium at its position for points, spots and projectors, the
+/// camera's for lights at infinity; `None` for area lights, whose points
+/// are looked up one by one ([`medium_at`]).
+fn medium_around_light(scene: &Scene, light_index: usize) -> Option<Option<u32>> {
+    let light = &scene.lights[light_index];
+    if light.is_infinite() {
+        return Some(scene.camera_medium);
+    }
+    if matches!(light, Light::Area { .. }) {
+        return None;
+    }
+    let wavelengths = SampledWavelengths::sample_visible(0.5);
+    let emission = light.sample_emission(&scene.geometry, 0.5, [0.5; 2], [0.5; 2], &wavelengths)?;
+    Some(medium_at(scene, emission.origin, emission.normal))
+}
+
+/// The medium at `point` (on a surface of normal `normal`, or zero), found
+/// as the camera paths of `volpath` find it: from the camera (in its
+/// medium) along a segment to the point, the medium changed at every
+/// surface with a medium interface crossed on the way.
+fn medium_at(scene: &Scene, point: Vec3, normal: Vec3) -> Option<u32> {
+    let camera_ray = scene.camera.generate_ray(
+        Vec2::from(scene.camera.resolution().map(|size| size as f32 * 0.5)),
+        [0.5; 2],
+        0.5,
+    );
+    let Some((mut ray, mut t_max)) =
+        spawn_segment_to_point(camera_ray.origin, camera_ray.time, point, normal)
+    else {
+        return scene.camera_medium;
+    };
+    let mut medium = scene.camera_medium;
+    for _ in 0..MAX_INTERFACE_CROSSINGS {
+        let Some(hit) = scene.geometry.intersect(&ray, t_max) else {
+            break;
+        };
+        let info = &scene.shapes[hit.shape_index as usize];
+        let oriented_normal = if info.flip_normals {
+            -hit.geometric_normal
+        } else {
+            hit.geometric_normal
+        };
+        medium = medium_after(
+            info.medium_interface.as_ref(),
+            oriented_normal,
+            ray.direction,
+            medium,
+        );
+        let next = crate::geometry::spawn_ray(&hit, ray.direction);
+        t_max -= (next.origin - ray.origin).dot(ray.direction);
+        if t_max <= 0.0 {
+            break;
+        }
+        ray = next;
+    }
+    medium
 }
 
 /// The environment seen directly: one camera ray per pixel sample, at a
@@ -329,23 +457,41 @@ fn splat_seen_environment<S: SampleSource + ?Sized>(
     };
     let camera_ray = scene.camera.generate_ray(raster, u_lens, u_time);
     let mut ray = Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time);
-    loop {
-        counters.closest_hit_rays += 1;
-        match scene.geometry.intersect(&ray, f32::INFINITY) {
-            // Index-matched boundaries are crossed, as the path tracer does.
-            Some(hit) if scene.shapes[hit.shape_index as usize].is_interface => {
-                ray = crate::geometry::spawn_ray(&hit, ray.direction);
-            }
-            Some(_) => return,
-            None => break,
+    // Through media (and null surfaces), the environment is attenuated on
+    // its way to the lens.
+    let transmittance = if scene.has_media() {
+        let transmittance = shadow_transmittance(
+            scene,
+            ray,
+            f32::INFINITY,
+            scene.camera_medium,
+            wavelengths,
+            counters,
+        );
+        if transmittance.is_black() {
+            return;
         }
-    }
+        transmittance
+    } else {
+        loop {
+            counters.closest_hit_rays += 1;
+            match scene.geometry.intersect(&ray, f32::INFINITY) {
+                // Index-matched boundaries are crossed, as the path tracer does.
+                Some(hit) if scene.shapes[hit.shape_index as usize].is_interface => {
+                    ray = crate::geometry::spawn_ray(&hit, ray.direction);
+                }
+                Some(_) => return,
+                None => break,
+            }
+        }
+        SampledSpectrum::splat(1.0)
+    };
     let mut radiance = SampledSpectrum::zero();
     for &index in &scene.environment_lights {
         radiance += scene.lights[index as usize].environment_radiance(ray.direction, wavelengths);
     }
     let _ = splats.add(
         raster.to_array(),
-        to_linear_srgb(&(radiance * area_ratio), wavelengths),
+        to_linear_srgb(&(radiance * transmittance * area_ratio), wavelengths),
     );
 }

@@ -314,6 +314,24 @@ impl Vertex {
             .origin_towards(self.point, direction)
     }
 
+    /// The medium a ray leaving the vertex in `direction` starts in: at a
+    /// surface with a medium interface, the side `direction` leaves to;
+    /// otherwise the medium the subpath arrived through.
+    #[inline]
+    pub fn medium_towards(&self, scene: &Scene, direction: Vec3) -> Option<u32> {
+        match &self.scatterer {
+            Scatterer::Surface { hit, .. } => medium_after(
+                scene.shapes[hit.shape_index as usize]
+                    .medium_interface
+                    .as_ref(),
+                hit.geometric_normal,
+                direction,
+                self.medium,
+            ),
+            Scatterer::Medium { .. } => self.medium,
+        }
+    }
+
     /// [`ScattererRef::connection_factor`] from the vertex's `wo`.
     pub fn connection_factor(
         &self,
