@@ -236,6 +236,7 @@ impl SplatEstimator for LightTracer<'_> {
             russian_roulette_depth: self.settings.russian_roulette_depth,
             layout: SubpathLayout::LIGHT,
             media: scene.has_media(),
+            null_crossings: scene.has_media(),
         };
         random_walk(
             scene,

@@ -21,6 +21,7 @@ use crate::sampler::{PixelSampler, SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum, to_linear_srgb};
 use glam::Vec3;
+use std::ops::ControlFlow;
 
 /// Settings of the path tracer.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -196,6 +197,7 @@ pub fn radiance<S: SampleSource + ?Sized>(
             russian_roulette_depth: settings.russian_roulette_depth,
             layout: SubpathLayout::CAMERA,
             media: false,
+            null_crossings: false,
         },
         wavelengths,
         sampler,
@@ -278,10 +280,10 @@ impl WalkObserver for PathRadiance<'_> {
         wavelengths: &SampledWavelengths,
         sampler: &mut S,
         counters: &mut TraceCounters,
-    ) {
+    ) -> ControlFlow<()> {
         // The path tracer's walk has surface vertices only.
         let ScattererRef::Surface { hit, bsdf, offset } = vertex.scatterer else {
-            return;
+            return ControlFlow::Continue(());
         };
         if bsdf.flags().is_non_specular() {
             self.radiance += walk.beta
@@ -299,6 +301,7 @@ impl WalkObserver for PathRadiance<'_> {
                     &mut self.area_radiance,
                 );
         }
+        ControlFlow::Continue(())
     }
 }
 

@@ -61,12 +61,13 @@
 
 use super::TraceCounters;
 use crate::geometry::{OffsetPoint, Ray, SurfaceHit, spawn_ray};
-use crate::material::{BsdfModel, BsdfSample, SurfaceBsdf, TransportMode};
+use crate::material::{BsdfFlags, BsdfModel, BsdfSample, SurfaceBsdf, TransportMode};
 use crate::medium::{PhaseFunction, medium_after, transmittance};
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec3;
+use std::ops::ControlFlow;
 
 /// A segment (and a shadow ray) stops after this many index-matched
 /// boundaries: a guard against rays stuck in coincident surfaces.
@@ -385,10 +386,13 @@ pub struct WalkSettings {
     pub russian_roulette_depth: u32,
     /// Where the walk's numbers are.
     pub layout: SubpathLayout,
-    /// Trace participating media and treat thin sheets' and masks' straight
-    /// transmission as null crossings (volumetric integrators); without,
-    /// media are ignored (the path tracer).
+    /// Trace participating media (volumetric integrators); without, media
+    /// are ignored (the path tracer).
     pub media: bool,
+    /// Treat thin sheets' and masks' straight transmission as null
+    /// crossings, no vertices (Mitsuba's `volpath`); without, they are
+    /// specular vertices (Mitsuba's `path`).
+    pub null_crossings: bool,
 }
 
 impl WalkSettings {
@@ -461,6 +465,8 @@ pub struct Scattering {
     pub pdf_reverse: f32,
     /// The direction was sampled by a delta lobe.
     pub delta: bool,
+    /// The sampled lobe's flags (none in a medium).
+    pub flags: BsdfFlags,
 }
 
 /// What an integrator does along a walk. Every method but [`vertex`](Self::vertex)
@@ -489,7 +495,21 @@ pub trait WalkObserver {
     #[inline]
     fn escaped(&mut self, _walk: &WalkState, _direction: Vec3, _wavelengths: &SampledWavelengths) {}
 
-    /// At a scattering vertex, before the walk samples its next direction.
+    /// The segment reached a surface that is no index-matched boundary
+    /// (`hit` as stored), before its emission and its vertex; `Break` ends
+    /// the walk.
+    #[inline]
+    fn surface(
+        &mut self,
+        _walk: &WalkState,
+        _hit: &SurfaceHit,
+        _wavelengths: &SampledWavelengths,
+    ) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
+
+    /// At a scattering vertex, before the walk samples its next direction;
+    /// `Break` ends the walk there.
     fn vertex<S: SampleSource + ?Sized>(
         &mut self,
         walk: &WalkState,
@@ -497,11 +517,14 @@ pub trait WalkObserver {
         wavelengths: &SampledWavelengths,
         sampler: &mut S,
         counters: &mut TraceCounters,
-    );
+    ) -> ControlFlow<()>;
 
-    /// The vertex scattered (the walk's β already includes it).
+    /// The vertex scattered (the walk's β already includes it); `Break`
+    /// ends the walk.
     #[inline]
-    fn scattered(&mut self, _vertex: &VertexAt<'_>, _scattering: &Scattering) {}
+    fn scattered(&mut self, _vertex: &VertexAt<'_>, _scattering: &Scattering) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
 }
 
 /// What a segment ended at.
@@ -568,9 +591,7 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
         match end {
             SegmentEnd::Dead => break,
             SegmentEnd::Escaped => {
-                if O::FINDS_EMISSION {
-                    observer.escaped(&state, ray.direction, wavelengths);
-                }
+                observer.escaped(&state, ray.direction, wavelengths);
                 break;
             }
             SegmentEnd::Medium { point } => {
@@ -595,8 +616,11 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                         vertex.pdf_forward = pdf_direction / distance_squared;
                     }
                 }
-                observer.vertex(&state, &vertex, wavelengths, sampler, counters);
-                if at_last_vertex && !O::FINDS_EMISSION {
+                if observer
+                    .vertex(&state, &vertex, wavelengths, sampler, counters)
+                    .is_break()
+                    || (at_last_vertex && !O::FINDS_EMISSION)
+                {
                     break;
                 }
                 let sample = phase.sample(
@@ -620,8 +644,11 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                         0.0
                     },
                     delta: false,
+                    flags: BsdfFlags::NONE,
                 };
-                observer.scattered(&vertex, &scattering);
+                if observer.scattered(&vertex, &scattering).is_break() {
+                    break;
+                }
                 state.previous = PreviousScattering {
                     point,
                     pdf: sample.pdf,
@@ -636,6 +663,9 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                     break;
                 };
                 let info = &scene.shapes[hit.shape_index as usize];
+                if observer.surface(&state, hit, wavelengths).is_break() {
+                    break;
+                }
                 if O::FINDS_EMISSION
                     && let Some(light_index) = info.light
                 {
@@ -643,7 +673,8 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                 }
                 // Without null crossings, a path at its last vertex is over
                 // before its BSDF is built.
-                if !settings.media && state.vertex_index as usize >= settings.max_vertices {
+                if !settings.null_crossings && state.vertex_index as usize >= settings.max_vertices
+                {
                     break;
                 }
                 let Some(material) = &info.material else {
@@ -660,7 +691,7 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                         .layout
                         .dimension(state.block as usize, layout::SCATTER_COMPONENT),
                 );
-                if settings.media && null_transmission(&bsdf, wo) > 0.0 {
+                if settings.null_crossings && null_transmission(&bsdf, wo) > 0.0 {
                     // A surface with a null lobe (a thin sheet's straight
                     // transmission, a mask's pass-through): choose it with
                     // its probability first; it is no vertex and no depth.
@@ -708,8 +739,11 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                         hit.geometric_normal,
                     );
                 }
-                observer.vertex(&state, &vertex, wavelengths, sampler, counters);
-                if at_last_vertex && !O::FINDS_EMISSION {
+                if observer
+                    .vertex(&state, &vertex, wavelengths, sampler, counters)
+                    .is_break()
+                    || (at_last_vertex && !O::FINDS_EMISSION)
+                {
                     break;
                 }
                 let u = sampler.get_2d(
@@ -740,25 +774,26 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                     sample.pdf
                 };
                 let delta = sample.is_specular();
-                if O::RECORDS_DENSITIES {
-                    let scattering = Scattering {
+                let scattering = if O::RECORDS_DENSITIES {
+                    Scattering {
                         wi: sample.wi,
                         pdf_forward: if delta { 0.0 } else { pdf },
                         pdf_reverse: if delta { 0.0 } else { bsdf.pdf(sample.wi, wo) },
                         delta,
-                    };
-                    observer.scattered(&vertex, &scattering);
-                    pdf_direction = scattering.pdf_forward;
+                        flags: sample.flags,
+                    }
                 } else {
-                    observer.scattered(
-                        &vertex,
-                        &Scattering {
-                            wi: sample.wi,
-                            pdf_forward: pdf,
-                            pdf_reverse: 0.0,
-                            delta,
-                        },
-                    );
+                    Scattering {
+                        wi: sample.wi,
+                        pdf_forward: pdf,
+                        pdf_reverse: 0.0,
+                        delta,
+                        flags: sample.flags,
+                    }
+                };
+                pdf_direction = scattering.pdf_forward;
+                if observer.scattered(&vertex, &scattering).is_break() {
+                    break;
                 }
                 state.previous = PreviousScattering {
                     point: offset.origin(),
@@ -924,12 +959,13 @@ impl WalkObserver for VertexRecorder<'_> {
         _wavelengths: &SampledWavelengths,
         _sampler: &mut S,
         _counters: &mut TraceCounters,
-    ) {
+    ) -> ControlFlow<()> {
         self.vertices.push(Vertex::record(vertex, walk.beta));
+        ControlFlow::Continue(())
     }
 
     #[inline]
-    fn scattered(&mut self, vertex: &VertexAt<'_>, scattering: &Scattering) {
+    fn scattered(&mut self, vertex: &VertexAt<'_>, scattering: &Scattering) -> ControlFlow<()> {
         let count = self.vertices.len();
         if let Some(last) = self.vertices.last_mut() {
             last.delta = scattering.delta;
@@ -943,6 +979,7 @@ impl WalkObserver for VertexRecorder<'_> {
                 previous.geometric_normal,
             );
         }
+        ControlFlow::Continue(())
     }
 }
 

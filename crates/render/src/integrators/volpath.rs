@@ -88,6 +88,7 @@ use crate::sampler::{DynSource, PixelSampler, SampleSource};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
 use glam::Vec3;
+use std::ops::ControlFlow;
 
 /// The volumetric path tracer as an [`Integrator`], run by the tile driver.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -184,6 +185,7 @@ pub fn radiance<S: SampleSource + ?Sized>(
             russian_roulette_depth: settings.russian_roulette_depth,
             layout: SubpathLayout::CAMERA,
             media: true,
+            null_crossings: true,
         },
         wavelengths,
         sampler,
@@ -278,7 +280,7 @@ impl WalkObserver for VolPathRadiance<'_> {
         wavelengths: &SampledWavelengths,
         sampler: &mut S,
         counters: &mut TraceCounters,
-    ) {
+    ) -> ControlFlow<()> {
         let wo = vertex.wo;
         let next_event = match vertex.scatterer {
             ScattererRef::Medium { phase } => {
@@ -301,7 +303,7 @@ impl WalkObserver for VolPathRadiance<'_> {
             }
             ScattererRef::Surface { hit, bsdf, offset } => {
                 if !bsdf.flags().is_non_specular() {
-                    return;
+                    return ControlFlow::Continue(());
                 }
                 let normal = bsdf.frame.normal();
                 let scatter = |wi: Vec3| {
@@ -325,6 +327,7 @@ impl WalkObserver for VolPathRadiance<'_> {
             }
         };
         self.radiance += walk.beta * next_event;
+        ControlFlow::Continue(())
     }
 }
 

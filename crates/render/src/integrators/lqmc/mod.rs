@@ -10,11 +10,12 @@
 //! (see [`estimator`]), and every seed contribution reaches the image.
 //!
 //! Modules: [`settings`] (options and defaults), [`path_record`] and
-//! [`seed_path`] (the seed), [`classification`] (classes, breakup CDF),
+//! [`seed_path`] (the seed, an observer of the path-space walk, through
+//! media too), [`classification`] (classes, breakup CDF),
 //! [`explored_dimensions`] (dimensions and tiles), [`lattice_step`] (tile
 //! transform, closest point, shift), [`prefix_rebuild`] (members),
 //! [`path_walk`] (contribution and suffix density of a path),
-//! [`medium_segment`], [`volume_seed`] and [`volume_walk`] (the same
+//! [`medium_segment`] and [`volume_walk`] (the same
 //! through homogeneous media, as `volpath` traces them), [`segment_cache`]
 //! (members reuse the seed's traced suffix segments),
 //! [`estimator`] (Eq. 9 extended), [`statistics`] (`--stats`),
@@ -37,7 +38,6 @@ pub mod seed_path;
 pub mod segment_cache;
 pub mod settings;
 pub mod statistics;
-pub mod volume_seed;
 pub mod volume_walk;
 
 pub use classification::PathClass;

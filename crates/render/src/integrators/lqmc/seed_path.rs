@@ -1,19 +1,43 @@
 //! The seed paths: path tracing with next-event estimation driven by the
-//! pixel sampler (Halton in the paper), recording each vertex and each
-//! splat event (every emitter reached, every next-event connection) for
-//! exploration. The decisions follow [`crate::integrators::path`] exactly;
+//! pixel sampler (Halton in the paper), built by the path-space walk
+//! ([`crate::integrators::path_space::walk`]) with the decisions of
+//! [`crate::integrators::path`], and through homogeneous media those of
+//! [`crate::integrators::volpath`] (free flights from `FREE_FLIGHT` of each
+//! block at the hero wavelength, medium vertices scattering with the phase
+//! function, next-event estimation through media and index-matched
+//! boundaries, Russian roulette on the MIS-rescaled throughput). The
+//! observer [`SeedRecorder`] records each vertex and each splat event
+//! (every emitter reached, every next-event connection) for exploration;
 //! the values of the events are computed afterwards by
-//! [`super::path_walk::walk`].
+//! [`super::path_walk::walk`] and [`super::volume_walk`].
+//!
+//! Emission of index-matched boundaries that are themselves emitters (the
+//! path tracers add it as the ray passes) is recorded as an emission event
+//! of its own, whose path ends at the boundary point.
+//!
+//! LQMC's value walks treat every surface as a vertex, so the seed's walk
+//! has no null crossings: a thin sheet's straight transmission is a
+//! specular vertex, as in Mitsuba's `path` (`volpath` makes it a null
+//! crossing that does not count towards the depth).
 
 use super::classification::lobe_roughness;
+use super::medium_segment::medium_roughness;
 use super::path_record::{CameraVertex, LightConnection, SplatEvent, SurfaceVertex, Terminal};
-use crate::geometry::{Ray, offset_ray_origin, spawn_ray, spawn_ray_to_point};
+use crate::geometry::{Ray, SurfaceHit, spawn_ray, spawn_ray_to_point};
 use crate::integrators::TraceCounters;
 use crate::integrators::path::{PathSettings, oriented_hit};
-use crate::sampler::{SampleSource, layout};
+use crate::integrators::path_space::{
+    ScattererRef, Scattering, SubpathLayout, VertexAt, WalkObserver, WalkSettings, WalkStart,
+    WalkState, walk,
+};
+use crate::integrators::volpath::{shadow_ray, shadow_transmittance};
+use crate::material::TransportMode;
+use crate::medium::medium_after;
+use crate::sampler::{DynSource, SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
-use glam::Vec2;
+use glam::{Vec2, Vec3};
+use std::ops::ControlFlow;
 
 /// A traced seed path and its splat events.
 #[derive(Debug, Clone, Default)]
@@ -24,6 +48,8 @@ pub struct SeedPath {
     pub vertices: Vec<SurfaceVertex>,
     /// The splat events, in the order the path tracer adds them.
     pub events: Vec<SplatEvent>,
+    /// Emitting index-matched boundaries passed: (vertices before, hit, light).
+    passed_emitters: Vec<(usize, SurfaceHit, u32)>,
 }
 
 /// Traces the camera ray through `raster` with the numbers of `sampler`
@@ -36,13 +62,9 @@ pub fn trace_seed_path(
     counters: &mut TraceCounters,
     path: &mut SeedPath,
 ) {
-    if !scene.media.is_empty() {
-        return super::volume_seed::trace_volumetric_seed_path(
-            scene, settings, raster, sampler, counters, path,
-        );
-    }
     path.vertices.clear();
     path.events.clear();
+    path.passed_emitters.clear();
     let u_lens = sampler.get_2d(layout::LENS);
     let u_time = sampler.get(layout::TIME);
     let u_wavelength = sampler.get(layout::WAVELENGTH);
@@ -55,98 +77,184 @@ pub fn trace_seed_path(
         origin: camera_ray.origin,
     });
     let mut wavelengths = SampledWavelengths::sample_visible(u_wavelength);
-    let mut ray = Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time);
-    let mut throughput = SampledSpectrum::splat(1.0);
-    let mut eta_scale = 1.0f32;
-    let mut depth = 0u32;
-    loop {
-        counters.closest_hit_rays += 1;
-        let Some(raw_hit) = scene.geometry.intersect(&ray, f32::INFINITY) else {
-            if !scene.environment_lights.is_empty() {
-                path.events.push(SplatEvent::of_first_vertices(
-                    path.vertices.len(),
-                    Terminal::Environment {
-                        direction: ray.direction,
-                    },
-                ));
-            }
-            break;
-        };
-        let hit = oriented_hit(scene, &raw_hit);
-        let info = &scene.shapes[hit.shape_index as usize];
-        let wo = -ray.direction;
-        path.vertices
-            .push(SurfaceVertex::surface(raw_hit, hit, 1.0));
-        if let Some(light_index) = info.light {
-            path.events.push(SplatEvent::of_first_vertices(
-                path.vertices.len(),
+    let media = scene.has_media();
+    walk(
+        scene,
+        WalkStart {
+            ray: Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time),
+            beta: SampledSpectrum::splat(1.0),
+            pdf_direction: 0.0,
+            medium: scene.camera_medium,
+        },
+        &WalkSettings {
+            mode: TransportMode::Radiance,
+            max_vertices: WalkSettings::camera_vertices(settings.max_depth),
+            russian_roulette_depth: settings.russian_roulette_depth,
+            layout: SubpathLayout::CAMERA,
+            media,
+            null_crossings: false,
+        },
+        &mut wavelengths,
+        &mut DynSource(sampler),
+        counters,
+        &mut SeedRecorder { scene, path },
+    );
+    record_passed_emitters(scene, path);
+}
+
+/// The seed's observer of the walk: every surface reached is a vertex,
+/// every emitter reached and every next-event connection that arrives is a
+/// splat event.
+struct SeedRecorder<'a> {
+    scene: &'a Scene,
+    path: &'a mut SeedPath,
+}
+
+impl WalkObserver for SeedRecorder<'_> {
+    const FINDS_EMISSION: bool = true;
+
+    fn surface(
+        &mut self,
+        _walk: &WalkState,
+        raw_hit: &SurfaceHit,
+        _wavelengths: &SampledWavelengths,
+    ) -> ControlFlow<()> {
+        self.path.vertices.push(SurfaceVertex::surface(
+            *raw_hit,
+            oriented_hit(self.scene, raw_hit),
+            1.0,
+        ));
+        ControlFlow::Continue(())
+    }
+
+    fn emitter(
+        &mut self,
+        _walk: &WalkState,
+        light_index: u32,
+        hit: &SurfaceHit,
+        _wo: Vec3,
+        _wavelengths: &SampledWavelengths,
+    ) {
+        if self.scene.shapes[hit.shape_index as usize].is_interface {
+            let prefix = self.path.vertices.len();
+            self.path.passed_emitters.push((prefix, *hit, light_index));
+        } else {
+            self.path.events.push(SplatEvent::of_first_vertices(
+                self.path.vertices.len(),
                 Terminal::Emission { light_index },
             ));
         }
-        if depth + 2 > settings.max_depth {
-            break;
+    }
+
+    fn escaped(&mut self, _walk: &WalkState, direction: Vec3, _wavelengths: &SampledWavelengths) {
+        if !self.scene.environment_lights.is_empty() {
+            self.path.events.push(SplatEvent::of_first_vertices(
+                self.path.vertices.len(),
+                Terminal::Environment { direction },
+            ));
         }
-        let Some(material) = &info.material else {
-            break;
+    }
+
+    fn vertex<S: SampleSource + ?Sized>(
+        &mut self,
+        walk: &WalkState,
+        vertex: &VertexAt<'_>,
+        wavelengths: &SampledWavelengths,
+        sampler: &mut S,
+        counters: &mut TraceCounters,
+    ) -> ControlFlow<()> {
+        let scene = self.scene;
+        let connection = match vertex.scatterer {
+            ScattererRef::Medium { .. } => {
+                let medium = vertex.medium.expect("medium vertices lie in a medium");
+                self.path.vertices.push(SurfaceVertex::in_medium(
+                    vertex.point,
+                    vertex.time,
+                    medium,
+                    medium_roughness(scene, medium),
+                ));
+                sample_light(
+                    scene,
+                    None,
+                    vertex.point,
+                    vertex.medium,
+                    walk.block,
+                    wavelengths,
+                    &mut DynSource(sampler),
+                    counters,
+                )
+            }
+            ScattererRef::Surface { hit, bsdf, offset } => {
+                let flags = bsdf.flags();
+                self.path.vertices.last_mut().expect("reached").roughness =
+                    lobe_roughness(bsdf, flags);
+                if !flags.is_non_specular() {
+                    return ControlFlow::Continue(());
+                }
+                sample_light(
+                    scene,
+                    Some(hit),
+                    offset.origin(),
+                    vertex.medium,
+                    walk.block,
+                    wavelengths,
+                    &mut DynSource(sampler),
+                    counters,
+                )
+            }
         };
-        let bsdf = material.surface_bsdf_at(&hit, &wavelengths);
-        let flags = bsdf.flags();
-        path.vertices.last_mut().expect("just pushed").roughness = lobe_roughness(&bsdf, flags);
-        let reference = offset_ray_origin(hit.point, hit.geometric_normal, wo);
-        if flags.is_non_specular()
-            && let Some(connection) = sample_light(
-                scene,
-                &hit,
-                reference,
-                depth,
-                &wavelengths,
-                sampler,
-                counters,
-            )
-        {
-            path.events.push(SplatEvent::of_first_vertices(
-                path.vertices.len(),
+        if let Some(connection) = connection {
+            self.path.events.push(SplatEvent::of_first_vertices(
+                self.path.vertices.len(),
                 Terminal::NextEvent(connection),
             ));
         }
-        let u_component = sampler.get(layout::vertex(depth as usize, layout::SCATTER_COMPONENT));
-        let u = sampler.get_2d(layout::vertex(depth as usize, layout::SCATTER_DIRECTION));
-        let Some(sample) = bsdf.sample(wo, u_component, u, &mut wavelengths) else {
-            break;
-        };
-        let cosine = sample.wi.dot(bsdf.frame.normal()).abs();
-        if sample.pdf <= 0.0 || sample.value.is_black() {
-            break;
+        ControlFlow::Continue(())
+    }
+
+    fn scattered(&mut self, vertex: &VertexAt<'_>, scattering: &Scattering) -> ControlFlow<()> {
+        if let ScattererRef::Surface { bsdf, .. } = vertex.scatterer {
+            let recorded = self.path.vertices.last_mut().expect("reached");
+            recorded.sampled = scattering.flags;
+            recorded.roughness = lobe_roughness(bsdf, scattering.flags);
         }
-        throughput *= sample.value * (cosine / sample.pdf);
-        let vertex = path.vertices.last_mut().expect("just pushed");
-        vertex.sampled = sample.flags;
-        vertex.roughness = lobe_roughness(&bsdf, sample.flags);
-        if sample.is_transmission() {
-            eta_scale *= sample.eta * sample.eta;
-        }
-        ray = spawn_ray(&raw_hit, sample.wi);
-        let roulette_throughput = (throughput * eta_scale).max_component();
-        match crate::integrators::path::russian_roulette(
-            roulette_throughput,
-            depth,
-            settings.russian_roulette_depth,
-            || sampler.get(layout::vertex(depth as usize, layout::RUSSIAN_ROULETTE)),
-        ) {
-            Some(survival) => throughput /= survival,
-            None => break,
-        }
-        depth += 1;
+        ControlFlow::Continue(())
     }
 }
 
-/// Next-event estimation's light sample at a vertex, if it reaches the
-/// light unoccluded with non-zero radiance.
-pub(super) fn sample_light(
+/// The emission events of the index-matched emitting boundaries the seed
+/// passed: each is the path of the vertices before it and the boundary
+/// point (copied after the seed's vertices, since the seed goes on through
+/// the boundary), ending there as an emitter reached by the last scattering.
+fn record_passed_emitters(scene: &Scene, path: &mut SeedPath) {
+    for index in 0..path.passed_emitters.len() {
+        let (prefix, raw_hit, light_index) = path.passed_emitters[index];
+        let first_vertex = path.vertices.len();
+        path.vertices.extend_from_within(..prefix);
+        path.vertices.push(SurfaceVertex::surface(
+            raw_hit,
+            oriented_hit(scene, &raw_hit),
+            1.0,
+        ));
+        path.events.push(SplatEvent {
+            first_vertex,
+            vertex_count: prefix + 1,
+            terminal: Terminal::Emission { light_index },
+        });
+    }
+}
+
+/// Next-event estimation's light sample at a vertex (a surface `hit`, whose
+/// offset reference point is `reference`, or a medium point), if some light
+/// arrives: through the media and boundaries in scenes with media,
+/// unoccluded otherwise.
+#[allow(clippy::too_many_arguments)]
+fn sample_light(
     scene: &Scene,
-    hit: &crate::geometry::SurfaceHit,
-    reference: glam::Vec3,
-    depth: u32,
+    hit: Option<&SurfaceHit>,
+    reference: Vec3,
+    medium: Option<u32>,
+    block: u32,
     wavelengths: &SampledWavelengths,
     sampler: &mut dyn SampleSource,
     counters: &mut TraceCounters,
@@ -154,20 +262,55 @@ pub(super) fn sample_light(
     let light_sample = crate::integrators::path::sample_vertex_light(
         scene,
         reference,
-        depth,
+        block,
         wavelengths,
         sampler,
     )?;
     let sample = &light_sample.sample;
-    counters.shadow_rays += 1;
-    let visible = if sample.is_infinite {
-        let ray = spawn_ray(hit, sample.wi);
-        !scene.geometry.occluded(&ray, f32::INFINITY)
-    } else {
-        match spawn_ray_to_point(hit, sample.point, sample.normal) {
-            Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
-            None => false,
+    if scene.has_media() {
+        let (ray, t_max) = shadow_ray(reference, hit, sample)?;
+        let start_medium = start_medium(scene, hit, medium, sample.wi);
+        let transmittance =
+            shadow_transmittance(scene, ray, t_max, start_medium, wavelengths, counters);
+        if transmittance.is_black() {
+            return None;
         }
-    };
-    visible.then(|| LightConnection::from_sample(scene, light_sample))
+    } else {
+        let hit = hit.expect("without media every vertex is on a surface");
+        counters.shadow_rays += 1;
+        let visible = if sample.is_infinite {
+            let ray = spawn_ray(hit, sample.wi);
+            !scene.geometry.occluded(&ray, f32::INFINITY)
+        } else {
+            match spawn_ray_to_point(hit, sample.point, sample.normal) {
+                Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
+                None => false,
+            }
+        };
+        if !visible {
+            return None;
+        }
+    }
+    Some(LightConnection::from_sample(scene, light_sample))
+}
+
+/// The medium a ray leaving a vertex along `direction` starts in: at a
+/// surface, the side `direction` leaves to; in a medium, that medium.
+pub fn start_medium(
+    scene: &Scene,
+    hit: Option<&SurfaceHit>,
+    medium: Option<u32>,
+    direction: Vec3,
+) -> Option<u32> {
+    match hit {
+        Some(hit) => medium_after(
+            scene.shapes[hit.shape_index as usize]
+                .medium_interface
+                .as_ref(),
+            hit.geometric_normal,
+            direction,
+            medium,
+        ),
+        None => medium,
+    }
 }

@@ -23,9 +23,9 @@ use super::path_record::{CameraVertex, SurfaceVertex, Terminal};
 use super::path_walk::{
     SPECULAR_DIRECTION_COSINE, WalkInput, WalkedPath, full_path_next_event, non_specular_eta,
 };
+use super::seed_path::start_medium;
 use super::segment_cache::SegmentReuse;
 use super::statistics::FailureReason;
-use super::volume_seed::start_medium;
 use crate::geometry::{Ray, offset_ray_origin, spawn_ray};
 use crate::integrators::TraceCounters;
 use crate::integrators::path::PathSettings;
