@@ -13,18 +13,22 @@
 //! ([`super::volume_walk`]).
 
 use super::classification::lobe_roughness;
-use super::medium_segment::{FlightEnd, lands_at, medium_roughness, sample_flight};
+use super::medium_segment::{lands_at, medium_roughness};
 use super::path_record::{CameraVertex, SplatEvent, SurfaceVertex, Terminal};
 use super::statistics::FailureReason;
 use crate::geometry::{Ray, SurfaceHit, spawn_ray};
 use crate::integrators::TraceCounters;
 use crate::integrators::path::oriented_hit;
-use crate::material::SurfaceBsdf;
-use crate::medium::medium_after;
-use crate::sampler::{SampleSource, layout};
+use crate::integrators::path_space::{
+    ScattererRef, Scattering, SubpathLayout, VertexAt, WalkObserver, WalkSettings, WalkStart,
+    WalkState, walk,
+};
+use crate::material::{SurfaceBsdf, TransportMode};
+use crate::sampler::{DynSource, SampleSource};
 use crate::scene::Scene;
-use crate::spectrum::SampledWavelengths;
-use glam::Vec2;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::{Vec2, Vec3};
+use std::ops::ControlFlow;
 
 /// Answers explored dimensions from a member's numbers and every other
 /// dimension from the seed's.
@@ -165,101 +169,175 @@ fn rebuilt_emitter(
     )
 }
 
-/// Rebuilds `x_1 .. x_b` through media from the member's numbers (free
-/// flights from `FREE_FLIGHT`, directions from `SCATTER_DIRECTION`, the
-/// seed's component numbers), starting with the camera ray `ray`. A vertex
-/// whose kind differs from the seed's (medium or surface, the medium, the
-/// sampled lobe) fails the member with `ModeChange`.
+/// Rebuilds `x_1 .. x_b` (`rebuilt` vertices) by the path-space walk from
+/// the camera ray `ray` with the member's numbers (through media as
+/// `volpath` traces them: free flights from `FREE_FLIGHT`, directions from
+/// `SCATTER_DIRECTION`; the seed's component numbers), without Russian
+/// roulette (the seed's decisions are the value walk's). A vertex whose
+/// kind differs from the seed's (medium or surface, the medium, the sampled
+/// lobe) fails the member with `ModeChange`; a prefix that leaves the scene
+/// or reaches a surface without material fails with `Escaped`, one the walk
+/// ends otherwise (a sample without value) with `Evaluation`.
 #[allow(clippy::too_many_arguments)]
-fn rebuild_volumetric_prefix(
+fn rebuild_prefix(
     scene: &Scene,
     seed_vertices: &[SurfaceVertex],
     event: &SplatEvent,
     breakup: usize,
-    mut ray: Ray,
+    ray: Ray,
     wavelengths: &mut SampledWavelengths,
     source: &mut dyn SampleSource,
     counters: &mut TraceCounters,
     vertices: &mut Vec<SurfaceVertex>,
 ) -> Result<(), FailureReason> {
-    let mut medium = scene.camera_medium;
     let rebuilt = breakup.min(seed_vertices.len());
-    for (m, seed_vertex) in seed_vertices.iter().enumerate().take(breakup) {
-        let flight = sample_flight(
-            scene,
-            &mut ray,
-            &mut medium,
-            || source.get(layout::vertex(m, layout::FREE_FLIGHT)),
-            &mut |_, _| {},
-            wavelengths,
-            &mut counters.closest_hit_rays,
-        );
-        let wo = -ray.direction;
-        match flight.end {
-            FlightEnd::Dead => return Err(FailureReason::Evaluation),
-            FlightEnd::Escaped => return Err(FailureReason::Escaped),
-            FlightEnd::Medium {
-                point,
-                medium: medium_index,
-            } => {
-                if seed_vertex.medium != Some(medium_index) {
-                    return Err(FailureReason::ModeChange);
+    let mut rebuilder = PrefixRebuilder {
+        scene,
+        seed_vertices,
+        event,
+        breakup,
+        vertices,
+        raw_hit: None,
+        outcome: None,
+    };
+    walk(
+        scene,
+        WalkStart {
+            ray,
+            beta: SampledSpectrum::splat(1.0),
+            pdf_direction: 0.0,
+            medium: scene.camera_medium,
+        },
+        &WalkSettings {
+            mode: TransportMode::Radiance,
+            max_vertices: rebuilt,
+            russian_roulette_depth: u32::MAX,
+            layout: SubpathLayout::CAMERA,
+            media: scene.has_media(),
+            null_crossings: false,
+        },
+        wavelengths,
+        &mut DynSource(source),
+        counters,
+        &mut rebuilder,
+    );
+    match rebuilder.outcome {
+        Some(outcome) => outcome,
+        None if rebuilder.vertices.len() == rebuilt => Ok(()),
+        None => Err(FailureReason::Evaluation),
+    }
+}
+
+/// The prefix rebuild's observer of the walk: records the member's
+/// vertices and checks each against the seed's.
+struct PrefixRebuilder<'a> {
+    scene: &'a Scene,
+    seed_vertices: &'a [SurfaceVertex],
+    event: &'a SplatEvent,
+    breakup: usize,
+    vertices: &'a mut Vec<SurfaceVertex>,
+    /// The surface reached, as stored, until its vertex is recorded.
+    raw_hit: Option<SurfaceHit>,
+    /// How the rebuild ended, if it did before its last vertex.
+    outcome: Option<Result<(), FailureReason>>,
+}
+
+impl PrefixRebuilder<'_> {
+    fn end(&mut self, outcome: Result<(), FailureReason>) -> ControlFlow<()> {
+        self.outcome = Some(outcome);
+        ControlFlow::Break(())
+    }
+}
+
+impl WalkObserver for PrefixRebuilder<'_> {
+    const FINDS_EMISSION: bool = false;
+
+    fn surface(
+        &mut self,
+        _walk: &WalkState,
+        raw_hit: &SurfaceHit,
+        _wavelengths: &SampledWavelengths,
+    ) -> ControlFlow<()> {
+        let m = self.vertices.len();
+        let Some(seed_vertex) = self.seed_vertices.get(m) else {
+            return self.end(Err(FailureReason::Evaluation));
+        };
+        if seed_vertex.is_medium() {
+            return self.end(Err(FailureReason::ModeChange));
+        }
+        let hit = oriented_hit(self.scene, raw_hit);
+        if let Some(emitter) = rebuilt_emitter(
+            self.scene,
+            self.event,
+            self.breakup,
+            m,
+            *raw_hit,
+            hit,
+            seed_vertex,
+        ) {
+            return match emitter {
+                Ok(vertex) => {
+                    self.vertices.push(vertex);
+                    self.end(Ok(()))
                 }
-                vertices.push(SurfaceVertex::in_medium(
-                    point,
-                    ray.time,
-                    medium_index,
-                    medium_roughness(scene, medium_index),
-                ));
-                if m + 1 == rebuilt {
-                    break;
-                }
-                let phase = scene.media[medium_index as usize].phase;
-                let sample = phase.sample(
-                    wo,
-                    source.get_2d(layout::vertex(m, layout::SCATTER_DIRECTION)),
-                );
-                ray = Ray::with_time(point, sample.wi, ray.time);
-            }
-            FlightEnd::Surface { raw_hit } => {
-                if seed_vertex.is_medium() {
-                    return Err(FailureReason::ModeChange);
-                }
-                let hit = oriented_hit(scene, &raw_hit);
-                if let Some(emitter) =
-                    rebuilt_emitter(scene, event, breakup, m, raw_hit, hit, seed_vertex)
-                {
-                    vertices.push(emitter?);
-                    break;
-                }
-                let info = &scene.shapes[hit.shape_index as usize];
-                let Some(material) = &info.material else {
-                    return Err(FailureReason::Escaped);
+                Err(reason) => self.end(Err(reason)),
+            };
+        }
+        if self.scene.shapes[hit.shape_index as usize]
+            .material
+            .is_none()
+        {
+            return self.end(Err(FailureReason::Escaped));
+        }
+        self.raw_hit = Some(*raw_hit);
+        ControlFlow::Continue(())
+    }
+
+    fn escaped(&mut self, _walk: &WalkState, _direction: Vec3, _wavelengths: &SampledWavelengths) {
+        self.outcome = Some(Err(FailureReason::Escaped));
+    }
+
+    fn vertex<S: SampleSource + ?Sized>(
+        &mut self,
+        _walk: &WalkState,
+        vertex: &VertexAt<'_>,
+        _wavelengths: &SampledWavelengths,
+        _sampler: &mut S,
+        _counters: &mut TraceCounters,
+    ) -> ControlFlow<()> {
+        let seed_vertex = &self.seed_vertices[self.vertices.len()];
+        match vertex.scatterer {
+            ScattererRef::Medium { .. } => {
+                let Some(medium) = vertex.medium else {
+                    return self.end(Err(FailureReason::Evaluation));
                 };
-                let bsdf = material.surface_bsdf_at(&hit, wavelengths);
-                vertices.push(rebuilt_surface_vertex(raw_hit, hit, &bsdf, seed_vertex));
-                if m + 1 == rebuilt {
-                    break;
+                if seed_vertex.medium != Some(medium) {
+                    return self.end(Err(FailureReason::ModeChange));
                 }
-                let u_component = source.get(layout::vertex(m, layout::SCATTER_COMPONENT));
-                let u = source.get_2d(layout::vertex(m, layout::SCATTER_DIRECTION));
-                let sample = bsdf
-                    .sample(wo, u_component, u, wavelengths)
-                    .ok_or(FailureReason::Evaluation)?;
-                if sample.flags != seed_vertex.sampled {
-                    return Err(FailureReason::ModeChange);
-                }
-                medium = medium_after(
-                    info.medium_interface.as_ref(),
-                    hit.geometric_normal,
-                    sample.wi,
+                self.vertices.push(SurfaceVertex::in_medium(
+                    vertex.point,
+                    vertex.time,
                     medium,
-                );
-                ray = spawn_ray(&raw_hit, sample.wi);
+                    medium_roughness(self.scene, medium),
+                ));
+            }
+            ScattererRef::Surface { hit, bsdf, .. } => {
+                let raw_hit = self.raw_hit.take().expect("the surface was reached");
+                self.vertices
+                    .push(rebuilt_surface_vertex(raw_hit, *hit, bsdf, seed_vertex));
             }
         }
+        ControlFlow::Continue(())
     }
-    Ok(())
+
+    fn scattered(&mut self, vertex: &VertexAt<'_>, scattering: &Scattering) -> ControlFlow<()> {
+        if matches!(vertex.scatterer, ScattererRef::Surface { .. })
+            && scattering.flags != self.seed_vertices[self.vertices.len() - 1].sampled
+        {
+            return self.end(Err(FailureReason::ModeChange));
+        }
+        ControlFlow::Continue(())
+    }
 }
 
 /// How a segment traced from `ray` towards the recorded surface vertex
@@ -384,54 +462,22 @@ pub fn rebuild_member(
         first_projection: None,
     };
     let mut wavelengths = wavelengths;
-    let mut ray =
-        crate::geometry::Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time);
+    let ray = Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time);
+    rebuild_prefix(
+        scene,
+        seed_vertices,
+        event,
+        breakup,
+        ray,
+        &mut wavelengths,
+        source,
+        counters,
+        vertices,
+    )?;
     if !scene.media.is_empty() {
-        rebuild_volumetric_prefix(
-            scene,
-            seed_vertices,
-            event,
-            breakup,
-            ray,
-            &mut wavelengths,
-            source,
-            counters,
-            vertices,
-        )?;
         // The walk traces (and checks) the reconnection through the media.
         vertices.extend_from_slice(&seed_vertices[breakup.min(seed_vertices.len())..]);
         return Ok(member);
-    }
-    let rebuilt = breakup.min(seed_vertices.len());
-    for (m, seed_vertex) in seed_vertices.iter().enumerate().take(breakup) {
-        counters.closest_hit_rays += 1;
-        let raw_hit = scene
-            .geometry
-            .intersect(&ray, f32::INFINITY)
-            .ok_or(FailureReason::Escaped)?;
-        let hit = oriented_hit(scene, &raw_hit);
-        if let Some(emitter) = rebuilt_emitter(scene, event, breakup, m, raw_hit, hit, seed_vertex)
-        {
-            vertices.push(emitter?);
-            break;
-        }
-        let Some(material) = &scene.shapes[hit.shape_index as usize].material else {
-            return Err(FailureReason::Escaped);
-        };
-        let bsdf = material.surface_bsdf_at(&hit, &wavelengths);
-        vertices.push(rebuilt_surface_vertex(raw_hit, hit, &bsdf, seed_vertex));
-        if m + 1 == rebuilt {
-            break;
-        }
-        let u_component = source.get(layout::vertex(m, layout::SCATTER_COMPONENT));
-        let u = source.get_2d(layout::vertex(m, layout::SCATTER_DIRECTION));
-        let sample = bsdf
-            .sample(-ray.direction, u_component, u, &mut wavelengths)
-            .ok_or(FailureReason::Evaluation)?;
-        if sample.flags != seed_vertex.sampled {
-            return Err(FailureReason::ModeChange);
-        }
-        ray = spawn_ray(&raw_hit, sample.wi);
     }
 
     // Reconnect x_b (layout vertex b − 1) to x_{b+1}.
