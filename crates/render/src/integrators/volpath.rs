@@ -430,12 +430,31 @@ pub(crate) fn shadow_ray(
 
 /// The transmittance along a shadow ray of extent `t_max` starting in
 /// `medium`: the product of exp(−σt d) over the pieces between
-/// index-matched boundaries, zero if any other surface blocks it.
+/// index-matched boundaries and the weights of the null lobes of surfaces
+/// that have one (thin sheets, masks), zero if any other surface blocks it.
+/// For walks with null crossings ([`super::path_space::WalkSettings::null_crossings`]).
 pub(crate) fn shadow_transmittance(
+    scene: &Scene,
+    ray: Ray,
+    t_max: f32,
+    medium: Option<u32>,
+    wavelengths: &SampledWavelengths,
+    counters: &mut TraceCounters,
+) -> SampledSpectrum {
+    shadow_transmittance_with(scene, ray, t_max, medium, true, wavelengths, counters)
+}
+
+/// [`shadow_transmittance`], with surfaces that have a null lobe passed
+/// with its weight only when `null_crossings` (the walk's setting): a walk
+/// that makes such a surface a specular vertex reaches the light behind it
+/// by sampling that vertex, so its shadow rays must stop there, or the
+/// light through the sheet would be counted twice.
+pub(crate) fn shadow_transmittance_with(
     scene: &Scene,
     mut ray: Ray,
     mut t_max: f32,
     mut medium: Option<u32>,
+    null_crossings: bool,
     wavelengths: &SampledWavelengths,
     counters: &mut TraceCounters,
 ) -> SampledSpectrum {
@@ -458,6 +477,9 @@ pub(crate) fn shadow_transmittance(
         if !info.is_interface {
             // A surface with a null lobe lets the shadow ray through with
             // its weight (Mitsuba 3's `eval_null_transmission`).
+            if !null_crossings {
+                return SampledSpectrum::zero();
+            }
             let Some(material) = &info.material else {
                 return SampledSpectrum::zero();
             };

@@ -30,7 +30,7 @@ use crate::integrators::path_space::{
     ScattererRef, Scattering, SubpathLayout, VertexAt, WalkObserver, WalkSettings, WalkStart,
     WalkState, walk,
 };
-use crate::integrators::volpath::{shadow_ray, shadow_transmittance};
+use crate::integrators::volpath::{shadow_ray, shadow_transmittance_with};
 use crate::material::TransportMode;
 use crate::medium::medium_after;
 use crate::sampler::{DynSource, SampleSource, layout};
@@ -270,8 +270,17 @@ fn sample_light(
     if scene.has_media() {
         let (ray, t_max) = shadow_ray(reference, hit, sample)?;
         let start_medium = start_medium(scene, hit, medium, sample.wi);
-        let transmittance =
-            shadow_transmittance(scene, ray, t_max, start_medium, wavelengths, counters);
+        // The seed's walk has no null crossings: shadow rays stop at thin
+        // sheets and masks, which its paths pass by sampling them.
+        let transmittance = shadow_transmittance_with(
+            scene,
+            ray,
+            t_max,
+            start_medium,
+            false,
+            wavelengths,
+            counters,
+        );
         if transmittance.is_black() {
             return None;
         }

@@ -29,7 +29,7 @@ use super::statistics::FailureReason;
 use crate::geometry::{Ray, offset_ray_origin, spawn_ray};
 use crate::integrators::TraceCounters;
 use crate::integrators::path::PathSettings;
-use crate::integrators::volpath::{shadow_ray, shadow_transmittance};
+use crate::integrators::volpath::{shadow_ray, shadow_transmittance_with};
 use crate::light::LightSample;
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
@@ -339,11 +339,14 @@ pub fn walk_volumetric(
             let (ray, t_max) =
                 shadow_ray(reference, hit, &sample).ok_or(FailureReason::Evaluation)?;
             let shadow_medium = start_medium(scene, hit, state.medium, sample.wi);
-            let transmittance = shadow_transmittance(
+            // LQMC's paths make thin sheets and masks vertices (no null
+            // crossings): shadow rays stop at them.
+            let transmittance = shadow_transmittance_with(
                 scene,
                 ray,
                 t_max,
                 shadow_medium,
+                false,
                 &wavelengths,
                 &mut counters,
             );
