@@ -11,12 +11,12 @@ use super::driver::{
     CameraPathStart, PixelSampleEstimator, PixelSampleIndex, UnitOutput, render_pixel_samples,
 };
 use super::path_space::{
-    ScattererRef, SubpathLayout, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState, walk,
+    ScattererRef, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState, walk,
 };
 pub(crate) use super::path_space::{orient_hit, russian_roulette};
 use super::{Integrator, IntegratorRender, MisHeuristic, RenderError, RunControl, TraceCounters};
 use crate::geometry::{OffsetPoint, Ray, SurfaceHit, occlusion_segment_to_point};
-use crate::material::{SurfaceBsdf, TransportMode};
+use crate::material::SurfaceBsdf;
 use crate::sampler::{PixelSampler, SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum, to_linear_srgb};
@@ -185,20 +185,13 @@ pub fn radiance<S: SampleSource + ?Sized>(
     };
     walk(
         scene,
-        WalkStart {
-            ray,
-            beta: SampledSpectrum::splat(1.0),
-            pdf_direction: 0.0,
-            medium: None,
-        },
-        &WalkSettings {
-            mode: TransportMode::Radiance,
-            max_vertices: WalkSettings::camera_vertices(settings.max_depth),
-            russian_roulette_depth: settings.russian_roulette_depth,
-            layout: SubpathLayout::CAMERA,
-            media: false,
-            null_crossings: false,
-        },
+        WalkStart::camera(ray, None),
+        &WalkSettings::camera(
+            WalkSettings::camera_vertices(settings.max_depth),
+            settings.russian_roulette_depth,
+            false,
+            false,
+        ),
         wavelengths,
         sampler,
         counters,

@@ -401,10 +401,28 @@ impl WalkSettings {
     pub fn camera_vertices(max_depth: u32) -> usize {
         max_depth.saturating_sub(1) as usize
     }
+
+    /// A camera subpath (radiance, [`SubpathLayout::CAMERA`]).
+    pub fn camera(
+        max_vertices: usize,
+        russian_roulette_depth: u32,
+        media: bool,
+        null_crossings: bool,
+    ) -> Self {
+        Self {
+            mode: TransportMode::Radiance,
+            max_vertices,
+            russian_roulette_depth,
+            layout: SubpathLayout::CAMERA,
+            media,
+            null_crossings,
+        }
+    }
 }
 
 /// The start of a walk: a ray leaving the camera or a light.
 #[derive(Debug, Clone, Copy)]
+#[must_use]
 pub struct WalkStart {
     /// The ray (its origin already offset from its surface).
     pub ray: Ray,
@@ -416,6 +434,19 @@ pub struct WalkStart {
     pub pdf_direction: f32,
     /// The medium the ray starts in (ignored unless the walk traces media).
     pub medium: Option<u32>,
+}
+
+impl WalkStart {
+    /// A camera ray starting in `medium`: throughput 1, no direction
+    /// density (emitters it reaches get no MIS weight).
+    pub fn camera(ray: Ray, medium: Option<u32>) -> Self {
+        Self {
+            ray,
+            beta: SampledSpectrum::splat(1.0),
+            pdf_direction: 0.0,
+            medium,
+        }
+    }
 }
 
 /// The scattering the walk did last, as emission found after it is

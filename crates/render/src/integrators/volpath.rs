@@ -76,13 +76,12 @@ use super::driver::{
 };
 use super::path::{PathSettings, oriented_hit};
 use super::path_space::{
-    MAX_INTERFACE_CROSSINGS, ScattererRef, SubpathLayout, VertexAt, WalkObserver, WalkSettings,
-    WalkStart, WalkState, null_transmission, walk,
+    MAX_INTERFACE_CROSSINGS, ScattererRef, VertexAt, WalkObserver, WalkSettings, WalkStart,
+    WalkState, null_transmission, walk,
 };
 use super::{Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
 use crate::geometry::{Ray, SurfaceHit, offset_ray_origin, spawn_ray, spawn_ray_to_point};
 use crate::light::LightSample;
-use crate::material::TransportMode;
 use crate::medium::medium_after;
 use crate::sampler::{DynSource, PixelSampler, SampleSource};
 use crate::scene::Scene;
@@ -173,20 +172,13 @@ pub fn radiance<S: SampleSource + ?Sized>(
     };
     walk(
         scene,
-        WalkStart {
-            ray,
-            beta: SampledSpectrum::splat(1.0),
-            pdf_direction: 0.0,
-            medium: scene.camera_medium,
-        },
-        &WalkSettings {
-            mode: TransportMode::Radiance,
-            max_vertices: WalkSettings::camera_vertices(settings.max_depth),
-            russian_roulette_depth: settings.russian_roulette_depth,
-            layout: SubpathLayout::CAMERA,
-            media: true,
-            null_crossings: true,
-        },
+        WalkStart::camera(ray, scene.camera_medium),
+        &WalkSettings::camera(
+            WalkSettings::camera_vertices(settings.max_depth),
+            settings.russian_roulette_depth,
+            true,
+            true,
+        ),
         wavelengths,
         sampler,
         counters,

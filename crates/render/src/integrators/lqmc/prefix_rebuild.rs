@@ -20,13 +20,12 @@ use crate::geometry::{Ray, SurfaceHit, spawn_ray};
 use crate::integrators::TraceCounters;
 use crate::integrators::path::oriented_hit;
 use crate::integrators::path_space::{
-    ScattererRef, Scattering, SubpathLayout, VertexAt, WalkObserver, WalkSettings, WalkStart,
-    WalkState, walk,
+    ScattererRef, Scattering, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState, walk,
 };
-use crate::material::{SurfaceBsdf, TransportMode};
+use crate::material::SurfaceBsdf;
 use crate::sampler::{DynSource, SampleSource};
 use crate::scene::Scene;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::SampledWavelengths;
 use glam::{Vec2, Vec3};
 use std::ops::ControlFlow;
 
@@ -202,20 +201,9 @@ fn rebuild_prefix(
     };
     walk(
         scene,
-        WalkStart {
-            ray,
-            beta: SampledSpectrum::splat(1.0),
-            pdf_direction: 0.0,
-            medium: scene.camera_medium,
-        },
-        &WalkSettings {
-            mode: TransportMode::Radiance,
-            max_vertices: rebuilt,
-            russian_roulette_depth: u32::MAX,
-            layout: SubpathLayout::CAMERA,
-            media: scene.has_media(),
-            null_crossings: false,
-        },
+        WalkStart::camera(ray, scene.camera_medium),
+        // No Russian roulette: the seed's decisions are the value walk's.
+        &WalkSettings::camera(rebuilt, u32::MAX, scene.has_media(), false),
         wavelengths,
         &mut DynSource(source),
         counters,

@@ -27,15 +27,13 @@ use crate::geometry::{Ray, SurfaceHit, spawn_ray, spawn_ray_to_point};
 use crate::integrators::TraceCounters;
 use crate::integrators::path::{PathSettings, oriented_hit};
 use crate::integrators::path_space::{
-    ScattererRef, Scattering, SubpathLayout, VertexAt, WalkObserver, WalkSettings, WalkStart,
-    WalkState, walk,
+    ScattererRef, Scattering, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState, walk,
 };
 use crate::integrators::volpath::{shadow_ray, shadow_transmittance_with};
-use crate::material::TransportMode;
 use crate::medium::medium_after;
 use crate::sampler::{DynSource, SampleSource, layout};
 use crate::scene::Scene;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::SampledWavelengths;
 use glam::{Vec2, Vec3};
 use std::ops::ControlFlow;
 
@@ -77,23 +75,18 @@ pub fn trace_seed_path(
         origin: camera_ray.origin,
     });
     let mut wavelengths = SampledWavelengths::sample_visible(u_wavelength);
-    let media = scene.has_media();
     walk(
         scene,
-        WalkStart {
-            ray: Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time),
-            beta: SampledSpectrum::splat(1.0),
-            pdf_direction: 0.0,
-            medium: scene.camera_medium,
-        },
-        &WalkSettings {
-            mode: TransportMode::Radiance,
-            max_vertices: WalkSettings::camera_vertices(settings.max_depth),
-            russian_roulette_depth: settings.russian_roulette_depth,
-            layout: SubpathLayout::CAMERA,
-            media,
-            null_crossings: false,
-        },
+        WalkStart::camera(
+            Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time),
+            scene.camera_medium,
+        ),
+        &WalkSettings::camera(
+            WalkSettings::camera_vertices(settings.max_depth),
+            settings.russian_roulette_depth,
+            scene.has_media(),
+            false,
+        ),
         &mut wavelengths,
         &mut DynSource(sampler),
         counters,
