@@ -164,7 +164,7 @@ pub(crate) fn oriented_hit(scene: &Scene, hit: &SurfaceHit) -> SurfaceHit {
 }
 
 /// Estimates the radiance along the camera ray `ray` for `wavelengths`:
-/// the path-space walk with [`PathRadiance`] as its observer.
+/// the path-space walk with `PathRadiance` as its observer.
 ///
 /// Generic over the sampler so that a concrete sampler's numbers (a hash
 /// for the independent one) inline into the walk; `dyn SampleSource`

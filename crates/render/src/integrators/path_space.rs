@@ -25,13 +25,16 @@
 //!   ([`WalkObserver::vertex`]: next-event estimation, a connection to the
 //!   camera, recording), then the walk samples the next direction from the
 //!   vertex's block of [`SubpathLayout`], multiplies the throughput β, and
-//!   decides Russian roulette by [`russian_roulette`], the rule of every
+//!   decides Russian roulette by `russian_roulette`, the rule of every
 //!   integrator.
-//! - When the walk traces media, a thin sheet's straight transmission and a
-//!   mask's pass-through are **null crossings** (Mitsuba 3's `volpath`):
-//!   chosen by BSDF sampling with their probability, they are no vertex and
-//!   do not count towards the depth, but take a dimension block each.
-//!   Without media they are ordinary specular vertices (Mitsuba's `path`).
+//! - With [`WalkSettings::null_crossings`], a thin sheet's straight
+//!   transmission and a mask's pass-through are **null crossings**
+//!   (Mitsuba 3's `volpath`): chosen by BSDF sampling with their
+//!   probability, they are no vertex and do not count towards the depth,
+//!   but take a dimension block each, and shadow rays pass them with their
+//!   weight. Without, they are ordinary specular vertices and shadow rays
+//!   stop at them (Mitsuba's `path`); passing them there too would count the
+//!   light behind them twice.
 //! - Emitters that segments reach and the environment they escape to are
 //!   reported to observers that ask for them ([`WalkObserver::FINDS_EMISSION`]:
 //!   camera paths), with the walk's state for their MIS weights: the

@@ -6,7 +6,10 @@
 //! `VolPathIntegrator` (Pharr, Jakob & Humphreys, *Physically Based
 //! Rendering*, 4th ed., §14.2.2 "Improving the Sampling Techniques", where
 //! the `VolPathIntegrator` and its spectral MIS for chromatic media are
-//! introduced):
+//! introduced). Its paths are built by the path-space walk
+//! ([`super::path_space::walk`], which samples the free flights, the
+//! medium vertices and the null crossings described below); this module is
+//! the walk's observer: next-event estimation and the MIS weights.
 //!
 //! # Spectral MIS over the hero wavelengths
 //!
@@ -41,7 +44,7 @@
 //! # Dimensions
 //!
 //! Each scattering vertex k (a surface or a medium interaction) owns block k
-//! of [`layout`]. The free-flight distance of the segment that ends at
+//! of [`crate::sampler::layout`]. The free-flight distance of the segment that ends at
 //! vertex k is drawn from `FREE_FLIGHT` of block k as an optical depth
 //! τ = −ln(1 − u) at the hero wavelength, once per segment: the segment is
 //! marched through the homogeneous pieces between index-matched boundaries,
@@ -157,7 +160,7 @@ impl PixelSampleEstimator for VolPathEstimator<'_> {
 
 /// Estimates the radiance along the camera ray `ray` for `wavelengths`,
 /// starting in the scene's camera medium: the path-space walk through
-/// media with [`VolPathRadiance`] as its observer.
+/// media with `VolPathRadiance` as its observer.
 pub fn radiance<S: SampleSource + ?Sized>(
     scene: &Scene,
     settings: &PathSettings,

@@ -6,7 +6,7 @@
 //! block at the hero wavelength, medium vertices scattering with the phase
 //! function, next-event estimation through media and index-matched
 //! boundaries, Russian roulette on the MIS-rescaled throughput). The
-//! observer [`SeedRecorder`] records each vertex and each splat event
+//! observer `SeedRecorder` records each vertex and each splat event
 //! (every emitter reached, every next-event connection) for exploration;
 //! the values of the events are computed afterwards by
 //! [`super::path_walk::walk`] and [`super::volume_walk`].
