@@ -185,6 +185,16 @@ impl SplatEstimator for LightTracer<'_> {
         };
         let beta = emission.radiance
             * (cosine / (choice_probability * emission.pdf_position * emission.pdf_direction));
+        // The walk carries β relative to its start, β / max β₁, and the
+        // connections scale it back: Russian roulette then decides on the
+        // product of the scatterings' f |cos| / p, as the path tracer's
+        // does from the camera. On β itself, which carries the emitted
+        // power over the densities (thousands in the Cornell box), the
+        // roulette never fired and every light path ran to the depth limit.
+        let beta_scale = beta.max_component();
+        if !(beta_scale > 0.0 && beta_scale.is_finite()) {
+            return;
+        }
         let origin = if on_surface {
             OffsetPoint::new(emission.origin, emission.normal, emission.direction)
                 .towards(emission.direction)
@@ -193,7 +203,7 @@ impl SplatEstimator for LightTracer<'_> {
         };
         let start = WalkStart {
             ray: Ray::with_time(origin, emission.direction, time),
-            beta,
+            beta: beta / beta_scale,
             pdf_direction: if emission.is_delta_direction {
                 0.0
             } else {
@@ -237,7 +247,8 @@ impl SplatEstimator for LightTracer<'_> {
             if factor.is_black() {
                 continue;
             }
-            let value = vertex.beta * factor * (camera_sample.value / camera_sample.pdf);
+            let value =
+                vertex.beta * factor * (beta_scale * camera_sample.value / camera_sample.pdf);
             let origin = offset_ray_origin(vertex.point, vertex.geometric_normal, camera_sample.wi);
             splat_if_visible(
                 scene,
