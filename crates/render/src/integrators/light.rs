@@ -24,6 +24,11 @@
 //!   makes the same splat scale exact.
 //! - Depth counts segments as the path tracer's (Mitsuba's `max_depth`):
 //!   vertex `i` of the light path makes a path of `i + 1` segments.
+//! - Russian roulette decides on the throughput relative to the path's
+//!   start (the walk carries β / max β₁; the connections scale it back).
+//! - Paths whose last scattering before the camera is a delta lobe
+//!   (`… S E`: a mirror, glass or a mask seen by the camera) cannot be
+//!   connected and are missing, as in Mitsuba's `ptracer`.
 //! - Participating media are not traced yet: scenes with media are
 //!   refused with an error.
 //!
