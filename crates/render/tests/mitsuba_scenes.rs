@@ -496,9 +496,11 @@ fn supported_mitsuba_test_scenes_match_their_references() {
 ///   99.1 % at 16 / 64 / 256 spp (image mean +0.6 / −0.3 / −0.02 %; the
 ///   last run's failing pixels are all low, one had no splat at all).
 /// - Rough conductors and dielectrics, bump and normal maps, rough
-///   plastics, textured and principled spheres (single sphere under an
-///   area light): their light paths reach the camera through glossy
-///   lobes with rare large weights; 51–98 % of pixels, image means
+///   plastics, textured and principled spheres (`single_sphere.xml`: one
+///   sphere lit by an area light, an environment map and a point light):
+///   light paths reach the camera through glossy lobes with rare large
+///   weights, and the environment's splats are sparse as above; 51–98 %
+///   of pixels, image means
 ///   within |t| < 1.6 (e.g. `test_roughdielectric` 51.0 %, −0.6 %;
 ///   `test_normalmap_roughconductor` 68.8 %, +12 % at t = 1.2).
 /// - `participating_media/test_surf_area_light_volpath` (no medium is
