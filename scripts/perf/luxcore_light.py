@@ -9,7 +9,10 @@ area light's radiance (18.387, 10.9873, 2.75357) on the luminaire's front,
 the camera at (278, 273, -800) looking along +z with a 39.3077° field of
 view, a box filter of radius 0.5 and 256 x 256 pixels. LuxCore gets it
 through its Python API (`Scene.DefineMesh` for the meshes, properties for
-the rest); only the OBJ files are read, nothing is converted by hand.
+the rest); only the OBJ files are read, nothing is converted by hand. The
+OBJ winding gives the luminaire's front face downwards in LuxCore too (with
+its triangles reversed, LuxCore's image shows light leaking from the gap
+above the luminaire and 6.9 rather than 5.3 rays per path).
 
 Work per path. Both engines trace one light path per sample, connect every
 vertex to the camera and also trace one camera ray per path (LuxCore for
