@@ -465,15 +465,46 @@ fn supported_mitsuba_test_scenes_match_their_references() {
     }
 }
 
-/// Scenes the light tracer does not match yet, with the pass fraction
-/// measured when this was written (16 seeds x spp/4); rendered and
-/// reported, not asserted. Not diagnosed yet: the environment-lit ones
-/// (constant, envmap and the bsdf_spheres fragment's environment) are
-/// 2-5 % dark in the image mean (`test_constant_path`: -4.4 % at 1024 spp),
-/// which points at the environment lights' emission sampling; the spot
-/// light's texture or falloff; rough conductors and dielectrics, and bump
-/// and normal maps have far more variance than the path tracer (16
-/// replications do not estimate it well).
+/// Scenes whose pixels the light tracer does not match at the 99 % level
+/// yet: rendered, reported, and their image mean asserted (|t| < 4.5), not
+/// their pixels. Measured on 2026-12-03 (16 seeds × spp/4, pixels seen
+/// through delta lobes left out; pass fraction, image mean − reference
+/// and its t):
+///
+/// - The environment-lit spheres were 2–5 % dark in the image mean, once
+///   thought to be the environment lights' emission sampling. It is not:
+///   a convex diffuse sphere under a constant environment reflects its
+///   albedo under light tracing to 0.7 % (`light_tracing.rs`), and the
+///   fragment's diffuse, rough and textured spheres alone match the path
+///   tracer to −0.1 % (constant and envmap, 2048 spp). The deficit was
+///   the pixels seen through the mirror, glass, plastic-coated and masked
+///   spheres, which light tracing cannot render (paths ending `… S E`,
+///   Mitsuba's `ptracer` neither); left out, the image means agree.
+///   What fails is the per-pixel variance estimate: light paths from an
+///   environment start on the disk of the scene's bounding sphere, of
+///   which the camera sees a small part, so a pixel receives a few
+///   heavy-tailed splats and 16 replications underestimate their
+///   variance (every failing pixel is low with a small variance, the
+///   skewed-mean signature). With more paths the fraction rises:
+///   `test_constant` 97.6 / 97.9 / 99.1 % at 16 / 64 / 256 spp per seed
+///   (image mean +0.5 / +0.1 / +0.02 %), `test_envmap` 97.4 / 98.2 /
+///   98.6 % (−0.8 / −0.1 / −0.1 %).
+/// - `spot_light/test_spot_direct`: the spot is right (alone, light and
+///   path tracing agree to −0.09 % at 1024 spp, every pixel of the cone
+///   within noise); its scene's constant environment of 0.1 lights the
+///   rest of the image, with the sparse splats above: 59.3 / 88.6 /
+///   99.1 % at 16 / 64 / 256 spp (image mean +0.6 / −0.3 / −0.02 %; the
+///   last run's failing pixels are all low, one had no splat at all).
+/// - Rough conductors and dielectrics, bump and normal maps, rough
+///   plastics, textured and principled spheres (`single_sphere.xml`: one
+///   sphere lit by an area light, an environment map and a point light):
+///   light paths reach the camera through glossy lobes with rare large
+///   weights, and the environment's splats are sparse as above; 51–98 %
+///   of pixels, image means
+///   within |t| < 1.6 (e.g. `test_roughdielectric` 51.0 %, −0.6 %;
+///   `test_normalmap_roughconductor` 68.8 %, +12 % at t = 1.2).
+/// - `participating_media/test_surf_area_light_volpath` (no medium is
+///   built): 91.3 % of the 1582 pixels kept, +1.7 % (t = 0.9).
 const LIGHT_TRACING_KNOWN_FAILURES: &[&str] = &[
     "bsdf_spheres/test_bumpmap_path.xml",
     "bsdf_spheres/test_constant_path.xml",
@@ -503,9 +534,13 @@ const LIGHT_TRACING_SEEDS: u64 = 16;
 /// independent renders of `spp / 4` samples each (the t tails of a
 /// 16-render estimate are covered by the 99 % pixel criterion: at the
 /// Šidák threshold |z| ≈ 4.8, t₁₅ exceeds it with probability 2e-4 per
-/// channel, about 1.6 channels of a 48 × 48 image). Scenes with media
-/// are left to `volpath` (the light tracer refuses them). The scenes of
-/// [`LIGHT_TRACING_KNOWN_FAILURES`] are rendered and reported only.
+/// channel, about 1.6 channels of a 48 × 48 image). Pixels the camera
+/// sees through a delta lobe are left out ([`specular_first_hits`]). The
+/// image mean over the pixels kept must be within |t| < 4.5 of the
+/// reference's for every scene (t₁₅ over the 16 renders' means; two-sided
+/// p ≈ 4e-4). Scenes with media are light-traced through them
+/// (volumetric light tracing). The pixels of [`LIGHT_TRACING_KNOWN_FAILURES`]
+/// are reported only.
 #[test]
 fn light_tracing_matches_the_references() {
     let mut failures = Vec::new();
@@ -517,15 +552,17 @@ fn light_tracing_matches_the_references() {
         let loaded = load(&path);
         let scene = Scene::build(&loaded.description)
             .unwrap_or_else(|error| panic!("{name} does not build: {error}"));
-        if scene.has_media() {
-            continue;
-        }
         let [width, height] = loaded.description.camera.resolution.map(|v| v as usize);
         let spp = (samples_per_pixel / 4).max(1);
         let started = std::time::Instant::now();
         let r = LIGHT_TRACING_SEEDS as f64;
         let mut sum = vec![[0.0f64; 3]; width * height];
         let mut sum_squares = vec![[0.0f64; 3]; width * height];
+        // Pixels the camera sees through a delta lobe are left out (see
+        // `specular_first_hits`).
+        let unreachable = specular_first_hits(&scene);
+        let masked = unreachable.iter().filter(|&&skip| skip).count();
+        let mut image_means = Vec::new();
         for seed in 0..LIGHT_TRACING_SEEDS {
             let settings = RenderSettings {
                 integrator: IntegratorKind::Light.into(),
@@ -539,13 +576,18 @@ fn light_tracing_matches_the_references() {
             let image = render(&scene, &settings, &AtomicBool::new(false), &|_, _| {})
                 .expect("the scene renders")
                 .image();
+            let mut image_sum = 0.0;
             for (index, pixel) in image.pixels().iter().enumerate() {
                 for channel in 0..3 {
                     let value = pixel[channel] as f64;
                     sum[index][channel] += value;
                     sum_squares[index][channel] += value * value;
+                    if !unreachable[index] {
+                        image_sum += value;
+                    }
                 }
             }
+            image_means.push(image_sum / (3 * (width * height - masked)) as f64);
         }
         let mean: Vec<[f32; 3]> = sum
             .iter()
@@ -583,6 +625,36 @@ fn light_tracing_matches_the_references() {
         )
         .unwrap_or_else(|error| panic!("{name}: {error}"))
         .image;
+        // In the pixels left out, our value is replaced by the reference's,
+        // so they pass, and they are taken out of the counts.
+        let mut reference_sum = 0.0f64;
+        let mean: Vec<[f32; 3]> = mean
+            .iter()
+            .zip(reference.pixels())
+            .zip(&unreachable)
+            .map(|((ours, reference), &skip)| {
+                if skip {
+                    *reference
+                } else {
+                    reference_sum += reference.iter().map(|&v| f64::from(v)).sum::<f64>();
+                    *ours
+                }
+            })
+            .collect();
+        // The image mean over the pixels kept: each render's is one
+        // independent sample, so (mean − reference) / standard error is
+        // close to Student's t with R − 1 = 15 degrees of freedom (the
+        // reference's own error, from 32,000 samples per pixel, is left out).
+        let reference_mean = reference_sum / (3 * (width * height - masked)) as f64;
+        let light_mean = image_means.iter().sum::<f64>() / r;
+        let standard_error = (image_means
+            .iter()
+            .map(|mean| (mean - light_mean).powi(2))
+            .sum::<f64>()
+            / (r - 1.0)
+            / r)
+            .sqrt();
+        let t = (light_mean - reference_mean) / standard_error;
         let image = Image::from_pixels(width, height, mean).expect("the scene's size");
         let variance =
             Image::from_pixels(width, height, variance_per_sample).expect("the scene's size");
@@ -598,23 +670,58 @@ fn light_tracing_matches_the_references() {
         .unwrap_or_else(|error| panic!("{name}: {error}"))
         .z_test
         .expect("a variance was given");
-        let fraction = z_test.pass_fraction();
+        let tested = z_test.pixels - masked;
+        let fraction = (z_test.passed_pixels - masked) as f64 / tested.max(1) as f64;
         eprintln!(
-            "{name}: light, {LIGHT_TRACING_SEEDS} x {spp} spp in {seconds:.2} s; z-test (XYZ): {} of {} pixels pass ({:.2} %), largest |z| {:.2}",
-            z_test.passed_pixels,
-            z_test.pixels,
+            "{name}: light, {LIGHT_TRACING_SEEDS} x {spp} spp in {seconds:.2} s; z-test (XYZ): {} of {tested} pixels pass ({:.2} %; {masked} seen through delta lobes left out), largest |z| {:.2}; image mean {:+.2} % (t = {t:.2})",
+            z_test.passed_pixels - masked,
             100.0 * fraction,
-            z_test.max_z
+            z_test.max_z,
+            100.0 * (light_mean / reference_mean - 1.0)
         );
+        if t.abs() >= 4.5 {
+            failures.push(format!("{name} (image mean t = {t:.2})"));
+        }
         if fraction < PIXEL_FRACTION_REQUIRED && !LIGHT_TRACING_KNOWN_FAILURES.contains(name) {
             failures.push(format!("{name} ({:.2} %)", 100.0 * fraction));
         }
     }
     assert!(
         failures.is_empty(),
-        "light tracing: fewer than 99 % of pixels agree with Mitsuba in {}",
+        "light tracing: fewer than 99 % of pixels agree with Mitsuba, or the image mean is off, in {}",
         failures.join(", ")
     );
+}
+
+/// Per pixel, whether the camera sees something through a delta lobe
+/// (mirror, glass, a plastic's coat, a mask's see-through part) at one of
+/// nine points spread over the pixel (the box filters of these scenes
+/// cover the pixel). Light tracing cannot render such paths: their last
+/// vertex before the camera scatters by a delta, which no connection can
+/// evaluate (Mitsuba's `ptracer` neither), so the light tracer misses that
+/// share of these pixels by construction.
+fn specular_first_hits(scene: &Scene) -> Vec<bool> {
+    let [width, height] = scene.camera.resolution();
+    let wavelengths = render::spectrum::SampledWavelengths::sample_visible(0.5);
+    let mut mask = Vec::with_capacity((width * height) as usize);
+    for y in 0..height {
+        for x in 0..width {
+            let mut specular = false;
+            for (dx, dy) in (0..9).map(|i| ((i % 3) as f32 * 0.5, (i / 3) as f32 * 0.5)) {
+                let raster = glam::Vec2::new(x as f32 + dx, y as f32 + dy);
+                let ray = scene.camera.generate_ray(raster, [0.5; 2], 0.5);
+                let ray = render::geometry::Ray::with_time(ray.origin, ray.direction, ray.time);
+                if let Some(hit) = scene.geometry.intersect(&ray, f32::INFINITY)
+                    && let Some(material) = &scene.shapes[hit.shape_index as usize].material
+                {
+                    let bsdf = material.surface_bsdf_at(&hit, &wavelengths);
+                    specular |= bsdf.flags().is_specular();
+                }
+            }
+            mask.push(specular);
+        }
+    }
+    mask
 }
 
 /// Mitsuba's Cornell box read from its XML file (its geometry, camera and

@@ -180,17 +180,29 @@ impl Film {
     /// Calls `add` with the index and filter weight of every film pixel
     /// whose centre `c` satisfies `c − p ∈ (−r, r]` per axis for the splat
     /// at `p` (half-open, so that the box filter's pixels tile the plane).
-    fn for_each_splat_pixel(&self, position: [f32; 2], mut add: impl FnMut(usize, f64)) {
+    fn for_each_splat_pixel(&self, position: [f32; 2], add: impl FnMut(usize, f64)) {
+        self.for_each_splat_pixel_in_rows(position, 0..self.resolution[1], add);
+    }
+
+    /// [`Film::for_each_splat_pixel`] for the pixels in `rows` only.
+    #[inline]
+    fn for_each_splat_pixel_in_rows(
+        &self,
+        position: [f32; 2],
+        rows: std::ops::Range<usize>,
+        mut add: impl FnMut(usize, f64),
+    ) {
         let radius = self.filter.radius();
         let mut ranges = [(0usize, 0usize); 2];
+        let bounds = [(0, self.resolution[0]), (rows.start, rows.end)];
         for axis in 0..2 {
             let low = (position[axis] as f64 - radius[axis] as f64 - 0.5).floor() + 1.0;
             let high = (position[axis] as f64 + radius[axis] as f64 - 0.5).floor();
-            let limit = self.resolution[axis] as f64 - 1.0;
-            if high < 0.0 || low > limit {
+            let (first, end) = (bounds[axis].0 as f64, bounds[axis].1 as f64);
+            if high < first || low > end - 1.0 {
                 return;
             }
-            ranges[axis] = (low.max(0.0) as usize, high.min(limit) as usize);
+            ranges[axis] = (low.max(first) as usize, high.min(end - 1.0) as usize);
         }
         if let Filter::Gaussian(gaussian) = &self.filter
             && ranges
@@ -252,6 +264,57 @@ impl Film {
         }
         self.splats = splats;
         *self.nonfinite_samples.get_mut() += buffer.rejected_samples();
+    }
+
+    /// [`Film::merge_splats`] for several buffers in order, in parallel
+    /// over bands of rows: each band adds, in the buffers' order and each
+    /// buffer's order, the part of every splat that falls on its rows, so
+    /// every pixel receives the same additions in the same order as from
+    /// merging the buffers one after the other (the image is bit-identical
+    /// for any number of threads).
+    pub fn merge_splat_buffers(&mut self, buffers: &[&SplatBuffer]) {
+        use rayon::prelude::*;
+        let [width, height] = self.resolution;
+        let bands = rayon::current_num_threads().clamp(1, height);
+        if bands == 1 {
+            for buffer in buffers {
+                self.merge_splats(buffer);
+            }
+            return;
+        }
+        let band_rows = height.div_ceil(bands);
+        let mut splats = std::mem::take(&mut self.splats);
+        let film = &*self;
+        splats
+            .par_chunks_mut(band_rows * width)
+            .enumerate()
+            .for_each(|(band, cells)| {
+                let first_row = band * band_rows;
+                let rows = first_row..(first_row + band_rows).min(height);
+                let offset = first_row * width;
+                for buffer in buffers {
+                    for splat in buffer.splats() {
+                        let rgb = splat.rgb.map(f64::from);
+                        film.for_each_splat_pixel_in_rows(
+                            splat.raster_position,
+                            rows.clone(),
+                            |index, weight| {
+                                for (channel, cell) in cells[index - offset].iter_mut().enumerate()
+                                {
+                                    let value = cell.get_mut();
+                                    *value =
+                                        (f64::from_bits(*value) + weight * rgb[channel]).to_bits();
+                                }
+                            },
+                        );
+                    }
+                }
+            });
+        self.splats = splats;
+        *self.nonfinite_samples.get_mut() += buffers
+            .iter()
+            .map(|buffer| buffer.rejected_samples())
+            .sum::<u64>();
     }
 
     /// Adds one splat directly, from any thread, with atomic `f64` adds.

@@ -260,15 +260,23 @@ pub fn render_pixel_samples<E: PixelSampleEstimator>(
             .collect();
         let complete = results.iter().all(Option::is_some);
         // Tiles and their splats merge in the fixed tile order: the image
-        // does not depend on the number of threads.
+        // does not depend on the number of threads (the splats in parallel
+        // over bands of rows, each pixel in that order).
+        let mut splat_buffers = Vec::new();
         for (output, unit, count) in results.into_iter().flatten() {
             film.merge_tile(&output.tile)?;
             if complete {
-                film.merge_splats(&output.splats);
+                splat_buffers.push(output.splats);
             }
             estimator.merge_unit(&mut total, unit, complete);
             statistics.rays += output.counters.rays();
             statistics.samples += count;
+        }
+        if splat_buffers
+            .iter()
+            .any(|buffer| !buffer.is_empty() || buffer.rejected_samples() > 0)
+        {
+            film.merge_splat_buffers(&splat_buffers.iter().collect::<Vec<_>>());
         }
         estimator.end_pass(&mut total, &film, complete);
         if complete {

@@ -24,14 +24,20 @@
 //!   makes the same splat scale exact.
 //! - Depth counts segments as the path tracer's (Mitsuba's `max_depth`):
 //!   vertex `i` of the light path makes a path of `i + 1` segments.
+//! - Russian roulette decides on the throughput relative to the path's
+//!   start (the walk carries β / max β₁; the connections scale it back).
+//! - Paths whose last scattering before the camera is a delta lobe
+//!   (`… S E`: a mirror, glass or a mask seen by the camera) cannot be
+//!   connected and are missing, as in Mitsuba's `ptracer`.
 //! - Participating media (volumetric light tracing): the walk samples
 //!   free flights and medium vertices as `volpath`'s camera paths do, medium
 //!   vertices connect to the camera with their phase function, and every
 //!   connection and the environment camera ray carry their transmittance
 //!   through media and null surfaces. A particle starts in the medium on
 //!   the emitting side of its area light's medium interface, or else in
-//!   the camera's medium (the medium that fills the scene); environment
-//!   and directional lights in a scene-filling medium are refused.
+//!   the medium around its point, found from the camera as `volpath`'s
+//!   camera paths find it; environment and directional lights in a
+//!   scene-filling medium are refused.
 //!
 //! Numbers: the camera dimensions of [`crate::sampler::layout`] (time,
 //! wavelength, the lens point of the light vertex's connection, the film
@@ -214,6 +220,16 @@ impl SplatEstimator for LightTracer<'_> {
         };
         let beta = emission.radiance
             * (cosine / (choice_probability * emission.pdf_position * emission.pdf_direction));
+        // The walk carries β relative to its start, β / max β₁, and the
+        // connections scale it back: Russian roulette then decides on the
+        // product of the scatterings' f |cos| / p, as the path tracer's
+        // does from the camera. On β itself, which carries the emitted
+        // power over the densities (thousands in the Cornell box), the
+        // roulette never fired and every light path ran to the depth limit.
+        let beta_scale = beta.max_component();
+        if !(beta_scale > 0.0 && beta_scale.is_finite()) {
+            return;
+        }
         let origin = if on_surface {
             OffsetPoint::new(emission.origin, emission.normal, emission.direction)
                 .towards(emission.direction)
@@ -222,7 +238,7 @@ impl SplatEstimator for LightTracer<'_> {
         };
         let start = WalkStart {
             ray: Ray::with_time(origin, emission.direction, time),
-            beta,
+            beta: beta / beta_scale,
             pdf_direction: if emission.is_delta_direction {
                 0.0
             } else {
@@ -269,7 +285,8 @@ impl SplatEstimator for LightTracer<'_> {
             if factor.is_black() {
                 continue;
             }
-            let value = vertex.beta * factor * (camera_sample.value / camera_sample.pdf);
+            let value =
+                vertex.beta * factor * (beta_scale * camera_sample.value / camera_sample.pdf);
             splat_if_visible(
                 scene,
                 vertex.origin_towards(camera_sample.wi),
