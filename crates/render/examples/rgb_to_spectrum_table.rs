@@ -1,7 +1,7 @@
 //! Fits the linear sRGB → spectrum coefficient table with the project's own
 //! fitter ([`RgbToSpectrumTable::generate`]) and writes it in the format of
 //! [`RgbToSpectrumTable::to_bytes`]: by default the table the renderer
-//! embeds, `crates/render/data/spectra/srgb_to_spectrum_table_32.bin`.
+//! embeds, `crates/render/data/spectra/srgb_to_spectrum_table_64.bin`.
 //!
 //! ```text
 //! cargo run --release -p render --example rgb_to_spectrum_table -- [--resolution R] [-o FILE]
@@ -17,7 +17,7 @@ use std::time::Instant;
 use render::spectrum::{DEFAULT_RGB_TABLE_RESOLUTION, RgbToSpectrumTable};
 
 /// Where the renderer's embedded table lives, relative to the repository root.
-const DEFAULT_OUTPUT: &str = "crates/render/data/spectra/srgb_to_spectrum_table_32.bin";
+const DEFAULT_OUTPUT: &str = "crates/render/data/spectra/srgb_to_spectrum_table_64.bin";
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut resolution = DEFAULT_RGB_TABLE_RESOLUTION;

@@ -9,7 +9,8 @@ use std::time::Instant;
 
 use render::spectrum::{
     CIE_LAMBDA_MAX, CIE_LAMBDA_MIN, DEFAULT_RGB_TABLE_RESOLUTION, RgbAlbedoSpectrum,
-    RgbToSpectrumTable, cie_x, cie_y, cie_z, d65_illuminant, xyz_to_linear_srgb,
+    RgbToSpectrumTable, cie_x, cie_y, cie_z, d65_illuminant, linear_srgb_to_xyz,
+    xyz_to_linear_srgb,
 };
 
 /// Linear sRGB of a reflectance lit by D65 (Y of the white reflectance = 1).
@@ -77,22 +78,70 @@ fn srgb_table_round_trip_is_accurate() {
     println!(
         "round trip over 17³ colours: max {max_error:.2e} at {worst:?}, mean {mean_error:.2e}"
     );
-    assert!(mean_error < 2e-3, "mean error {mean_error}");
-    assert!(max_error < 2e-2, "max error {max_error} at {worst:?}");
+    assert!(mean_error < 5e-4, "mean error {mean_error}");
+    assert!(max_error < 5e-3, "max error {max_error} at {worst:?}");
 }
 
-/// pbrt-v4's resolution, for comparison (several seconds: run with --ignored).
+/// Resolution 32, the renderer's table before issue 15, for comparison (run
+/// with --ignored): its round trip is within 3.3·10⁻³ (mean 8.7·10⁻⁴) and
+/// it fails [`illuminant_colours_keep_their_xyz`] (X, Y, Z of the
+/// illuminant-normalised colours −0.12, −0.13, −0.12 %; at 64: −0.03 %).
 #[test]
 #[ignore]
-fn resolution_64_round_trip() {
+fn resolution_32_round_trip() {
     let start = Instant::now();
-    let table = RgbToSpectrumTable::generate(64).unwrap();
-    println!("fitting the R = 64 sRGB table took {:?}", start.elapsed());
+    let table = RgbToSpectrumTable::generate(32).unwrap();
+    println!("fitting the R = 32 sRGB table took {:?}", start.elapsed());
     let (max_error, mean_error, worst) = round_trip_errors(&table, 17);
     println!(
         "round trip over 17³ colours: max {max_error:.2e} at {worst:?}, mean {mean_error:.2e}"
     );
-    assert!(mean_error < 5e-4 && max_error < 5e-3);
+    let bias = illuminant_xyz_bias(&table);
+    println!("illuminant-normalised colours: XYZ bias {bias:?} %");
+    assert!(mean_error < 2e-3 && max_error < 2e-2);
+}
+
+/// The signed mean relative error, in per cent, of X, Y and Z of colours
+/// normalised as illuminants and unbounded spectra are (rgb / (2 max rgb), so
+/// the largest component is ½), upsampled and integrated again: a grid of
+/// 33² chromaticities on each face max = ½ of the cube.
+fn illuminant_xyz_bias(table: &RgbToSpectrumTable) -> [f64; 3] {
+    let steps = 33;
+    let (mut upsampled, mut exact) = ([0.0_f64; 3], [0.0_f64; 3]);
+    for face in 0..3 {
+        for a in 0..steps {
+            for b in 0..steps {
+                let mut rgb = [0.0_f32; 3];
+                rgb[face] = 0.5;
+                rgb[(face + 1) % 3] = 0.5 * a as f32 / (steps - 1) as f32;
+                rgb[(face + 2) % 3] = 0.5 * b as f32 / (steps - 1) as f32;
+                let polynomial = table.lookup(rgb);
+                let back = reflectance_to_srgb(|lambda| polynomial.evaluate(lambda));
+                let back = linear_srgb_to_xyz(back.map(|v| v as f32));
+                let target = linear_srgb_to_xyz(rgb);
+                for channel in 0..3 {
+                    upsampled[channel] += f64::from(back[channel]);
+                    exact[channel] += f64::from(target[channel]);
+                }
+            }
+        }
+    }
+    std::array::from_fn(|channel| 100.0 * (upsampled[channel] / exact[channel] - 1.0))
+}
+
+/// Issue 15: RGB illuminants (environment maps, area lights) upsampled with
+/// the table keep their X, Y and Z on average. Mitsuba 3's references use its
+/// resolution-64 table; our resolution-32 one darkened `museum.exr` by
+/// 0.13–0.16 %, which the z-test sees in directly visible environment pixels
+/// (variance 10⁻⁴ of the value) as a one-sided error. The bound is a third
+/// of that darkening.
+#[test]
+fn illuminant_colours_keep_their_xyz() {
+    let bias = illuminant_xyz_bias(RgbToSpectrumTable::srgb());
+    println!("illuminant-normalised colours: XYZ bias {bias:?} %");
+    for (channel, value) in bias.iter().enumerate() {
+        assert!(value.abs() < 0.05, "channel {channel}: {value} %");
+    }
 }
 
 #[test]

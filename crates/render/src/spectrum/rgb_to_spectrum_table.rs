@@ -26,13 +26,14 @@
 //! [`MAX_NORMALISED_COEFFICIENT`] so that interpolation stays well behaved.
 //!
 //! # The stored sRGB table
-//! Fitting the table at [`DEFAULT_RGB_TABLE_RESOLUTION`] = 32 costs about
-//! 3.3·10⁹ instructions (0.6 s of CPU time with optimised code), which every
-//! process and test binary used to pay at start-up. So the fitter's output is
-//! stored in `crates/render/data/spectra/srgb_to_spectrum_table_32.bin`
-//! ([`STORED_SRGB_TABLE_BYTES`] = 1 179 668 bytes, the format of
+//! Fitting the table at [`DEFAULT_RGB_TABLE_RESOLUTION`] = 64 (Mitsuba 3's
+//! and pbrt-v4's resolution) costs about 2.6·10¹⁰ instructions (9 s of CPU
+//! time with optimised code), which every process and test binary would pay
+//! at start-up. So the fitter's output is stored in
+//! `crates/render/data/spectra/srgb_to_spectrum_table_64.bin`
+//! ([`STORED_SRGB_TABLE_BYTES`] = 9 437 204 bytes, the format of
 //! [`RgbToSpectrumTable::to_bytes`]) and [`RgbToSpectrumTable::srgb`] decodes
-//! it (about a millisecond). It is exactly what [`RgbToSpectrumTable::generate`]
+//! it (a few milliseconds). It is exactly what [`RgbToSpectrumTable::generate`]
 //! produces (a test refits a sample of columns, and the round-trip test the
 //! whole table, and compares bit for bit). After changing the fitter,
 //! regenerate it with
@@ -42,9 +43,13 @@
 //! ```
 //!
 //! The round trip RGB → spectrum → RGB is within 3.3·10⁻³ (mean 8.7·10⁻⁴)
-//! over [0, 1]³. Resolution 64 (pbrt-v4's) halves the largest error and
-//! divides the mean by five but costs eight times as long to fit; call
-//! [`RgbToSpectrumTable::generate`] for it.
+//! over [0, 1]³ at resolution 32, which the renderer used until issue 15:
+//! its trilinear interpolation of the coefficients darkens colours
+//! systematically (the luminance of `museum.exr`'s texels upsampled as
+//! illuminants −0.13 to −0.16 % in X, Y, Z; Mitsuba 3's table −0.03 %), which
+//! made directly seen environment maps 0.1–0.3 % dark against Mitsuba's
+//! references. Resolution 64 halves the largest error, divides the mean by
+//! five and brings that bias to −0.03 to −0.05 %.
 
 use std::sync::OnceLock;
 
@@ -55,7 +60,7 @@ use super::sigmoid::RgbSigmoidPolynomial;
 
 /// Grid resolution R of the sRGB table built by [`RgbToSpectrumTable::srgb`]
 /// (pbrt-v4 uses 64; see the crate tests for the round-trip error at this one).
-pub const DEFAULT_RGB_TABLE_RESOLUTION: usize = 32;
+pub const DEFAULT_RGB_TABLE_RESOLUTION: usize = 64;
 
 /// Bound on the absolute value of each coefficient in the normalised wavelength
 /// t ∈ [0, 1]. Reached only by colours the sigmoid model cannot match (at the
@@ -303,7 +308,7 @@ pub const TABLE_MAGIC: &[u8; 16] = b"lqmc rgb2spec v1";
 
 /// The stored output of the fitter for linear sRGB at
 /// [`DEFAULT_RGB_TABLE_RESOLUTION`] (see the module docs).
-const STORED_SRGB_TABLE: &[u8] = include_bytes!("../../data/spectra/srgb_to_spectrum_table_32.bin");
+const STORED_SRGB_TABLE: &[u8] = include_bytes!("../../data/spectra/srgb_to_spectrum_table_64.bin");
 
 /// Size in bytes of the stored sRGB table.
 pub const STORED_SRGB_TABLE_BYTES: usize = stored_table_size(DEFAULT_RGB_TABLE_RESOLUTION);
