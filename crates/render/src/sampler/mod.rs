@@ -48,6 +48,30 @@
 //! [`crate::integrators::volpath`]). It is only asked for when the segment
 //! enters a medium. The QMC samplers put the most important decisions into the lowest
 //! dimensions of their sequences, where they are best distributed.
+//!
+//! # Seeds and randomization
+//!
+//! The numbers depend only on the seed, the pixel, the sample index and the
+//! dimension. [`Randomization`] says whether the seed randomizes the QMC
+//! points: by default ([`Randomization::Seeded`]) it does for every
+//! sampler, so renders with different seeds are independent replications
+//! with unbiased pixel estimates (error bars, randomized QMC):
+//!
+//! - [`HaltonSampler`]: Faure's permutations followed by a random digital
+//!   shift in base b per dimension and digit position; the per-pixel
+//!   enumeration inverts the shifts of dimensions 0 and 1;
+//! - [`SobolSampler`]: the per-pixel Owen scrambling, keyed by seed, pixel
+//!   and dimension;
+//! - [`SamplerKind::Lattice`] ([`PointSetSampler`]): the per-pixel
+//!   Cranley–Patterson shift, keyed by seed, pixel and dimension;
+//! - [`IndependentSampler`]: SplitMix64 keyed by the seed.
+//!
+//! [`Randomization::None`] keeps the deterministic QMC points: Halton is the
+//! LQMC paper's Faure-permuted sequence (bit for bit the sampler before the
+//! seed randomized it), Sobol and the lattice use seed 0's per-pixel
+//! scrambles and shifts (pixels must still be decorrelated), and the seed
+//! reaches only pseudo-random numbers (MT19937 past Halton's 256
+//! dimensions, the PCG streams past a point set, the independent sampler).
 
 mod halton;
 mod independent;
