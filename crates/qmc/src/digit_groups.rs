@@ -235,20 +235,33 @@ impl PositionalDigitGroups {
             "a 64-bit index has more digits than a 32-bit one"
         );
         let mut entries = Vec::with_capacity(steps * group as usize);
+        let k = digits_per_group as usize;
+        // The digits of `value`, least significant first, counted up with
+        // carries (no divisions: the tables of 256 bases are built per render).
+        let mut digits = vec![0usize; k];
         for step in 0..steps {
-            let first_position = step * digits_per_group as usize;
-            entries.extend((0..group).map(|value| {
-                // Mirror the k digits of `value`, least significant first,
-                // each through its own position's permutation.
-                let (mut remaining, mut mirrored) = (value, 0u64);
-                for j in 0..digits_per_group as usize {
-                    let digit = (remaining % b) as usize;
-                    mirrored =
-                        mirrored * b + permutations.permutation(first_position + j)[digit] as u64;
-                    remaining /= b;
+            let maps: Vec<&[u16]> = (0..k)
+                .map(|j| permutations.permutation(step * k + j))
+                .collect();
+            digits.fill(0);
+            for _ in 0..group {
+                // Mirror the k digits, each through its own position's
+                // permutation.
+                let mirrored = digits
+                    .iter()
+                    .zip(&maps)
+                    .fold(0u64, |mirrored, (&digit, map)| {
+                        mirrored * b + map[digit] as u64
+                    });
+                entries.push(mirrored as u16);
+                for digit in digits.iter_mut() {
+                    *digit += 1;
+                    if *digit < b as usize {
+                        break;
+                    }
+                    *digit = 0;
                 }
-                mirrored as u16
-            }));
+            }
         }
         let tails = (0..=steps)
             .map(|step| {

@@ -244,11 +244,11 @@ impl DigitPermutations {
         let mut permutations = Vec::with_capacity(base.base as usize * base.digit_count as usize);
         for position in 0..base.digit_count as u64 {
             let shift = ((hash2(seed, position) >> 32) * b) >> 32;
-            permutations.extend(
-                permutation
-                    .iter()
-                    .map(|&digit| ((digit as u64 + shift) % b) as u16),
-            );
+            // (σ(d) + s) mod b with one comparison: both are below b.
+            permutations.extend(permutation.iter().map(|&digit| {
+                let shifted = digit as u64 + shift;
+                (if shifted >= b { shifted - b } else { shifted }) as u16
+            }));
         }
         Self::from_concatenated(base, permutations)
     }
