@@ -15,7 +15,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use render::image::{Metadata, write_png};
 use render::integrators::{IntegratorKind, IntegratorSettings};
 use render::renderer::{RenderSettings, render};
-use render::sampler::SamplerKind;
+use render::sampler::{Randomization, SamplerKind};
 use render::scene::Scene;
 use render::scene::builtin::{BUILTIN_SCENES, DEFAULT_SCENE, builtin_scene};
 use render::scene::loader::{LoadOptions, load_scene_file};
@@ -50,6 +50,20 @@ pub enum SamplerName {
     Lattice,
 }
 
+/// Whether `--seed` randomizes the QMC samplers, as command-line values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum RandomizeName {
+    /// The seed randomizes every sampler: Halton's digits get a random
+    /// digital shift, Sobol's per-pixel Owen scrambles and the lattice's
+    /// per-pixel shifts are keyed by it. Renders with different seeds are
+    /// independent replications.
+    Seeded,
+    /// Deterministic QMC points: Faure-permuted Halton as in the LQMC
+    /// paper, Sobol's and the lattice's per-pixel scrambles and shifts of
+    /// seed 0; the seed changes only pseudo-random numbers.
+    None,
+}
+
 /// The MIS heuristics, as command-line values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum HeuristicName {
@@ -76,9 +90,17 @@ pub struct RenderArgs {
     /// Render for this many seconds (with --spp: at most that many samples).
     #[arg(long, value_name = "SECONDS")]
     pub time: Option<f64>,
-    /// Seed of every random choice.
+    /// Seed of every random choice; with the default `--randomize seeded`
+    /// also of the sampler's randomization (different seeds give
+    /// independent renders with every sampler).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Whether the seed randomizes the QMC samplers: `seeded` (Halton's
+    /// digital shifts, Sobol's Owen scrambles and the lattice's shifts keyed
+    /// by the seed) or `none` (the deterministic sequences: Halton as in the
+    /// LQMC paper; the seed reaches only pseudo-random numbers).
+    #[arg(long, value_enum, default_value_t = RandomizeName::Seeded)]
+    pub randomize: RandomizeName,
     /// Worker threads (default: all cores).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
@@ -367,6 +389,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         samples_per_pixel,
         time_budget,
         seed: args.seed,
+        randomization: match args.randomize {
+            RandomizeName::Seeded => Randomization::Seeded,
+            RandomizeName::None => Randomization::None,
+        },
         max_depth: args.max_depth.or(scene.max_depth).unwrap_or(6),
         heuristic: match args.mis {
             HeuristicName::Power => render::integrators::MisHeuristic::Power,
@@ -421,6 +447,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         statistics.completed_samples_per_pixel.to_string(),
     );
     metadata.insert("seed".into(), settings.seed.to_string());
+    metadata.insert("randomization".into(), settings.randomization.name().into());
     metadata.insert("renderTimeSeconds".into(), format!("{seconds:.3}"));
     metadata.insert("scene".into(), scene_name.to_string());
     metadata.insert("maxDepth".into(), settings.max_depth.to_string());

@@ -78,6 +78,10 @@ fn render_writes_exr_and_png_with_metadata_and_reports_rates() {
     assert_eq!(contents.metadata.get("spp").map(String::as_str), Some("4"));
     assert_eq!(contents.metadata.get("seed").map(String::as_str), Some("5"));
     assert_eq!(
+        contents.metadata.get("randomization").map(String::as_str),
+        Some("seeded")
+    );
+    assert_eq!(
         contents.metadata.get("integrator").map(String::as_str),
         Some("path")
     );
@@ -124,6 +128,7 @@ fn bad_render_input_is_one_line_and_status_two() {
         &["render", "builtin:furnace", "--max-depth", "0"],
         &["render", "builtin:furnace", "-o", "image.txt"],
         &["render", "builtin:furnace", "--sampler", "zsobol"],
+        &["render", "builtin:furnace", "--randomize", "sometimes"],
         &["render", "builtin:furnace", "--integrator", "bdpt"],
     ];
     for args in cases {
@@ -133,4 +138,46 @@ fn bad_render_input_is_one_line_and_status_two() {
         assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
         assert!(stderr.starts_with("lqmc: "), "{args:?}: {stderr}");
     }
+}
+
+/// `--randomize none` keeps Halton's points whatever the seed (paths of at
+/// most 6 segments use far fewer than the 256 Halton dimensions, so the
+/// images are identical); the default makes the seed change the image.
+#[test]
+fn randomize_none_ignores_the_seed_and_seeded_does_not() {
+    let directory = temporary_directory("randomize");
+    let render_with = |name: &str, seed: &str, randomize: &str| {
+        let exr = directory.join(name);
+        let output = lqmc(&[
+            "render",
+            "builtin:cornell-box",
+            "--resolution",
+            "8x8",
+            "--spp",
+            "2",
+            "--seed",
+            seed,
+            "--randomize",
+            randomize,
+            "--quiet",
+            "-o",
+            exr.to_str().unwrap(),
+        ]);
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        render::image::read_exr(&exr).unwrap()
+    };
+    let first = render_with("none-1.exr", "1", "none");
+    let second = render_with("none-2.exr", "2", "none");
+    assert_eq!(
+        first.metadata.get("randomization").map(String::as_str),
+        Some("none")
+    );
+    assert_eq!(first.image, second.image);
+    let seeded_first = render_with("seeded-1.exr", "1", "seeded");
+    let seeded_second = render_with("seeded-2.exr", "2", "seeded");
+    assert_ne!(seeded_first.image, seeded_second.image);
 }

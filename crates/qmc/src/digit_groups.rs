@@ -21,8 +21,21 @@
 //! `Φ(i) = Φ(i mod c) + Φ(⌊i / c⌋) / c`, as in
 //! [`radical_inverse_in`](crate::radical_inverse::radical_inverse_in).
 
-use crate::radical_inverse::{DigitBase, ONE_MINUS_EPSILON_F64};
+use crate::radical_inverse::{DigitBase, DigitPermutations, ONE_MINUS_EPSILON_F64};
 use std::sync::{Arc, OnceLock};
+
+/// `(k, b^k)`: the digits per step and the group for `base`, the largest
+/// `k ≥ 1` with `b^k ≤` [`GROUP_TABLE_LIMIT`] (or `k = 1`).
+fn group_size(base: u32) -> (u32, u64) {
+    let b = base as u64;
+    let mut digits_per_group = 1;
+    let mut group = b;
+    while group * b <= GROUP_TABLE_LIMIT as u64 {
+        group *= b;
+        digits_per_group += 1;
+    }
+    (digits_per_group, group)
+}
 
 /// The largest table: `b^k ≤ 4096` entries of 2 bytes, 8 KiB at most per
 /// base: seven digits per step in base 3, five in base 5, four in base 7,
@@ -81,12 +94,7 @@ impl DigitGroups {
     fn with_digit_map(base: DigitBase, permutation: Option<&[u16]>) -> Self {
         assert!(base.base >= 3, "base 2 is a bit reversal, not a table");
         let b = base.base as u64;
-        let mut digits_per_group = 1;
-        let mut group = b;
-        while group * b <= GROUP_TABLE_LIMIT as u64 {
-            group *= b;
-            digits_per_group += 1;
-        }
+        let (digits_per_group, group) = group_size(base.base);
         let entries: Arc<[u16]> = if permutation.is_none() && digits_per_group == 1 {
             if group as usize <= SHARED_IDENTITY_LENGTH {
                 shared_identity().clone()
@@ -178,13 +186,155 @@ impl DigitGroups {
     }
 }
 
+/// The radical inverse with a different digit permutation at every digit
+/// position ([`DigitPermutations`], e.g. a random digital shift), several
+/// digits per step as [`DigitGroups`] does: step `s` reads its own table
+/// `T_s[r] = Σ_{j<k} σ_{sk+j}(d_j(r)) b^{k−1−j}`, so indices below 2^32 cost
+/// the same few multiplications as the Faure tables, plus one table offset
+/// per step and one addition at the end.
+///
+/// The permutations need not fix 0: the index's leading zero digits inside
+/// the last group are mapped by the table, and those past it add
+/// `Σ_{p ≥ sk} σ_p(0) b^{-(p+1)}`, kept per step count `s` in units of the
+/// last digit (`tails[s]`), so the value is `(R + tails[s]) / g^s`. The tail
+/// is not an integer, so unlike [`DigitGroups`] the result is within an ulp
+/// of the digit-by-digit [`DigitPermutations::radical_inverse`], not
+/// always equal to it. Indices of 2^32 and more are evaluated digit by digit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PositionalDigitGroups {
+    permutations: DigitPermutations,
+    /// `g = b^k`.
+    group: u64,
+    /// `⌈2^64 / g⌉`.
+    group_reciprocal: u64,
+    /// `g` as a float.
+    group_f64: f64,
+    /// `T_s` for every step a 32-bit index can take, concatenated.
+    entries: Box<[u16]>,
+    /// `tails[s] = g^s Σ_{p ≥ sk} σ_p(0) b^{-(p+1)}` for `s` steps.
+    tails: Box<[f64]>,
+}
+
+impl PositionalDigitGroups {
+    /// The tables of `permutations` (of a base of at least 3).
+    pub fn new(permutations: DigitPermutations) -> Self {
+        let base = *permutations.base();
+        assert!(base.base >= 3, "base 2 is a bit reversal, not a table");
+        let b = base.base as u64;
+        let (digits_per_group, group) = group_size(base.base);
+        // The steps of the largest 32-bit index: ⌈digits / k⌉.
+        let mut digits = 0u32;
+        let mut remaining = u32::MAX as u64;
+        while remaining != 0 {
+            remaining /= b;
+            digits += 1;
+        }
+        let steps = digits.div_ceil(digits_per_group) as usize;
+        assert!(
+            steps * digits_per_group as usize <= permutations.position_count(),
+            "a 64-bit index has more digits than a 32-bit one"
+        );
+        let mut entries = Vec::with_capacity(steps * group as usize);
+        let k = digits_per_group as usize;
+        // The digits of `value`, least significant first, counted up with
+        // carries (no divisions: the tables of 256 bases are built per render).
+        let mut digits = vec![0usize; k];
+        for step in 0..steps {
+            let maps: Vec<&[u16]> = (0..k)
+                .map(|j| permutations.permutation(step * k + j))
+                .collect();
+            digits.fill(0);
+            for _ in 0..group {
+                // Mirror the k digits, each through its own position's
+                // permutation.
+                let mirrored = digits
+                    .iter()
+                    .zip(&maps)
+                    .fold(0u64, |mirrored, (&digit, map)| {
+                        mirrored * b + map[digit] as u64
+                    });
+                entries.push(mirrored as u16);
+                for digit in digits.iter_mut() {
+                    *digit += 1;
+                    if *digit < b as usize {
+                        break;
+                    }
+                    *digit = 0;
+                }
+            }
+        }
+        let tails = (0..=steps)
+            .map(|step| {
+                let position = step * digits_per_group as usize;
+                permutations.zero_tail(position) * (group as f64).powi(step as i32)
+            })
+            .collect();
+        Self {
+            permutations,
+            group,
+            group_reciprocal: (u64::MAX / group).wrapping_add(1),
+            group_f64: group as f64,
+            entries: entries.into(),
+            tails,
+        }
+    }
+
+    /// The permutations of every digit position.
+    pub fn permutations(&self) -> &DigitPermutations {
+        &self.permutations
+    }
+
+    /// The permuted radical inverse of `index`, below 1.
+    #[inline]
+    pub fn radical_inverse(&self, index: u64) -> f64 {
+        if index <= u32::MAX as u64 {
+            self.radical_inverse_32(index as u32)
+        } else {
+            self.radical_inverse_64(index)
+        }
+    }
+
+    /// Indices of 2^32 and more, digit by digit, out of line.
+    #[inline(never)]
+    fn radical_inverse_64(&self, index: u64) -> f64 {
+        self.permutations.radical_inverse(index)
+    }
+
+    #[inline(always)]
+    fn radical_inverse_32(&self, index: u32) -> f64 {
+        let entries = &*self.entries;
+        let group = self.group as usize;
+        let mut remaining = index as u64;
+        let mut mirrored = 0u64;
+        let mut denominator = 1.0f64;
+        let mut table = 0usize;
+        let mut steps = 0usize;
+        loop {
+            // ⌊n / g⌋ = ⌊⌈2^64 / g⌉ · n / 2^64⌋ for n < 2^32 (Lemire et al. 2019).
+            let quotient = ((self.group_reciprocal as u128 * remaining as u128) >> 64) as u64;
+            let remainder = remaining - quotient * self.group;
+            mirrored = mirrored * self.group + entries[table + remainder as usize] as u64;
+            denominator *= self.group_f64;
+            table += group;
+            steps += 1;
+            remaining = quotient;
+            if remaining == 0 {
+                break;
+            }
+        }
+        let tail = self.tails[steps];
+        ((mirrored as i64 as f64 + tail) / denominator).min(ONE_MINUS_EPSILON_F64)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::faure::faure_permutation;
     use crate::primes::PRIME_COUNT;
     use crate::radical_inverse::{
-        permuted_radical_inverse_fixing_zero, prime_digit_bases, radical_inverse_in,
+        DigitPermutations, permuted_radical_inverse_fixing_zero, prime_digit_bases,
+        radical_inverse_in,
     };
 
     /// Indices that exercise every digit count: small ones, powers of the
@@ -254,6 +404,29 @@ mod tests {
                 assert_eq!(groups.permuted_digit(digit as u32), image as u32);
             }
             assert_eq!(DigitGroups::plain(base).permuted_digit(2), 2);
+        }
+    }
+
+    /// Positional tables give the digit-by-digit value of the same
+    /// permutations (within rounding: the tail is added in floating point).
+    #[test]
+    fn positional_groups_match_digit_by_digit_permutations() {
+        for base_index in [1usize, 2, 3, 5, 17, 40, 100, 255] {
+            let base = prime_digit_bases()[base_index];
+            let permutation = faure_permutation(base.base);
+            for seed in [1u64, 77] {
+                let permutations = DigitPermutations::shifted(base, &permutation, seed);
+                let groups = PositionalDigitGroups::new(permutations.clone());
+                for index in test_indices(base.base as u64) {
+                    let expected = permutations.radical_inverse(index);
+                    let value = groups.radical_inverse(index);
+                    assert!(
+                        (value - expected).abs() <= 4.0 * f64::EPSILON && value < 1.0,
+                        "base {} index {index}: {value} vs {expected}",
+                        base.base
+                    );
+                }
+            }
         }
     }
 }

@@ -8,7 +8,13 @@
 //!   and 3 are left unpermuted (σ₂ and σ₃ are the identity);
 //! - `RandomPermutation`: an independent random permutation per dimension and
 //!   digit position (drawn from the seed);
-//! - `Owen`: nested uniform (Owen) scrambling in each base, from the seed.
+//! - `Owen`: nested uniform (Owen) scrambling in each base, from the seed;
+//! - `FaureShifted`: Faure's permutations followed by a random digital shift
+//!   in base b per digit position (from the seed): every point uniform, the
+//!   Faure sequence's stratification kept, and as fast as `Faure` (base 2 is
+//!   an XOR with a random word, bases from 3 on read one table per step,
+//!   [`crate::digit_groups::PositionalDigitGroups`]). The renderer's
+//!   randomized Halton sampler.
 //!
 //! Plain and Faure coordinates, the renderer's, are the fast ones: base 2 is a
 //! bit reversal read through byte tables, and bases from 3 on take several
@@ -21,14 +27,14 @@
 //! (Grünschloß, Raab & Keller 2012, "Enumerating quasi-Monte Carlo point
 //! sequences in elementary intervals").
 
-use crate::digit_groups::DigitGroups;
+use crate::digit_groups::{DigitGroups, PositionalDigitGroups};
 use crate::digital_scramble::reversed_bits_to_unit;
 use crate::faure::faure_permutation;
 use crate::hash::hash2;
 use crate::point_set::{PointSet, PointSetError};
 use crate::primes::PRIME_COUNT;
 use crate::radical_inverse::{
-    DigitBase, DigitPermutations, owen_scrambled_leading_digits_preimage,
+    DigitBase, DigitPermutations, ONE_MINUS_EPSILON_F64, owen_scrambled_leading_digits_preimage,
     owen_scrambled_radical_inverse, prime_digit_bases, radical_inverse_in,
 };
 
@@ -43,6 +49,9 @@ pub enum HaltonScramble {
     RandomPermutation,
     /// Owen's nested uniform scrambling.
     Owen,
+    /// Faure's permutations, then a random digital shift in base b per
+    /// dimension and digit position ([`DigitPermutations::shifted`]).
+    FaureShifted,
 }
 
 /// How one dimension's coordinates are computed.
@@ -57,6 +66,17 @@ enum Coordinate {
     PerPosition(DigitPermutations),
     /// Owen scrambling with this dimension's seed.
     Owen(DigitBase, u64),
+    /// Base 2 with a random digital shift (σ₂ is the identity): the index's
+    /// bits XOR `mask` (the shifts of digits 1 to 32), plus `tail` (the
+    /// shifted leading zeros past digit 32) for indices below 2^32.
+    ShiftedBitReversal {
+        mask: u32,
+        tail: f64,
+        permutations: DigitPermutations,
+    },
+    /// A permutation per digit position in a base of at least 3, several
+    /// digits per step from one table per step.
+    PositionalGrouped(PositionalDigitGroups),
 }
 
 /// The Halton sequence in `dimensions` dimensions with a scramble.
@@ -102,6 +122,27 @@ impl Halton {
                         Coordinate::PerPosition(DigitPermutations::random(base, dimension_seed))
                     }
                     HaltonScramble::Owen => Coordinate::Owen(base, dimension_seed),
+                    HaltonScramble::FaureShifted => {
+                        // σ₂ and σ₃ are the identity.
+                        let permutations = DigitPermutations::shifted(
+                            base,
+                            &faure_permutation(base.base),
+                            dimension_seed,
+                        );
+                        if base.base == 2 {
+                            // Digit k of the index is bit k; its shift is σ_k(0).
+                            let mask = (0..32).fold(0u32, |mask, position| {
+                                mask | (permutations.permutation(position)[0] as u32) << position
+                            });
+                            Coordinate::ShiftedBitReversal {
+                                mask,
+                                tail: permutations.zero_tail(32),
+                                permutations,
+                            }
+                        } else {
+                            Coordinate::PositionalGrouped(PositionalDigitGroups::new(permutations))
+                        }
+                    }
                 }
             })
             .collect();
@@ -123,6 +164,8 @@ impl Halton {
             Coordinate::Grouped(groups) => groups.base().base,
             Coordinate::PerPosition(permutations) => permutations.base().base,
             Coordinate::Owen(base, _) => base.base,
+            Coordinate::ShiftedBitReversal { .. } => 2,
+            Coordinate::PositionalGrouped(groups) => groups.permutations().base().base,
         }
     }
 
@@ -148,8 +191,14 @@ impl Halton {
                 Coordinate::Grouped(groups) => {
                     inverse(wanted, &|digit| groups.permuted_digit(digit))
                 }
-                Coordinate::PerPosition(permutations) => inverse(wanted, &|digit| {
-                    permutations.permutation(position)[digit as usize] as u32
+                Coordinate::PerPosition(permutations)
+                | Coordinate::ShiftedBitReversal { permutations, .. } => {
+                    inverse(wanted, &|digit| {
+                        permutations.permutation(position)[digit as usize] as u32
+                    })
+                }
+                Coordinate::PositionalGrouped(groups) => inverse(wanted, &|digit| {
+                    groups.permutations().permutation(position)[digit as usize] as u32
                 }),
             };
             residue += digit * power;
@@ -173,6 +222,10 @@ impl PointSet for Halton {
         match &self.coordinates[dimension] {
             Coordinate::Grouped(groups) => groups.radical_inverse(index),
             Coordinate::BitReversal => bit_reversal_radical_inverse(index),
+            Coordinate::PositionalGrouped(groups) => groups.radical_inverse(index),
+            Coordinate::ShiftedBitReversal { mask, tail, .. } if index <= u32::MAX as u64 => {
+                (reversed_bits_to_unit(index as u32 ^ mask) + tail).min(ONE_MINUS_EPSILON_F64)
+            }
             scrambled => scrambled_radical_inverse(scrambled, index),
         }
     }
@@ -186,6 +239,8 @@ fn scrambled_radical_inverse(coordinate: &Coordinate, index: u64) -> f64 {
     match coordinate {
         Coordinate::PerPosition(permutations) => permutations.radical_inverse(index),
         Coordinate::Owen(base, seed) => owen_scrambled_radical_inverse(base, *seed, index),
+        Coordinate::ShiftedBitReversal { permutations, .. } => permutations.radical_inverse(index),
+        Coordinate::PositionalGrouped(groups) => groups.radical_inverse(index),
         Coordinate::Grouped(groups) => groups.radical_inverse(index),
         Coordinate::BitReversal => bit_reversal_radical_inverse(index),
     }
@@ -440,6 +495,7 @@ mod tests {
             HaltonScramble::Faure,
             HaltonScramble::RandomPermutation,
             HaltonScramble::Owen,
+            HaltonScramble::FaureShifted,
         ] {
             let halton = Halton::new(4, scramble, 1234).unwrap();
             for (width, height) in [(1u32, 1u32), (7, 5), (16, 9), (33, 28)] {
@@ -484,5 +540,77 @@ mod tests {
         let enumeration = PixelEnumeration::new(4, 4).unwrap();
         assert!(enumeration.sample_index(&halton, (4, 0), 0).is_err());
         assert!(PixelEnumeration::new(0, 3).is_err());
+    }
+
+    /// The shifted coordinates are those of the digit-by-digit evaluation of
+    /// the same per-position permutations, in bases 2, 3 and larger.
+    #[test]
+    fn faure_shifted_matches_its_digit_permutations() {
+        let halton = Halton::new(40, HaltonScramble::FaureShifted, 5).unwrap();
+        for dimension in [0usize, 1, 2, 7, 39] {
+            let base = prime_digit_bases()[dimension];
+            let permutations = DigitPermutations::shifted(
+                base,
+                &faure_permutation(base.base),
+                hash2(5, dimension as u64),
+            );
+            for index in (0..500u64).chain([u32::MAX as u64, u32::MAX as u64 + 3, u64::MAX]) {
+                let expected = permutations.radical_inverse(index);
+                let value = halton.sample(index, dimension);
+                assert!(
+                    (value - expected).abs() <= 4.0 * f64::EPSILON,
+                    "dimension {dimension} index {index}: {value} vs {expected}"
+                );
+            }
+        }
+    }
+
+    /// Over seeds, a fixed point of the shifted sequence is uniform: the
+    /// mean of `n` seeds' values has standard error `√(1/(12 n))`, and the
+    /// first `b²` points still fall one in each interval of length `b^-2`.
+    #[test]
+    fn faure_shifted_points_are_uniform_over_seeds_and_stratified() {
+        let n = 4000u64;
+        let dimensions = [0usize, 1, 4, 12];
+        let indices = [0u64, 1, 12345];
+        let mut sums = [[0.0f64; 3]; 4];
+        for seed in 0..n {
+            let halton = Halton::new(13, HaltonScramble::FaureShifted, seed).unwrap();
+            for (sum, &dimension) in sums.iter_mut().zip(&dimensions) {
+                for (value, &index) in sum.iter_mut().zip(&indices) {
+                    *value += halton.sample(index, dimension);
+                }
+            }
+        }
+        let standard_error = (1.0 / (12.0 * n as f64)).sqrt();
+        for (sum, dimension) in sums.iter().zip(dimensions) {
+            for (value, index) in sum.iter().zip(indices) {
+                let mean = value / n as f64;
+                assert!(
+                    (mean - 0.5).abs() < 5.0 * standard_error,
+                    "dimension {dimension} index {index}: mean {mean}"
+                );
+            }
+        }
+        let halton = Halton::new(13, HaltonScramble::FaureShifted, 9).unwrap();
+        for dimension in dimensions {
+            let count = (halton.base(dimension) as u64).pow(2);
+            let mut cells = vec![0u32; count as usize];
+            for index in 0..count {
+                cells[(halton.sample(index, dimension) * count as f64) as usize] += 1;
+            }
+            assert!(cells.iter().all(|&c| c == 1), "dimension {dimension}");
+        }
+    }
+
+    #[test]
+    fn faure_shifted_seeds_differ() {
+        let a = Halton::new(8, HaltonScramble::FaureShifted, 1).unwrap();
+        let b = Halton::new(8, HaltonScramble::FaureShifted, 2).unwrap();
+        let c = Halton::new(8, HaltonScramble::FaureShifted, 1).unwrap();
+        for dimension in 0..8 {
+            assert_ne!(a.sample(3, dimension), b.sample(3, dimension));
+            assert_eq!(a.sample(3, dimension), c.sample(3, dimension));
+        }
     }
 }

@@ -224,6 +224,39 @@ impl DigitPermutations {
                 permutation.swap(i, j);
             }
         }
+        Self::from_concatenated(base, permutations)
+    }
+
+    /// A fixed permutation `σ` followed by a random digital shift in base
+    /// `b`: digit position `k` maps `d ↦ (σ(d) + s_k) mod b` with `s_k`
+    /// uniform in `0..b`, drawn from hashes of `seed` and the position.
+    /// The shifts make every digit of a coordinate, leading zeros included,
+    /// uniform and independent of the other positions, so each point is
+    /// uniform on `[0, 1)` (on the grid of `b^-digit_count`); a shift per
+    /// position is a bijection of each position's digits, so every
+    /// elementary interval `[a b^-k, (a+1) b^-k)` maps onto one of the same
+    /// size and the sequence's stratification is kept. (The random digital
+    /// shift in base b of L'Ecuyer & Lemieux 2002, "Recent advances in
+    /// randomized quasi-Monte Carlo methods", applied after `σ`.)
+    pub fn shifted(base: DigitBase, permutation: &[u16], seed: u64) -> Self {
+        assert_eq!(permutation.len(), base.base as usize, "one digit per base");
+        let b = base.base as u64;
+        let mut permutations = Vec::with_capacity(base.base as usize * base.digit_count as usize);
+        for position in 0..base.digit_count as u64 {
+            let shift = ((hash2(seed, position) >> 32) * b) >> 32;
+            // (σ(d) + s) mod b with one comparison: both are below b.
+            permutations.extend(permutation.iter().map(|&digit| {
+                let shifted = digit as u64 + shift;
+                (if shifted >= b { shifted - b } else { shifted }) as u16
+            }));
+        }
+        Self::from_concatenated(base, permutations)
+    }
+
+    /// The permutations of every digit position, concatenated, with their
+    /// zero tails.
+    fn from_concatenated(base: DigitBase, permutations: Vec<u16>) -> Self {
+        let width = base.base as usize;
         let mut zero_tail = vec![0.0; base.digit_count as usize + 1];
         for position in (0..base.digit_count as usize).rev() {
             let scale = base.inverse.powi(position as i32 + 1);
@@ -235,6 +268,17 @@ impl DigitPermutations {
             permutations,
             zero_tail,
         }
+    }
+
+    /// `Σ_{k ≥ position} σ_k(0) b^{-(k+1)}`: the value the permuted leading
+    /// zeros from digit `position` on add (0 from `digit_count` on).
+    pub fn zero_tail(&self, position: usize) -> f64 {
+        self.zero_tail.get(position).copied().unwrap_or(0.0)
+    }
+
+    /// The number of digit positions that carry a permutation.
+    pub fn position_count(&self) -> usize {
+        self.base.digit_count as usize
     }
 
     /// The base.

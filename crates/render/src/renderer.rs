@@ -9,7 +9,7 @@ use crate::film::Film;
 use crate::image::Image;
 use crate::integrators::path::PathSettings;
 use crate::integrators::{IntegratorDetails, IntegratorSettings, MisHeuristic, RunControl};
-use crate::sampler::SamplerKind;
+use crate::sampler::{Randomization, SamplerKind};
 use crate::scene::Scene;
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
@@ -29,6 +29,9 @@ pub struct RenderSettings {
     pub time_budget: Option<Duration>,
     /// The seed of every random choice.
     pub seed: u64,
+    /// Whether the seed randomizes the sampler's QMC points (default: it
+    /// does; [`Randomization::None`] keeps the deterministic sequences).
+    pub randomization: Randomization,
     /// Maximum path depth, Mitsuba's convention (segments).
     pub max_depth: u32,
     /// The MIS heuristic.
@@ -50,6 +53,7 @@ impl Default for RenderSettings {
             samples_per_pixel: 16,
             time_budget: None,
             seed: 0,
+            randomization: Randomization::Seeded,
             max_depth: 6,
             heuristic: MisHeuristic::Power,
             russian_roulette_depth: PathSettings::default().russian_roulette_depth,
@@ -182,6 +186,7 @@ pub fn render(
     let run = RunControl {
         sampler: settings.sampler,
         seed: settings.seed,
+        randomization: settings.randomization,
         samples_per_pixel: settings.samples_per_pixel,
         time_budget: settings.time_budget,
         tile_size: settings.tile_size,

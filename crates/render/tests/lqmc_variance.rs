@@ -3,8 +3,8 @@
 //! pixel's value.
 //!
 //! The seed sampler is `independent`, so that progressions — and renders
-//! with different seeds — are independent (Halton's points do not depend on
-//! the seed). Two checks on a small dof-spheres (b = 0 and b = 1 explored):
+//! with different seeds — are independent (a seeded Halton render's
+//! progressions share one randomization, so they are not). Two checks on a small dof-spheres (b = 0 and b = 1 explored):
 //!
 //! 1. Agreement with the empirical variance over `SEEDS` independent
 //!    renders. Per seed `r`, `a_r = Σ_p v̂_{r,p}` (the estimated variances

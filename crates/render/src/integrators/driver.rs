@@ -31,7 +31,7 @@
 
 use crate::film::{Film, FilmError, FilmTile, PixelBounds, SampleOutcome, SplatBuffer};
 use crate::geometry::Ray;
-use crate::sampler::{IndependentSampler, PixelSampler, SamplerKind, layout};
+use crate::sampler::{IndependentSampler, PixelSampler, Randomization, SamplerKind, layout};
 use crate::scene::Scene;
 use crate::spectrum::SampledWavelengths;
 use glam::Vec2;
@@ -48,6 +48,8 @@ pub struct RunControl<'a> {
     pub sampler: SamplerKind,
     /// The seed of every random choice.
     pub seed: u64,
+    /// Whether the seed randomizes the sampler's QMC points.
+    pub randomization: Randomization,
     /// Samples per pixel to render (with a time budget: at most this many).
     pub samples_per_pixel: u64,
     /// Stop after this much time, before the next tile.
@@ -207,9 +209,12 @@ pub fn render_pixel_samples<E: PixelSampleEstimator>(
     let resolution = [width as usize, height as usize];
     let mut film = Film::new(resolution, scene.filter)?;
     let tiles = film.tile_bounds(run.tile_size.max(1))?;
-    let prototype = run
-        .sampler
-        .create(run.seed, (width, height), run.samples_per_pixel);
+    let prototype = run.sampler.create(
+        run.seed,
+        run.randomization,
+        (width, height),
+        run.samples_per_pixel,
+    );
     let mut total = estimator.new_total(resolution)?;
     let pass_size = estimator.pass_size(run.samples_per_pixel, run.time_budget.is_some());
     let pixel_count = width as u64 * height as u64;

@@ -1,16 +1,21 @@
 //! The Halton sampler of the LQMC paper: the Faure-permuted Halton sequence
 //! enumerated per pixel (Grünschloß, Raab & Keller 2012) for the first
-//! [`HALTON_DIMENSIONS`] dimensions, then MT19937.
+//! [`HALTON_DIMENSIONS`] dimensions, then MT19937; randomized by the seed
+//! with a random digital shift per dimension and digit position.
 
-use super::{PixelSampler, SampleSource, pixel_sample_key, to_f32};
+use super::{PixelSampler, Randomization, SampleSource, pixel_sample_key, to_f32};
 use qmc::PointSet;
 use qmc::halton::{Halton, HaltonScramble, PixelEnumeration};
+use qmc::hash::hash2;
 use qmc::random::MersenneTwister;
 use std::sync::Arc;
 
 /// Dimensions served by the Halton sequence; later ones come from a
 /// Mersenne Twister seeded per pixel sample, as in the LQMC paper.
 pub const HALTON_DIMENSIONS: usize = 256;
+
+/// Hashed with the seed into the seed of the digital shifts.
+const HALTON_SHIFT_TAG: u64 = 0x4841_4C54_4F4E_5348;
 
 /// Faure-permuted Halton, per-pixel enumeration.
 ///
@@ -19,14 +24,28 @@ pub const HALTON_DIMENSIONS: usize = 256;
 /// unpermuted) are scaled to raster units and the pixel corner subtracted,
 /// so they stratify the pixel. The image-wide sequence is one
 /// low-discrepancy sequence, as Kollig & Keller require to avoid
-/// correlation between pixels. The seed chooses the MT19937 streams only
-/// (Faure's permutations are deterministic).
+/// correlation between pixels.
+///
+/// With [`Randomization::Seeded`] every dimension's digits, after Faure's
+/// permutation, get a random digital shift in base b per digit position
+/// keyed by the seed ([`HaltonScramble::FaureShifted`]): each pixel
+/// sample's point is uniform (the film position uniform in its pixel, as
+/// the enumeration inverts the shifts of dimensions 0 and 1), every
+/// elementary interval keeps its points, and different seeds are
+/// independent randomizations. With [`Randomization::None`] the sequence is
+/// Faure's alone, as in the paper. Either way the seed chooses the MT19937
+/// streams past dimension 256.
 #[derive(Debug, Clone)]
 pub struct HaltonSampler {
     halton: Arc<Halton>,
     enumeration: PixelEnumeration,
     seed: u64,
     pixel: (u32, u32),
+    /// The pixel whose first global index (its offset) is kept, and that
+    /// offset (`None` if the pixel is outside the enumeration): a tile
+    /// starts the samples of a pass pixel by pixel, so the inversion of the
+    /// leading digits runs once per pixel.
+    kept_offset: Option<((u32, u32), Option<u64>)>,
     index: u64,
     twister_key: u64,
     /// MT19937 numbers for dimensions ≥ 256, generated on demand.
@@ -35,10 +54,20 @@ pub struct HaltonSampler {
 }
 
 impl HaltonSampler {
-    /// The sampler for an image of `resolution` pixels (each at least 1).
-    pub fn new(seed: u64, resolution: (u32, u32)) -> Self {
-        let halton = Halton::new(HALTON_DIMENSIONS, HaltonScramble::Faure, 0)
-            .expect("256 Halton dimensions are supported");
+    /// The sampler for an image of `resolution` pixels (each at least 1),
+    /// randomized by `seed` as `randomization` says.
+    pub fn new(seed: u64, randomization: Randomization, resolution: (u32, u32)) -> Self {
+        let halton = match randomization {
+            Randomization::None => Halton::new(HALTON_DIMENSIONS, HaltonScramble::Faure, 0),
+            // The tag keeps the shifts' hashes apart from the MT19937 keys,
+            // which hash the seed with the pixel.
+            Randomization::Seeded => Halton::new(
+                HALTON_DIMENSIONS,
+                HaltonScramble::FaureShifted,
+                hash2(seed, HALTON_SHIFT_TAG),
+            ),
+        }
+        .expect("256 Halton dimensions are supported");
         let enumeration = PixelEnumeration::new(resolution.0.max(1), resolution.1.max(1))
             .expect("a non-empty resolution");
         Self {
@@ -46,6 +75,7 @@ impl HaltonSampler {
             enumeration,
             seed,
             pixel: (0, 0),
+            kept_offset: None,
             index: 0,
             twister_key: 0,
             twister: None,
@@ -90,11 +120,22 @@ impl SampleSource for HaltonSampler {
 impl PixelSampler for HaltonSampler {
     fn start_pixel_sample(&mut self, pixel: (u32, u32), sample_index: u64) {
         self.pixel = pixel;
+        let offset = match self.kept_offset {
+            Some((kept, offset)) if kept == pixel => offset,
+            _ => {
+                let offset = self.enumeration.sample_index(&self.halton, pixel, 0).ok();
+                self.kept_offset = Some((pixel, offset));
+                offset
+            }
+        };
         // Pixels outside the enumeration's resolution cannot occur: the
         // renderer builds the sampler for its image.
-        self.index = self
-            .enumeration
-            .sample_index(&self.halton, pixel, sample_index)
+        self.index = offset
+            .and_then(|offset| {
+                sample_index
+                    .checked_mul(self.enumeration.increment)?
+                    .checked_add(offset)
+            })
             .unwrap_or(sample_index);
         self.twister_key = pixel_sample_key(self.seed, pixel, sample_index);
         self.twister = None;

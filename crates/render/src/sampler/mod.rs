@@ -48,6 +48,30 @@
 //! [`crate::integrators::volpath`]). It is only asked for when the segment
 //! enters a medium. The QMC samplers put the most important decisions into the lowest
 //! dimensions of their sequences, where they are best distributed.
+//!
+//! # Seeds and randomization
+//!
+//! The numbers depend only on the seed, the pixel, the sample index and the
+//! dimension. [`Randomization`] says whether the seed randomizes the QMC
+//! points: by default ([`Randomization::Seeded`]) it does for every
+//! sampler, so renders with different seeds are independent replications
+//! with unbiased pixel estimates (error bars, randomized QMC):
+//!
+//! - [`HaltonSampler`]: Faure's permutations followed by a random digital
+//!   shift in base b per dimension and digit position; the per-pixel
+//!   enumeration inverts the shifts of dimensions 0 and 1;
+//! - [`SobolSampler`]: the per-pixel Owen scrambling, keyed by seed, pixel
+//!   and dimension;
+//! - [`SamplerKind::Lattice`] ([`PointSetSampler`]): the per-pixel
+//!   Cranley–Patterson shift, keyed by seed, pixel and dimension;
+//! - [`IndependentSampler`]: SplitMix64 keyed by the seed.
+//!
+//! [`Randomization::None`] keeps the deterministic QMC points: Halton is the
+//! LQMC paper's Faure-permuted sequence (bit for bit the sampler before the
+//! seed randomized it), Sobol and the lattice use seed 0's per-pixel
+//! scrambles and shifts (pixels must still be decorrelated), and the seed
+//! reaches only pseudo-random numbers (MT19937 past Halton's 256
+//! dimensions, the PCG streams past a point set, the independent sampler).
 
 mod halton;
 mod independent;
@@ -153,15 +177,71 @@ pub trait PixelSampler: SampleSource + Send + Sync {
     fn name(&self) -> String;
 }
 
+/// Whether the seed randomizes the quasi-Monte Carlo points (see the
+/// README's "Primary sample space" for what each sampler does).
+///
+/// - [`Randomization::Seeded`] (the default): every sampler is a
+///   randomization keyed by the seed, so renders with different seeds are
+///   independent replications with unbiased pixel estimates. Halton:
+///   Faure's permutations followed by a random digital shift in base b per
+///   dimension and digit position ([`qmc::halton::HaltonScramble::FaureShifted`]);
+///   Sobol: the per-pixel Owen scrambling keyed by seed and pixel; lattice:
+///   the per-pixel Cranley–Patterson shift keyed by seed and pixel.
+/// - [`Randomization::None`]: the deterministic constructions; the seed
+///   reaches only the pseudo-random numbers (the independent sampler,
+///   Halton's MT19937 past dimension 256, the PCG streams past a point
+///   set's dimensions or points). Halton is the unscrambled Faure-permuted
+///   sequence of the LQMC paper (bit for bit the sampler before seeds
+///   randomized it); Sobol and lattice keep their per-pixel scramble or
+///   shift, which decorrelates pixels, but fixed: those of seed 0.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Randomization {
+    /// The QMC points are randomized by the seed.
+    #[default]
+    Seeded,
+    /// The QMC points do not depend on the seed.
+    None,
+}
+
+impl Randomization {
+    /// Every randomization with its command-line and metadata name.
+    pub const ALL: [(Randomization, &'static str); 2] = [
+        (Randomization::Seeded, "seeded"),
+        (Randomization::None, "none"),
+    ];
+
+    /// The randomization called `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.iter().find(|(_, n)| *n == name).map(|(r, _)| *r)
+    }
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        Self::ALL.iter().find(|(r, _)| *r == self).unwrap().1
+    }
+
+    /// The seed of the per-pixel scrambles and shifts: the render's seed,
+    /// or 0 without randomization.
+    pub(crate) fn scramble_seed(self, seed: u64) -> u64 {
+        match self {
+            Randomization::Seeded => seed,
+            Randomization::None => 0,
+        }
+    }
+}
+
 /// The samplers a user can choose.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum SamplerKind {
     /// Independent uniform random numbers: SplitMix64 outputs addressed by
-    /// pixel sample and dimension.
+    /// pixel sample and dimension (always keyed by the seed).
     Independent,
-    /// Faure-permuted Halton with per-pixel enumeration (the LQMC paper's).
+    /// Faure-permuted Halton with per-pixel enumeration (the LQMC paper's),
+    /// randomized by a random digital shift per dimension and digit
+    /// position unless [`Randomization::None`].
     Halton,
-    /// Sobol, Owen-scrambled per pixel (hash-based).
+    /// Sobol, Owen-scrambled per pixel (hash-based), keyed by the seed
+    /// unless [`Randomization::None`].
     Sobol,
     /// A rank-1 lattice rule with N = samples per pixel rounded up to a power
     /// of two (fast CBC, 32 dimensions, γ_j = 1/32), rotated per pixel
@@ -191,17 +271,19 @@ impl SamplerKind {
     }
 
     /// Builds the sampler for an image of `resolution` pixels and
-    /// `samples_per_pixel` samples (which sizes the lattice).
+    /// `samples_per_pixel` samples (which sizes the lattice), randomized by
+    /// `seed` as `randomization` says.
     pub fn create(
         self,
         seed: u64,
+        randomization: Randomization,
         resolution: (u32, u32),
         samples_per_pixel: u64,
     ) -> Box<dyn PixelSampler> {
         match self {
             SamplerKind::Independent => Box::new(IndependentSampler::new(seed)),
-            SamplerKind::Halton => Box::new(HaltonSampler::new(seed, resolution)),
-            SamplerKind::Sobol => Box::new(SobolSampler::new(seed)),
+            SamplerKind::Halton => Box::new(HaltonSampler::new(seed, randomization, resolution)),
+            SamplerKind::Sobol => Box::new(SobolSampler::new(seed, randomization)),
             SamplerKind::Lattice => {
                 const LATTICE_DIMENSIONS: usize = 32;
                 let point_count = samples_per_pixel.clamp(4, 1 << 16).next_power_of_two();
@@ -216,6 +298,7 @@ impl SamplerKind {
                     std::sync::Arc::new(lattice),
                     "lattice",
                     seed,
+                    randomization,
                 ))
             }
         }

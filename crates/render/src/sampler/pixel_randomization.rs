@@ -4,7 +4,7 @@
 //! each dimension's randomization is hashed, and a PCG stream per pixel
 //! sample for the dimensions (or sample indices) the point set does not cover.
 
-use super::{pixel_part_of_key, sample_key_in_pixel};
+use super::{Randomization, pixel_part_of_key, sample_key_in_pixel};
 use qmc::hash::hash2;
 use qmc::random::SeekablePcg;
 
@@ -12,7 +12,11 @@ use qmc::random::SeekablePcg;
 /// moves it to a new pixel sample.
 #[derive(Debug, Clone)]
 pub(crate) struct PixelRandomization {
+    /// The seed of the PCG streams.
     seed: u64,
+    /// The seed of the per-pixel scrambles or shifts: `seed`, or 0 without
+    /// randomization.
+    scramble_seed: u64,
     pixel_seed: u64,
     index: u64,
     fallback: SeekablePcg,
@@ -20,9 +24,12 @@ pub(crate) struct PixelRandomization {
 
 impl PixelRandomization {
     /// The randomization chosen by `seed`, before any pixel sample starts.
-    pub(crate) fn new(seed: u64) -> Self {
+    /// With [`Randomization::None`] the per-pixel scrambles are those of
+    /// seed 0 and only the PCG streams follow `seed`.
+    pub(crate) fn new(seed: u64, randomization: Randomization) -> Self {
         Self {
             seed,
+            scramble_seed: randomization.scramble_seed(seed),
             pixel_seed: 0,
             index: 0,
             fallback: SeekablePcg::new(seed, 0),
@@ -32,11 +39,16 @@ impl PixelRandomization {
     /// Moves to sample `sample_index` of `pixel`.
     pub(crate) fn start(&mut self, pixel: (u32, u32), sample_index: u64) {
         // The pixel seed is the pixel part of the sample's key.
-        self.pixel_seed = pixel_part_of_key(self.seed, pixel);
+        self.pixel_seed = pixel_part_of_key(self.scramble_seed, pixel);
         self.index = sample_index;
+        let stream_pixel_part = if self.scramble_seed == self.seed {
+            self.pixel_seed
+        } else {
+            pixel_part_of_key(self.seed, pixel)
+        };
         self.fallback = SeekablePcg::new(
             self.seed,
-            sample_key_in_pixel(self.pixel_seed, sample_index),
+            sample_key_in_pixel(stream_pixel_part, sample_index),
         );
     }
 

@@ -3,7 +3,7 @@
 //! rotation (a random shift modulo one per pixel and dimension).
 
 use super::pixel_randomization::PixelRandomization;
-use super::{PixelSampler, SampleSource, to_f32};
+use super::{PixelSampler, Randomization, SampleSource, to_f32};
 use qmc::PointSet;
 use qmc::cranley_patterson::shift_modulo_one;
 use qmc::hash::to_unit_f64;
@@ -20,12 +20,18 @@ pub struct PointSetSampler {
 }
 
 impl PointSetSampler {
-    /// A sampler over `points`, named `name` in logs.
-    pub fn new(points: Arc<dyn PointSet>, name: impl Into<String>, seed: u64) -> Self {
+    /// A sampler over `points`, named `name` in logs, its per-pixel shifts
+    /// keyed by `seed` (by seed 0 with [`Randomization::None`]).
+    pub fn new(
+        points: Arc<dyn PointSet>,
+        name: impl Into<String>,
+        seed: u64,
+        randomization: Randomization,
+    ) -> Self {
         Self {
             points,
             name: name.into(),
-            randomization: PixelRandomization::new(seed),
+            randomization: PixelRandomization::new(seed, randomization),
         }
     }
 }

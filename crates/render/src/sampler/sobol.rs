@@ -2,7 +2,7 @@
 //! the Sobol sequence (Burley 2020), indexed by the pixel's sample number.
 
 use super::pixel_randomization::PixelRandomization;
-use super::{PixelSampler, SampleSource, to_f32};
+use super::{PixelSampler, Randomization, SampleSource, to_f32};
 use qmc::digital_scramble::{
     DigitalOrder, DigitalSequence, bits_to_unit, hash_owen_scramble_reversed,
 };
@@ -16,7 +16,8 @@ pub const SOBOL_DIMENSIONS: usize = 1024;
 /// Owen-scrambled Sobol per pixel.
 ///
 /// Sample `j` of a pixel is Sobol point `j`, every dimension scrambled with
-/// its own seed `hash(seed, pixel, dimension)`: each pixel's samples are an
+/// its own seed `hash(seed, pixel, dimension)` (seed 0 with
+/// [`Randomization::None`]): each pixel's samples are an
 /// independent randomization of the same (t, s)-sequence, so every pixel's
 /// estimate is unbiased and its first `2^m` samples keep the net's
 /// stratification in every 2-D projection of consecutive Sobol dimensions.
@@ -28,12 +29,12 @@ pub struct SobolSampler {
 
 impl SobolSampler {
     /// The sampler with randomization chosen by `seed`.
-    pub fn new(seed: u64) -> Self {
+    pub fn new(seed: u64, randomization: Randomization) -> Self {
         let sobol = Sobol::new(SOBOL_DIMENSIONS, DigitalOrder::Natural)
             .expect("1024 Sobol dimensions are supported");
         Self {
             sobol: Arc::new(sobol),
-            randomization: PixelRandomization::new(seed),
+            randomization: PixelRandomization::new(seed, randomization),
         }
     }
 }

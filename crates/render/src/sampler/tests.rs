@@ -8,10 +8,15 @@ use std::sync::Arc;
 fn all_samplers() -> Vec<Box<dyn PixelSampler>> {
     let mut samplers: Vec<Box<dyn PixelSampler>> = SamplerKind::ALL
         .iter()
-        .map(|(kind, _)| kind.create(7, (16, 9), 64))
+        .map(|(kind, _)| kind.create(7, Randomization::Seeded, (16, 9), 64))
         .collect();
     let points: Arc<dyn qmc::PointSet> = Arc::new(Halton::new(8, HaltonScramble::Owen, 3).unwrap());
-    samplers.push(Box::new(PointSetSampler::new(points, "owen-halton", 7)));
+    samplers.push(Box::new(PointSetSampler::new(
+        points,
+        "owen-halton",
+        7,
+        Randomization::Seeded,
+    )));
     samplers
 }
 
@@ -77,7 +82,7 @@ fn every_dimension_is_uniform_on_average() {
 fn halton_film_dimensions_stratify_each_pixel() {
     // With 2^a 3^b ≥ resolution, six consecutive samples of a pixel have
     // film positions (dims 0, 1) in distinct cells of a 2×3 grid of the pixel.
-    let mut sampler = SamplerKind::Halton.create(1, (5, 4), 6);
+    let mut sampler = SamplerKind::Halton.create(1, Randomization::Seeded, (5, 4), 6);
     for pixel in [(0u32, 0u32), (4, 3), (2, 1)] {
         let mut cells = [false; 6];
         for sample in 0..6 {
@@ -94,7 +99,7 @@ fn halton_film_dimensions_stratify_each_pixel() {
 fn sobol_first_samples_of_a_pixel_are_a_net() {
     // The first 16 samples of a pixel, dims (0, 1), put one point in every
     // cell of a 4×4 grid: Owen scrambling keeps the (0, 4, 2)-net.
-    let mut sampler = SamplerKind::Sobol.create(9, (4, 4), 16);
+    let mut sampler = SamplerKind::Sobol.create(9, Randomization::Seeded, (4, 4), 16);
     let mut cells = [0u32; 16];
     for sample in 0..16 {
         sampler.start_pixel_sample((2, 3), sample);
@@ -113,4 +118,148 @@ fn layout_blocks_do_not_overlap() {
     );
     assert_eq!(SamplerKind::from_name("sobol"), Some(SamplerKind::Sobol));
     assert_eq!(SamplerKind::from_name("zsobol"), None);
+}
+
+/// Sampler, seed, pixel, sample index and the numbers of
+/// [`GOLDEN_DIMENSIONS`].
+type GoldenRow = (SamplerKind, u64, (u32, u32), u64, [u32; 8]);
+
+/// The dimensions of [`GOLDEN_NUMBERS`].
+const GOLDEN_DIMENSIONS: [usize; 8] = [0, 1, 2, 5, 17, 255, 256, 300];
+
+/// Numbers (`f32` bits) of the samplers before seeds randomized Halton,
+/// recorded from that code (commit b484c5f) on a 16×9 image with 64 spp:
+/// sampler, seed, pixel, sample index, then the numbers of
+/// [`GOLDEN_DIMENSIONS`].
+#[rustfmt::skip]
+const GOLDEN_NUMBERS: [GoldenRow; 18] = [
+    (SamplerKind::Halton, 0, (0, 0), 0, [0, 0, 0, 0, 0, 0, 995817472, 1059218940]),
+    (SamplerKind::Halton, 0, (3, 4), 1, [1060110336, 1050129446, 1043395196, 1064291754, 1063536173, 1063405028, 1037872872, 1063133566]),
+    (SamplerKind::Halton, 0, (15, 8), 7, [1063387136, 1054410052, 1059168463, 1036483728, 1057494391, 1032446453, 1059972005, 1061087258]),
+    (SamplerKind::Halton, 5, (0, 0), 0, [0, 0, 0, 0, 0, 0, 1063096842, 1049681450]),
+    (SamplerKind::Halton, 5, (3, 4), 1, [1060110336, 1050129446, 1043395196, 1064291754, 1063536173, 1063405028, 1058359043, 1052496916]),
+    (SamplerKind::Halton, 5, (15, 8), 7, [1063387136, 1054410052, 1059168463, 1036483728, 1057494391, 1032446453, 1052988404, 1041624836]),
+    (SamplerKind::Sobol, 0, (0, 0), 0, [1065017913, 1021933508, 1055263116, 1059003899, 1051819120, 1057085948, 1058289800, 1065345599]),
+    (SamplerKind::Sobol, 0, (3, 4), 1, [1054295057, 1063110486, 1064068776, 1047791831, 1028282763, 1062269439, 1056797774, 1043868233]),
+    (SamplerKind::Sobol, 0, (15, 8), 7, [1040575146, 1045464459, 1052614608, 1055472717, 1054674645, 1061607467, 1041310127, 1042854952]),
+    (SamplerKind::Sobol, 5, (0, 0), 0, [1049451121, 1037423427, 1035786581, 1052091152, 1003649426, 1058598594, 1061292444, 1058391175]),
+    (SamplerKind::Sobol, 5, (3, 4), 1, [1041828678, 1039581642, 1033601445, 1059149195, 1047048418, 1061159948, 1051698064, 1036107932]),
+    (SamplerKind::Sobol, 5, (15, 8), 7, [1057486235, 1063646774, 1020979641, 1062305048, 1062298973, 1050164866, 1064544599, 1060371945]),
+    (SamplerKind::Lattice, 0, (0, 0), 0, [1060827014, 1044814242, 1036940751, 1057968379, 1062490953, 1063678879, 1045881700, 1063759585]),
+    (SamplerKind::Lattice, 0, (3, 4), 1, [1062640395, 1064965485, 1064656002, 1058887552, 1059532015, 1064704003, 1060448872, 1055757098]),
+    (SamplerKind::Lattice, 0, (15, 8), 7, [1052562398, 1018321191, 1058246032, 1059208883, 1058807232, 1055828916, 1045023332, 1042954376]),
+    (SamplerKind::Lattice, 5, (0, 0), 0, [1057606213, 1047316222, 1034919382, 1062445551, 1047061534, 1034836656, 1063067591, 1063866968]),
+    (SamplerKind::Lattice, 5, (3, 4), 1, [1060519979, 1049290908, 1054195615, 1053160899, 1058444483, 1009148352, 1055815238, 1064775927]),
+    (SamplerKind::Lattice, 5, (15, 8), 7, [1052502056, 1059677885, 1056961032, 1050017060, 1062640458, 1042220252, 1058099551, 1041535832]),
+];
+
+/// The numbers of `kind` at a golden pixel sample.
+fn numbers_at(
+    kind: SamplerKind,
+    seed: u64,
+    randomization: Randomization,
+    pixel: (u32, u32),
+    sample: u64,
+) -> [u32; 8] {
+    let mut sampler = kind.create(seed, randomization, (16, 9), 64);
+    sampler.start_pixel_sample(pixel, sample);
+    GOLDEN_DIMENSIONS.map(|dimension| sampler.get(dimension).to_bits())
+}
+
+/// `Randomization::None` is the old Halton sampler bit for bit, whatever
+/// the seed (which reaches only the MT19937 past dimension 256); seeded
+/// Sobol and lattice are the old ones (they were already keyed by the seed).
+#[test]
+fn no_randomization_reproduces_the_old_samplers() {
+    for (kind, seed, pixel, sample, golden) in GOLDEN_NUMBERS {
+        let randomization = match kind {
+            SamplerKind::Halton => Randomization::None,
+            _ => Randomization::Seeded,
+        };
+        assert_eq!(
+            numbers_at(kind, seed, randomization, pixel, sample),
+            golden,
+            "{kind:?} seed {seed} {pixel:?} sample {sample}"
+        );
+    }
+}
+
+/// Without randomization Sobol and lattice use seed 0's per-pixel scrambles
+/// and shifts for every seed; only the PCG streams past the point set (the
+/// lattice's 32 dimensions) follow the seed.
+#[test]
+fn no_randomization_fixes_the_sobol_and_lattice_scrambles() {
+    for (kind, seed, pixel, sample, golden) in GOLDEN_NUMBERS {
+        if kind == SamplerKind::Halton || seed == 0 {
+            continue;
+        }
+        let seed_zero = GOLDEN_NUMBERS
+            .iter()
+            .find(|row| row.0 == kind && row.1 == 0 && row.2 == pixel && row.3 == sample)
+            .unwrap()
+            .4;
+        let numbers = numbers_at(kind, seed, Randomization::None, pixel, sample);
+        for (position, dimension) in GOLDEN_DIMENSIONS.iter().enumerate() {
+            let in_point_set = kind == SamplerKind::Sobol || *dimension < 32;
+            let expected = if in_point_set {
+                seed_zero[position]
+            } else {
+                golden[position]
+            };
+            assert_eq!(
+                numbers[position], expected,
+                "{kind:?} dimension {dimension}"
+            );
+        }
+    }
+}
+
+/// Seeded, every sampler gives other numbers for another seed (in every
+/// dimension: a coincidence has probability about 2^-24 per number) and the
+/// same numbers for the same seed.
+#[test]
+fn seeds_change_every_number_and_repeat() {
+    for (kind, _) in SamplerKind::ALL {
+        for (pixel, sample) in [((0u32, 0u32), 0u64), ((3, 4), 1), ((15, 8), 7)] {
+            let first = numbers_at(kind, 1, Randomization::Seeded, pixel, sample);
+            let again = numbers_at(kind, 1, Randomization::Seeded, pixel, sample);
+            let other = numbers_at(kind, 2, Randomization::Seeded, pixel, sample);
+            assert_eq!(first, again, "{kind:?}");
+            for (position, dimension) in GOLDEN_DIMENSIONS.iter().enumerate() {
+                assert_ne!(
+                    first[position], other[position],
+                    "{kind:?} {pixel:?} sample {sample} dimension {dimension}"
+                );
+            }
+        }
+    }
+}
+
+/// Without randomization the Halton points (below dimension 256) are the
+/// same for every seed.
+#[test]
+fn no_randomization_keeps_halton_points_for_every_seed() {
+    let first = numbers_at(SamplerKind::Halton, 1, Randomization::None, (3, 4), 2);
+    let other = numbers_at(SamplerKind::Halton, 2, Randomization::None, (3, 4), 2);
+    assert_eq!(first[..6], other[..6]);
+    assert_ne!(first[6..], other[6..]);
+}
+
+/// The seeded Halton sampler's film position stays in its pixel and
+/// stratifies it, as the enumeration inverts the digital shifts.
+#[test]
+fn seeded_halton_film_dimensions_stratify_each_pixel() {
+    for seed in [3u64, 4] {
+        let mut sampler = SamplerKind::Halton.create(seed, Randomization::Seeded, (5, 4), 6);
+        for pixel in [(0u32, 0u32), (4, 3), (2, 1)] {
+            let mut cells = [false; 6];
+            for sample in 0..6 {
+                sampler.start_pixel_sample(pixel, sample);
+                let [x, y] = sampler.get_2d(layout::FILM);
+                let cell = (x * 2.0) as usize + 2 * (y * 3.0) as usize;
+                assert!(!cells[cell], "seed {seed} pixel {pixel:?} sample {sample}");
+                cells[cell] = true;
+            }
+        }
+    }
 }
