@@ -318,22 +318,15 @@ impl Vertex {
             .origin_towards(self.point, direction)
     }
 
-    /// The medium a ray leaving the vertex in `direction` starts in: at a
-    /// surface with a medium interface, the side `direction` leaves to;
-    /// otherwise the medium the subpath arrived through.
+    /// The medium a ray leaving the vertex in `direction` starts in
+    /// ([`medium_leaving`]).
     #[inline]
     pub fn medium_towards(&self, scene: &Scene, direction: Vec3) -> Option<u32> {
-        match &self.scatterer {
-            Scatterer::Surface { hit, .. } => medium_after(
-                scene.shapes[hit.shape_index as usize]
-                    .medium_interface
-                    .as_ref(),
-                hit.geometric_normal,
-                direction,
-                self.medium,
-            ),
-            Scatterer::Medium { .. } => self.medium,
-        }
+        let hit = match &self.scatterer {
+            Scatterer::Surface { hit, .. } => Some(hit),
+            Scatterer::Medium { .. } => None,
+        };
+        medium_leaving(scene, hit, self.medium, direction)
     }
 
     /// [`ScattererRef::connection_factor`] from the vertex's `wo`.
@@ -1056,6 +1049,29 @@ pub fn solid_angle_to_area(pdf_solid_angle: f32, from: Vec3, point: Vec3, normal
     }
     let cosine = (offset.dot(normal) / distance_squared.sqrt()).abs();
     pdf_solid_angle * cosine / distance_squared
+}
+
+/// The medium a ray leaving a vertex in `direction` starts in: at a surface
+/// `hit` (oriented) with a medium interface, the side `direction` leaves
+/// to; otherwise `medium`, the one the path arrived through.
+#[inline]
+pub fn medium_leaving(
+    scene: &Scene,
+    hit: Option<&SurfaceHit>,
+    medium: Option<u32>,
+    direction: Vec3,
+) -> Option<u32> {
+    match hit {
+        Some(hit) => medium_after(
+            scene.shapes[hit.shape_index as usize]
+                .medium_interface
+                .as_ref(),
+            hit.geometric_normal,
+            direction,
+            medium,
+        ),
+        None => medium,
+    }
 }
 
 /// [`SurfaceHit`]'s normals turned as a shape's `flip_normals` asks, in

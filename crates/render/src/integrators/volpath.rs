@@ -80,7 +80,7 @@ use super::driver::{
 use super::path::{PathSettings, oriented_hit};
 use super::path_space::{
     MAX_INTERFACE_CROSSINGS, ScattererRef, VertexAt, WalkObserver, WalkSettings, WalkStart,
-    WalkState, null_transmission, walk,
+    WalkState, medium_leaving, null_transmission, walk,
 };
 use super::{Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
 use crate::geometry::{Ray, SurfaceHit, offset_ray_origin, spawn_ray, spawn_ray_to_point};
@@ -363,18 +363,8 @@ fn sample_light(
         None => return SampledSpectrum::zero(),
     };
     // The medium the shadow ray starts in: at a surface, the side `wi` leaves to.
-    let start_medium = match hit {
-        Some(hit) => {
-            let info = &scene.shapes[hit.shape_index as usize];
-            medium_after(
-                info.medium_interface.as_ref(),
-                hit.geometric_normal,
-                sample.wi,
-                medium,
-            )
-        }
-        None => medium,
-    };
+    // The medium the shadow ray starts in: at a surface, the side `wi` leaves to.
+    let start_medium = medium_leaving(scene, hit, medium, sample.wi);
     let transmittance =
         shadow_transmittance(scene, ray, t_max, start_medium, wavelengths, counters);
     if transmittance.is_black() {

@@ -27,10 +27,10 @@ use crate::geometry::{Ray, SurfaceHit, spawn_ray, spawn_ray_to_point};
 use crate::integrators::TraceCounters;
 use crate::integrators::path::{PathSettings, oriented_hit};
 use crate::integrators::path_space::{
-    ScattererRef, Scattering, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState, walk,
+    ScattererRef, Scattering, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState,
+    medium_leaving, walk,
 };
 use crate::integrators::volpath::{shadow_ray, shadow_transmittance_with};
-use crate::medium::medium_after;
 use crate::sampler::{DynSource, SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::SampledWavelengths;
@@ -262,7 +262,7 @@ fn sample_light(
     let sample = &light_sample.sample;
     if scene.has_media() {
         let (ray, t_max) = shadow_ray(reference, hit, sample)?;
-        let start_medium = start_medium(scene, hit, medium, sample.wi);
+        let start_medium = medium_leaving(scene, hit, medium, sample.wi);
         // The seed's walk has no null crossings: shadow rays stop at thin
         // sheets and masks, which its paths pass by sampling them.
         let transmittance = shadow_transmittance_with(
@@ -294,25 +294,4 @@ fn sample_light(
         }
     }
     Some(LightConnection::from_sample(scene, light_sample))
-}
-
-/// The medium a ray leaving a vertex along `direction` starts in: at a
-/// surface, the side `direction` leaves to; in a medium, that medium.
-pub fn start_medium(
-    scene: &Scene,
-    hit: Option<&SurfaceHit>,
-    medium: Option<u32>,
-    direction: Vec3,
-) -> Option<u32> {
-    match hit {
-        Some(hit) => medium_after(
-            scene.shapes[hit.shape_index as usize]
-                .medium_interface
-                .as_ref(),
-            hit.geometric_normal,
-            direction,
-            medium,
-        ),
-        None => medium,
-    }
 }

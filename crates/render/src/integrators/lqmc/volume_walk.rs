@@ -23,12 +23,12 @@ use super::path_record::{CameraVertex, SurfaceVertex, Terminal};
 use super::path_walk::{
     SPECULAR_DIRECTION_COSINE, WalkInput, WalkedPath, full_path_next_event, non_specular_eta,
 };
-use super::seed_path::start_medium;
 use super::segment_cache::SegmentReuse;
 use super::statistics::FailureReason;
 use crate::geometry::{Ray, offset_ray_origin, spawn_ray};
 use crate::integrators::TraceCounters;
 use crate::integrators::path::PathSettings;
+use crate::integrators::path_space::medium_leaving;
 use crate::integrators::volpath::{shadow_ray, shadow_transmittance_with};
 use crate::light::LightSample;
 use crate::sampler::{SampleSource, layout};
@@ -338,7 +338,7 @@ pub fn walk_volumetric(
             }
             let (ray, t_max) =
                 shadow_ray(reference, hit, &sample).ok_or(FailureReason::Evaluation)?;
-            let shadow_medium = start_medium(scene, hit, state.medium, sample.wi);
+            let shadow_medium = medium_leaving(scene, hit, state.medium, sample.wi);
             // LQMC's paths make thin sheets and masks vertices (no null
             // crossings): shadow rays stop at them.
             let transmittance = shadow_transmittance_with(
@@ -420,7 +420,7 @@ pub fn walk_volumetric(
                 state.specular_bounce = specular;
                 state.previous_point = reference;
                 direction_density = (!specular).then_some(pdf as f64);
-                state.medium = start_medium(scene, hit, state.medium, wi);
+                state.medium = medium_leaving(scene, hit, state.medium, wi);
             }
             None => {
                 let phase = phase.expect("a medium vertex has a medium");
