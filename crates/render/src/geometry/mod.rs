@@ -57,7 +57,7 @@ pub use sampling::{
 pub use shape::Shape;
 pub use spawn::{
     OffsetPoint, SHADOW_EPSILON, occlusion_segment_to_point, offset_ray_origin, spawn_ray,
-    spawn_ray_to, spawn_ray_to_point, spawn_segment_to_point,
+    spawn_ray_through, spawn_ray_to, spawn_ray_to_point, spawn_segment_to_point,
 };
 pub use sphere::Sphere;
 pub use transform::Transform;

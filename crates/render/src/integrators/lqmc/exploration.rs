@@ -217,7 +217,6 @@ fn handle_event(
         class,
         breakup,
         sample_index,
-        event_key,
         sampler,
         scratch,
         splats,
@@ -249,7 +248,6 @@ fn explore(
     class: PathClass,
     breakup: usize,
     sample_index: u64,
-    event_key: u64,
     sampler: &mut dyn SampleSource,
     scratch: &mut LqmcScratch,
     splats: &mut SplatBuffer,
@@ -317,11 +315,16 @@ fn explore(
         scratch.lattice_dimension.push(index);
     }
     if settings.scramble_dimensions {
-        scramble_lattice_dimensions(
+        let key = set_key(
+            context.seed,
+            sample_index,
+            class,
+            breakup,
             &scratch.dimensions,
-            &mut scratch.lattice_dimension,
-            hash2(event_key, SCRAMBLE_KEY),
+            &scratch.seed_numbers,
+            &scratch.jitter,
         );
+        scramble_lattice_dimensions(&scratch.dimensions, &mut scratch.lattice_dimension, key);
     }
     let Ok(entry) = lqmc_lattice_entry(parameters.lattice_size, dimension_count) else {
         return false;
@@ -543,6 +546,37 @@ fn same_breakup_inputs(member: &[SurfaceVertex], seed: &[SurfaceVertex]) -> bool
                 && member.roughness.to_bits() == seed.roughness.to_bits()
                 && member.medium == seed.medium
         })
+}
+
+/// A key for what every member of an exploration's set shares, and
+/// nothing else: the render's seed, the progression, the class, the
+/// breakup vertex, and per explored dimension its kind and the tile the
+/// seed's number lies in on the jittered grid (modulo the tile count: the
+/// tile the grid wraps around is one tile). The lattice-dimension scramble
+/// is keyed on it, so a member, had it been the seed, would draw the same
+/// scramble and so have the same set: Eq. (9)'s weights then sum to one
+/// for every set, not only on average over a per-seed hash.
+fn set_key(
+    render_seed: u64,
+    sample_index: u64,
+    class: PathClass,
+    breakup: usize,
+    dimensions: &[ExploredDimension],
+    seed_numbers: &[f64],
+    jitter: &[f64],
+) -> u64 {
+    let mut key = hash3(
+        render_seed ^ SCRAMBLE_KEY,
+        sample_index,
+        class.index() as u64,
+    );
+    key = hash2(key, breakup as u64);
+    for ((dimension, number), jitter) in dimensions.iter().zip(seed_numbers).zip(jitter) {
+        let tiles = f64::from(dimension.tiles);
+        let tile = ((number - jitter) * tiles).floor().rem_euclid(tiles) as u64;
+        key = hash3(key, dimension.kind.key(), tile);
+    }
+    key
 }
 
 /// The paper's proposed remedy against visible lattice structure: the two

@@ -16,7 +16,7 @@ use super::classification::lobe_roughness;
 use super::medium_segment::{lands_at, medium_roughness};
 use super::path_record::{CameraVertex, SplatEvent, SurfaceVertex, Terminal};
 use super::statistics::FailureReason;
-use crate::geometry::{Ray, SurfaceHit, spawn_ray};
+use crate::geometry::{Ray, SurfaceHit, spawn_ray, spawn_ray_through};
 use crate::integrators::TraceCounters;
 use crate::integrators::path::oriented_hit;
 use crate::integrators::path_space::{
@@ -472,9 +472,9 @@ pub fn rebuild_member(
     let breakup_vertex = *vertices.last().expect("breakup ≥ 1 pushed a vertex");
     if breakup < seed_vertices.len() {
         let target = &seed_vertices[breakup];
-        let to_target = target.raw_hit.point - breakup_vertex.raw_hit.point;
-        let distance = to_target.length();
-        let ray = spawn_ray(&breakup_vertex.raw_hit, to_target / distance);
+        let distance = (target.raw_hit.point - breakup_vertex.raw_hit.point).length();
+        let (ray, _) = spawn_ray_through(&breakup_vertex.raw_hit, target.raw_hit.point)
+            .ok_or(FailureReason::Misplaced)?;
         trace_to_vertex(
             scene,
             &ray,

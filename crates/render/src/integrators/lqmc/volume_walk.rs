@@ -25,7 +25,7 @@ use super::path_walk::{
 };
 use super::segment_cache::SegmentReuse;
 use super::statistics::FailureReason;
-use crate::geometry::{Ray, offset_ray_origin, spawn_ray};
+use crate::geometry::{Ray, offset_ray_origin, spawn_ray, spawn_ray_through};
 use crate::integrators::TraceCounters;
 use crate::integrators::path::PathSettings;
 use crate::integrators::path_space::medium_leaving;
@@ -182,7 +182,15 @@ pub fn walk_volumetric(
         let to_vertex = vertex.raw_hit.point - from_point;
         let distance = to_vertex.length();
         let direction = to_vertex / distance;
-        let ray = segment_ray(camera, scene, from, direction);
+        // Aimed at the vertex from the offset origin (see `spawn_ray_through`).
+        let ray = match from {
+            Some(from) if !from.is_medium() => {
+                spawn_ray_through(&from.raw_hit, vertex.raw_hit.point)
+                    .ok_or(FailureReason::Misplaced)?
+                    .0
+            }
+            _ => segment_ray(camera, scene, from, direction),
+        };
         let segment = segments.segment(scene, m, state.medium, &wavelengths, |recorder| {
             trace_segment(
                 scene,
