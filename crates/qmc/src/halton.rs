@@ -360,12 +360,80 @@ impl PixelEnumeration {
         chinese_remainder(residue_x, self.scale.0, residue_y, self.scale.1)
     }
 
+    /// The first-sample offsets of every pixel of the image for `halton`,
+    /// tabulated per column and per row (see [`PixelOffsetTable`]).
+    pub fn offset_table(&self, halton: &Halton) -> PixelOffsetTable {
+        let (m, n) = self.scale;
+        let product = m as u128 * n as u128;
+        let m_inverse = modular_inverse_general(m % n, n) as u128;
+        let n_inverse = modular_inverse_general(n % m, m) as u128;
+        let digits_of = |value: u32, base: u32, count: u32| -> Vec<u32> {
+            let mut digits = vec![0u32; count as usize];
+            let mut remaining = value;
+            for slot in digits.iter_mut().rev() {
+                *slot = remaining % base;
+                remaining /= base;
+            }
+            digits
+        };
+        // The two terms of `chinese_remainder`, each reduced mod m·n.
+        let columns = (0..self.resolution.0)
+            .map(|x| {
+                let a = halton.leading_digits_preimage(0, &digits_of(x, 2, self.digits.0));
+                (a as u128 * n as u128 % product * n_inverse % product) as u64
+            })
+            .collect();
+        let rows = (0..self.resolution.1)
+            .map(|y| {
+                let b = halton.leading_digits_preimage(1, &digits_of(y, 3, self.digits.1));
+                (b as u128 * m as u128 % product * m_inverse % product) as u64
+            })
+            .collect();
+        PixelOffsetTable {
+            columns,
+            rows,
+            increment: self.increment,
+        }
+    }
+
     /// The first two coordinates of sample `index` in raster units.
     pub fn raster_position(&self, halton: &Halton, index: u64) -> (f64, f64) {
         (
             halton.sample(index, 0) * self.scale.0 as f64,
             halton.sample(index, 1) * self.scale.1 as f64,
         )
+    }
+}
+
+/// [`PixelEnumeration::pixel_offset`] of every pixel for one sequence: the
+/// offset is the Chinese remainder of a residue that depends on the column
+/// alone and one that depends on the row alone, so each of its two terms
+/// is tabulated once per column and once per row, and a pixel's offset is
+/// one addition modulo `2^a 3^b` (the inversion of the leading digits and
+/// the modular inverses cost about 1,800 instructions per pixel sample
+/// otherwise).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PixelOffsetTable {
+    columns: Vec<u64>,
+    rows: Vec<u64>,
+    increment: u64,
+}
+
+impl PixelOffsetTable {
+    /// The offset of `pixel`, equal to [`PixelEnumeration::pixel_offset`];
+    /// `None` outside the image.
+    #[inline]
+    pub fn offset(&self, pixel: (u32, u32)) -> Option<u64> {
+        let column = *self.columns.get(pixel.0 as usize)?;
+        let row = *self.rows.get(pixel.1 as usize)?;
+        // Both terms are below the increment, so their sum is below twice it.
+        let sum = column as u128 + row as u128;
+        let increment = self.increment as u128;
+        Some(if sum >= increment {
+            sum - increment
+        } else {
+            sum
+        } as u64)
     }
 }
 
@@ -532,6 +600,34 @@ mod tests {
             }
         }
         assert!(seen.iter().all(|&s| s));
+    }
+
+    #[test]
+    fn the_offset_table_equals_the_pixel_offsets() {
+        for scramble in [
+            HaltonScramble::None,
+            HaltonScramble::Faure,
+            HaltonScramble::RandomPermutation,
+            HaltonScramble::Owen,
+            HaltonScramble::FaureShifted,
+        ] {
+            let halton = Halton::new(4, scramble, 17).unwrap();
+            for (width, height) in [(1, 1), (5, 7), (37, 29)] {
+                let enumeration = PixelEnumeration::new(width, height).unwrap();
+                let table = enumeration.offset_table(&halton);
+                for y in 0..height {
+                    for x in 0..width {
+                        assert_eq!(
+                            table.offset((x, y)),
+                            Some(enumeration.pixel_offset(&halton, (x, y))),
+                            "{scramble:?} {width}x{height} ({x}, {y})"
+                        );
+                    }
+                }
+                assert_eq!(table.offset((width, 0)), None);
+                assert_eq!(table.offset((0, height)), None);
+            }
+        }
     }
 
     #[test]

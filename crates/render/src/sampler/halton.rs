@@ -5,7 +5,7 @@
 
 use super::{PixelSampler, Randomization, SampleSource, pixel_sample_key, to_f32};
 use qmc::PointSet;
-use qmc::halton::{Halton, HaltonScramble, PixelEnumeration};
+use qmc::halton::{Halton, HaltonScramble, PixelEnumeration, PixelOffsetTable};
 use qmc::hash::hash2;
 use qmc::random::MersenneTwister;
 use std::sync::Arc;
@@ -39,13 +39,11 @@ const HALTON_SHIFT_TAG: u64 = 0x4841_4C54_4F4E_5348;
 pub struct HaltonSampler {
     halton: Arc<Halton>,
     enumeration: PixelEnumeration,
+    /// Every pixel's first global index (its offset), tabulated once per
+    /// render by column and row.
+    offsets: Arc<PixelOffsetTable>,
     seed: u64,
     pixel: (u32, u32),
-    /// The pixel whose first global index (its offset) is kept, and that
-    /// offset (`None` if the pixel is outside the enumeration): a tile
-    /// starts the samples of a pass pixel by pixel, so the inversion of the
-    /// leading digits runs once per pixel.
-    kept_offset: Option<((u32, u32), Option<u64>)>,
     index: u64,
     twister_key: u64,
     /// MT19937 numbers for dimensions ≥ 256, generated on demand.
@@ -70,12 +68,13 @@ impl HaltonSampler {
         .expect("256 Halton dimensions are supported");
         let enumeration = PixelEnumeration::new(resolution.0.max(1), resolution.1.max(1))
             .expect("a non-empty resolution");
+        let offsets = Arc::new(enumeration.offset_table(&halton));
         Self {
             halton: Arc::new(halton),
             enumeration,
+            offsets,
             seed,
             pixel: (0, 0),
-            kept_offset: None,
             index: 0,
             twister_key: 0,
             twister: None,
@@ -120,14 +119,7 @@ impl SampleSource for HaltonSampler {
 impl PixelSampler for HaltonSampler {
     fn start_pixel_sample(&mut self, pixel: (u32, u32), sample_index: u64) {
         self.pixel = pixel;
-        let offset = match self.kept_offset {
-            Some((kept, offset)) if kept == pixel => offset,
-            _ => {
-                let offset = self.enumeration.sample_index(&self.halton, pixel, 0).ok();
-                self.kept_offset = Some((pixel, offset));
-                offset
-            }
-        };
+        let offset = self.offsets.offset(pixel);
         // Pixels outside the enumeration's resolution cannot occur: the
         // renderer builds the sampler for its image.
         self.index = offset
