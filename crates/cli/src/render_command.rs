@@ -178,6 +178,14 @@ pub struct LqmcArgs {
     /// repeated.
     #[arg(long, value_name = "CLASS")]
     pub skip_class: Vec<String>,
+    /// LQMC: a class to explore that is not explored by default (nee); may
+    /// be repeated.
+    #[arg(long, value_name = "CLASS")]
+    pub explore_class: Vec<String>,
+    /// LQMC: also explore breakups whose only explored dimension is the
+    /// wavelength (b = 0 with a pinhole camera).
+    #[arg(long)]
+    pub explore_wavelength_alone: bool,
     /// LQMC: no tile jitter.
     #[arg(long)]
     pub no_jitter: bool,
@@ -265,9 +273,13 @@ fn lqmc_settings(args: &LqmcArgs) -> Result<render::integrators::lqmc::LqmcSetti
         let (class, tiles) = parse_class_value("direction-tiles", text)?;
         settings.class_parameters_mut(class).direction_tiles = tiles;
     }
+    for name in &args.explore_class {
+        settings.class_parameters_mut(parse_class(name)?).explore = true;
+    }
     for name in &args.skip_class {
         settings.class_parameters_mut(parse_class(name)?).explore = false;
     }
+    settings.explore_wavelength_alone = args.explore_wavelength_alone;
     if let Some(tiles) = args.wavelength_tiles {
         settings.wavelength_tiles = tiles.max(1);
     }

@@ -226,11 +226,20 @@ fn assert_scene_converges(
     statistics
 }
 
+/// `settings` with next-event paths explored too (they are most of
+/// cornell-box's and office's explorations, which these tests are about;
+/// by default they are not explored).
+fn exploring_next_events(mut settings: LqmcSettings) -> LqmcSettings {
+    settings.next_event.explore = true;
+    settings
+}
+
+/// A fixed breakup vertex, next-event paths explored.
 fn fixed(breakup: usize) -> LqmcSettings {
-    LqmcSettings {
+    exploring_next_events(LqmcSettings {
         breakup: BreakupChoice::Fixed(breakup),
         ..LqmcSettings::default()
-    }
+    })
 }
 
 #[test]
@@ -253,10 +262,10 @@ fn cornell_box_fixed_breakup_two() {
 /// emitter found by the rebuilt last direction (emission paths).
 #[test]
 fn cornell_box_full_path_breakup() {
-    let settings = LqmcSettings {
+    let settings = exploring_next_events(LqmcSettings {
         breakup: BreakupChoice::FullPath,
         ..LqmcSettings::default()
-    };
+    });
     let statistics = assert_converges("cornell-box", settings, LQMC_SPP, 256);
     assert!(
         statistics.explorations.iter().sum::<u64>() > 1000,
@@ -266,10 +275,10 @@ fn cornell_box_full_path_breakup() {
 
 #[test]
 fn office_full_path_breakup() {
-    let settings = LqmcSettings {
+    let settings = exploring_next_events(LqmcSettings {
         breakup: BreakupChoice::FullPath,
         ..LqmcSettings::default()
-    };
+    });
     let statistics = assert_converges("office", settings, LQMC_SPP, 256);
     assert!(
         statistics.explorations.iter().sum::<u64>() > 1000,
@@ -290,6 +299,23 @@ fn dof_spheres_roughness_breakup() {
         statistics.breakups[0] > 100 && statistics.breakups[1] > 100,
         "{statistics:?}"
     );
+}
+
+/// Without the wavelength explored, a member takes the seed's evaluated
+/// steps after its breakup's next vertex (`segment_cache`'s surface steps):
+/// office's long paths (next events explored) and dof-spheres' b = 0
+/// members.
+#[test]
+fn members_reusing_the_seeds_steps() {
+    let mut settings = exploring_next_events(LqmcSettings::default());
+    settings.effects.wavelength = false;
+    for scene in ["office", "dof-spheres"] {
+        let statistics = assert_converges(scene, settings, LQMC_SPP, 256);
+        assert!(
+            statistics.explorations.iter().sum::<u64>() > 1000,
+            "{statistics:?}"
+        );
+    }
 }
 
 #[test]
@@ -420,7 +446,7 @@ fn cornell_box_plastic_lobes() {
         "cornell-box (plastic)",
         &scene,
         IntegratorKind::Path,
-        LqmcSettings::default(),
+        exploring_next_events(LqmcSettings::default()),
         LQMC_SPP,
         256,
     );
@@ -504,7 +530,7 @@ fn environment<T: std::str::FromStr>(name: &str, default: T) -> T {
 /// (64), `LQMC_BIAS_SPP` (4), `LQMC_BIAS_REFERENCE_SPP` (1024),
 /// `LQMC_BIAS_REFERENCE_REPLICATIONS` (8), `LQMC_BIAS_BREAKUP` (`cdf` or a
 /// vertex or `k`), `LQMC_BIAS_EXPLORE` (an effect list), `LQMC_BIAS_SKIP`
-/// (class names: normal, caustic, dof, nee), `LQMC_BIAS_EMITTING_SPHERE`
+/// and `LQMC_BIAS_EXPLORE_CLASS` (class names: normal, caustic, dof, nee), `LQMC_BIAS_EMITTING_SPHERE`
 /// (set: the shape around medium 0 becomes an emitting `null` boundary),
 /// `LQMC_BIAS_FIRST_SEED` (0; LQMC's replications use the following seeds),
 /// `LQMC_BIAS_PAIRED` (set: also the paired difference against the
@@ -533,13 +559,16 @@ fn bias_experiment() {
     if let Ok(list) = std::env::var("LQMC_BIAS_EXPLORE") {
         lqmc.effects = render::integrators::lqmc::ExploredEffects::parse(&list).unwrap();
     }
-    if let Ok(list) = std::env::var("LQMC_BIAS_SKIP") {
+    for (variable, explore) in [("LQMC_BIAS_EXPLORE_CLASS", true), ("LQMC_BIAS_SKIP", false)] {
+        let Ok(list) = std::env::var(variable) else {
+            continue;
+        };
         for class_name in list.split(',').filter(|name| !name.is_empty()) {
             let class = render::integrators::lqmc::PathClass::ALL
                 .into_iter()
                 .find(|class| class.name() == class_name)
                 .expect("a class name");
-            lqmc.class_parameters_mut(class).explore = false;
+            lqmc.class_parameters_mut(class).explore = explore;
         }
     }
     let mut description = builtin_scene(&name).unwrap();

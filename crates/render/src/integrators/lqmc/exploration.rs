@@ -23,7 +23,7 @@ use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledWavelengths, to_linear_srgb};
 use qmc::hash::{hash2, hash3, to_unit_f64};
-use qmc::lattice_table::{LQMC_MAX_DIMENSIONS, lqmc_lattice_entry};
+use qmc::lattice_table::lqmc_lattice_entry;
 
 /// Purposes of the deterministic random choices (hash keys).
 const BREAKUP_KEY: u64 = 0x6272_6561_6b75_7000;
@@ -195,7 +195,7 @@ fn handle_event(
         class,
         |b| {
             explored_dimensions(scene, settings, &parameters, &path, b, probe);
-            (1..=LQMC_MAX_DIMENSIONS).contains(&probe.len())
+            settings.explorable(probe)
         },
         &mut weights,
     );
@@ -469,7 +469,7 @@ fn explore(
                             b,
                             &mut probe,
                         );
-                        (1..=LQMC_MAX_DIMENSIONS).contains(&probe.len())
+                        settings.explorable(&probe)
                     },
                     &mut member_breakup_weights,
                 );
@@ -492,6 +492,7 @@ fn explore(
                     continue;
                 }
                 statistics.valid_members[class.index()] += 1;
+                statistics.reusing_members += u64::from(walked.reused_seed_steps);
                 seed_member_valid |= j == seed_member;
                 scratch.member_splats.push((
                     member_vertex.raster.to_array(),

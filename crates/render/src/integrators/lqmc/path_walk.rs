@@ -16,7 +16,7 @@
 //! the suffix density (see `estimator`).
 
 use super::path_record::{CameraVertex, SurfaceVertex, Terminal};
-use super::segment_cache::SegmentReuse;
+use super::segment_cache::{SegmentCache, SegmentReuse, SurfaceStep, SurfaceTerminal};
 use super::statistics::FailureReason;
 use crate::camera::CameraProjection;
 use crate::geometry::{offset_ray_origin, spawn_ray, spawn_ray_to_point};
@@ -73,6 +73,9 @@ pub struct WalkedPath {
     /// The continuous density of generating vertices `x_{b+1} .. x_k` from
     /// `x_0 .. x_b` (1 when no breakup vertex was given).
     pub suffix_density: f64,
+    /// Whether the steps after `x_{b+1}` and the end were the seed's
+    /// recorded ones (see [`super::segment_cache`]).
+    pub reused_seed_steps: bool,
 }
 
 /// What [`walk`] evaluates.
@@ -161,7 +164,34 @@ pub fn walk(
         Terminal::Emission { .. } => vertices.len() - 1,
         _ => vertices.len(),
     };
+    let ends_by_next_event = matches!(input.terminal, Terminal::NextEvent(_));
+    // Steps that continue to a next vertex or the environment; a
+    // next-event path's last step is its end.
+    let regular_steps = scattering_count - usize::from(ends_by_next_event);
     for m in 0..scattering_count {
+        if let SegmentReuse::Reuse { cache, first } = segments
+            && m >= *first
+            && let Some(end) = cache.surface_terminal
+            && end.wavelengths == wavelengths
+            && cache.surface_steps.len() == regular_steps
+            && cache.surface_steps[m..]
+                .iter()
+                .all(|step| step.wavelengths == wavelengths)
+        {
+            return reuse_seed_steps(
+                settings,
+                cache,
+                m,
+                ReusedState {
+                    throughput,
+                    eta_scale,
+                    suffix_density,
+                },
+                &in_suffix,
+                scattering_count,
+                numbers,
+            );
+        }
         let vertex = &vertices[m];
         let previous_point = if m == 0 {
             camera.origin
@@ -265,7 +295,9 @@ pub fn walk(
             } else {
                 settings.heuristic.weight(light_pdf, bsdf.pdf(wo, wi))
             };
-            if in_suffix(step) && !connection.is_delta {
+            let next_event_density = if connection.is_delta {
+                1.0
+            } else {
                 let mut density = solid_angle_pdf as f64;
                 if !connection.is_infinite {
                     let to_light = connection.point - vertex.hit.point;
@@ -274,12 +306,24 @@ pub fn walk(
                         / distance_squared.sqrt()
                         / distance_squared;
                 }
-                suffix_density *= density;
+                density
+            };
+            if in_suffix(step) && !connection.is_delta {
+                suffix_density *= next_event_density;
+            }
+            let end_value = value * radiance * (weight / light_pdf);
+            if let SegmentReuse::Record(cache) = segments {
+                cache.surface_terminal = Some(SurfaceTerminal {
+                    wavelengths,
+                    value: end_value,
+                    density_factor: next_event_density,
+                });
             }
             return Ok(WalkedPath {
-                contribution: throughput * value * radiance * (weight / light_pdf),
+                contribution: throughput * end_value,
                 wavelengths,
                 suffix_density,
+                reused_seed_steps: false,
             });
         }
 
@@ -293,7 +337,8 @@ pub fn walk(
             return Err(FailureReason::Evaluation);
         };
         let specular = vertex.sampled.is_specular();
-        let (value, pdf) = if specular {
+        let wavelengths_before = wavelengths;
+        let (value, pdf, eta_factor) = if specular {
             let u_component = numbers.get(layout::vertex(m, layout::SCATTER_COMPONENT));
             let u = numbers.get_2d(layout::vertex(m, layout::SCATTER_DIRECTION));
             let sample = bsdf
@@ -302,20 +347,30 @@ pub fn walk(
             if sample.flags != vertex.sampled || sample.wi.dot(wi) < SPECULAR_DIRECTION_COSINE {
                 return Err(FailureReason::ModeChange);
             }
-            if sample.is_transmission() {
-                eta_scale *= sample.eta * sample.eta;
-            }
-            (sample.value, sample.pdf)
+            let eta_factor = if sample.is_transmission() {
+                sample.eta * sample.eta
+            } else {
+                1.0
+            };
+            (sample.value, sample.pdf, eta_factor)
         } else {
-            eta_scale *= non_specular_eta(vertex, &bsdf, wo, wi)?;
-            (bsdf.evaluate(wo, wi, &wavelengths), bsdf.pdf(wo, wi))
+            let eta_factor = non_specular_eta(vertex, &bsdf, wo, wi)?;
+            (
+                bsdf.evaluate(wo, wi, &wavelengths),
+                bsdf.pdf(wo, wi),
+                eta_factor,
+            )
         };
+        eta_scale *= eta_factor;
         if pdf.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || value.is_black() {
             return Err(FailureReason::Evaluation);
         }
         let cosine = wi.dot(bsdf.frame.normal()).abs();
-        throughput *= value * (cosine / pdf);
-        if in_suffix(step) && !specular {
+        let factor = value * (cosine / pdf);
+        throughput *= factor;
+        let density_factor = if specular {
+            1.0
+        } else {
             let mut density = pdf as f64;
             if let Some(next) = next {
                 let to_next = next.hit.point - vertex.hit.point;
@@ -324,7 +379,19 @@ pub fn walk(
                     / distance_squared.sqrt()
                     / distance_squared;
             }
-            suffix_density *= density;
+            density
+        };
+        if in_suffix(step) && !specular {
+            suffix_density *= density_factor;
+        }
+        if let SegmentReuse::Record(cache) = segments {
+            cache.surface_steps.push(SurfaceStep {
+                wavelengths: wavelengths_before,
+                factor,
+                eta_factor,
+                density_factor,
+                specular,
+            });
         }
         specular_bounce = specular;
         previous_bsdf_pdf = pdf;
@@ -365,9 +432,17 @@ pub fn walk(
                 emitter.raw_hit.point,
                 emitter.raw_hit.geometric_normal,
             );
+            if let SegmentReuse::Record(cache) = segments {
+                cache.surface_terminal = Some(SurfaceTerminal {
+                    wavelengths,
+                    value: emitted * weight,
+                    density_factor: 1.0,
+                });
+            }
             throughput * emitted * weight
         }
         Terminal::Environment { direction } => {
+            let mut end_value = SampledSpectrum::zero();
             let mut total = SampledSpectrum::zero();
             for &index in &scene.environment_lights {
                 let light = &scene.lights[index as usize];
@@ -383,6 +458,14 @@ pub fn walk(
                     Vec3::ZERO,
                 );
                 total += throughput * emitted * weight;
+                end_value += emitted * weight;
+            }
+            if let SegmentReuse::Record(cache) = segments {
+                cache.surface_terminal = Some(SurfaceTerminal {
+                    wavelengths,
+                    value: end_value,
+                    density_factor: 1.0,
+                });
             }
             total
         }
@@ -395,5 +478,58 @@ pub fn walk(
         contribution,
         wavelengths,
         suffix_density,
+        reused_seed_steps: false,
+    })
+}
+
+/// A member's path state where it starts to reuse the seed's steps.
+struct ReusedState {
+    throughput: SampledSpectrum,
+    eta_scale: f32,
+    suffix_density: f64,
+}
+
+/// The rest of a member's walk from step `first` on, whose vertices and
+/// wavelengths are the seed's (see [`super::segment_cache`]): the seed's
+/// recorded factors, Russian roulette decided again on the member's own
+/// throughput with the seed's numbers, and the seed's end.
+fn reuse_seed_steps(
+    settings: &PathSettings,
+    cache: &SegmentCache,
+    first: usize,
+    mut state: ReusedState,
+    in_suffix: &impl Fn(usize) -> bool,
+    scattering_count: usize,
+    numbers: &mut dyn SampleSource,
+) -> Result<WalkedPath, FailureReason> {
+    let end = cache.surface_terminal.ok_or(FailureReason::Evaluation)?;
+    for (m, step) in cache.surface_steps.iter().enumerate().skip(first) {
+        state.throughput *= step.factor;
+        state.eta_scale *= step.eta_factor;
+        if in_suffix(m + 1) && !step.specular {
+            state.suffix_density *= step.density_factor;
+        }
+        let roulette_throughput = (state.throughput * state.eta_scale).max_component();
+        state.throughput /= crate::integrators::path::russian_roulette(
+            roulette_throughput,
+            m as u32,
+            settings.russian_roulette_depth,
+            || numbers.get(layout::vertex(m, layout::RUSSIAN_ROULETTE)),
+        )
+        .ok_or(FailureReason::RussianRoulette)?;
+    }
+    // A next-event connection is the last step, `scattering_count`.
+    if cache.surface_steps.len() < scattering_count && in_suffix(scattering_count) {
+        state.suffix_density *= end.density_factor;
+    }
+    let contribution = state.throughput * end.value;
+    if contribution.is_black() {
+        return Err(FailureReason::Evaluation);
+    }
+    Ok(WalkedPath {
+        contribution,
+        wavelengths: end.wavelengths,
+        suffix_density: state.suffix_density,
+        reused_seed_steps: true,
     })
 }

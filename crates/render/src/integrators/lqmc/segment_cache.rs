@@ -7,6 +7,16 @@
 //! walk records their pieces once and each member only multiplies
 //! `exp(−σt d)` over them at its own wavelengths: the same factors in the
 //! same order as tracing them again, without the rays.
+//!
+//! In surface scenes the seed's walk records its evaluated steps instead
+//! ([`SurfaceStep`], [`SurfaceTerminal`]): a step at x_{m+1} depends on
+//! x_m, x_{m+1}, x_{m+2} and the wavelengths only, so a member with breakup
+//! vertex b whose wavelengths are the seed's (the wavelength not explored)
+//! takes the seed's factors of the steps from m = b + 1 on and of the end
+//! (emission or next-event connection), recomputing only Russian roulette,
+//! whose probability follows the member's own throughput. Where the seed's
+//! walk chose its end with the last step at m ≥ b + 1 the end is the
+//! seed's too.
 
 use super::medium_segment::TracedSegment;
 use super::statistics::FailureReason;
@@ -25,9 +35,40 @@ struct RecordedSegment {
     pieces: Range<usize>,
 }
 
+/// One evaluated scattering step of a surface walk, at vertex x_{m+1}
+/// (layout vertex m): what it multiplies into the path's state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceStep {
+    /// The wavelengths the step was evaluated at (a member reuses the step
+    /// only at the same ones).
+    pub wavelengths: SampledWavelengths,
+    /// `f |cos| / p` (or the specular sample's weight).
+    pub factor: SampledSpectrum,
+    /// The factor on Russian roulette's η² scale.
+    pub eta_factor: f32,
+    /// The step's factor of the suffix density (1 for a specular step).
+    pub density_factor: f64,
+    /// Whether the step scattered by a delta lobe.
+    pub specular: bool,
+}
+
+/// The end of a recorded surface walk: what multiplies the throughput
+/// after the last step (emission or environment radiance with its MIS
+/// weight; for a next-event connection, the whole last step), and the
+/// suffix density's factor of a next-event connection.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceTerminal {
+    /// The wavelengths the end was evaluated at.
+    pub wavelengths: SampledWavelengths,
+    /// The factor on the throughput.
+    pub value: SampledSpectrum,
+    /// The next-event connection's suffix density factor (1 otherwise).
+    pub density_factor: f64,
+}
+
 /// The traced segments of one event's seed path, by segment index (segment
 /// `m` ends at layout vertex `m`; index `vertices.len()` is the escape to
-/// the environment).
+/// the environment), and in surface scenes its evaluated steps.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SegmentCache {
     segments: Vec<Option<RecordedSegment>>,
@@ -35,6 +76,10 @@ pub struct SegmentCache {
     pieces: Vec<(u32, f32)>,
     /// The pieces of the segment being traced.
     pending: Vec<(u32, f32)>,
+    /// The seed's surface steps, by layout vertex (surface scenes).
+    pub surface_steps: Vec<SurfaceStep>,
+    /// The seed's end (surface scenes).
+    pub surface_terminal: Option<SurfaceTerminal>,
 }
 
 /// What a walk does with the segment cache.
@@ -60,6 +105,8 @@ impl SegmentCache {
     pub fn clear(&mut self) {
         self.segments.clear();
         self.pieces.clear();
+        self.surface_steps.clear();
+        self.surface_terminal = None;
         self.pending.clear();
     }
 

@@ -134,10 +134,15 @@ pub struct LqmcSettings {
     /// Caustic paths: N = 97, 4×4 aperture tiles, 48 image tiles, 55
     /// direction tiles.
     pub caustic: ClassParameters,
-    /// Depth-of-field paths: as normal paths.
+    /// Depth-of-field paths: N = 7, tiles as normal paths (the paper's
+    /// N = 23 over a circle of confusion of a few pixels puts about three
+    /// members in a pixel; at equal time N = 7 wins on the benchmark
+    /// scenes, see README).
     pub depth_of_field: ClassParameters,
     /// Next-event-estimation paths: N = 7 (the authors' renderer), tiles as
-    /// normal paths.
+    /// normal paths; not explored by default (the paper's rule: next-event
+    /// paths are explored only as depth-of-field paths, whose class takes
+    /// precedence; `--explore-class nee` turns them on).
     pub next_event: ClassParameters,
     /// Tiles per wavelength dimension (default 1: the whole spectrum).
     pub wavelength_tiles: u32,
@@ -167,6 +172,11 @@ pub struct LqmcSettings {
     /// the light vertex and the nothing after it counting as rough; the
     /// paper's caustic paths mostly break up there, Sec. 3.4).
     pub full_path_breakup: bool,
+    /// Whether a breakup whose only explored dimension is the wavelength
+    /// may be drawn (default off: with a pinhole camera, b = 0 would walk
+    /// N members at other wavelengths into the seed's own pixel, which
+    /// costs N walks and reduces only colour noise; `--explore-wavelength-alone`).
+    pub explore_wavelength_alone: bool,
     /// Swap the two image-plane lattice dimensions with two random other
     /// ones per exploration (default on; the paper's Sec. 5 remedy).
     pub scramble_dimensions: bool,
@@ -197,9 +207,13 @@ impl Default for LqmcSettings {
                 direction_tiles: 55,
                 explore: true,
             },
-            depth_of_field: normal,
+            depth_of_field: ClassParameters {
+                lattice_size: 7,
+                ..normal
+            },
             next_event: ClassParameters {
                 lattice_size: 7,
+                explore: false,
                 ..normal
             },
             wavelength_tiles: 1,
@@ -211,6 +225,7 @@ impl Default for LqmcSettings {
             caustic_roughness: 0.05,
             reconnection_tolerance: 1e-3,
             full_path_breakup: true,
+            explore_wavelength_alone: false,
             scramble_dimensions: true,
             jitter_tiles: true,
             gather_density: false,
@@ -219,6 +234,16 @@ impl Default for LqmcSettings {
 }
 
 impl LqmcSettings {
+    /// Whether a breakup with the explored dimensions `dimensions` can be
+    /// explored: between 1 and the lattice table's most dimensions, and not
+    /// the wavelength alone unless [`LqmcSettings::explore_wavelength_alone`].
+    pub fn explorable(&self, dimensions: &[super::explored_dimensions::ExploredDimension]) -> bool {
+        use super::explored_dimensions::DimensionKind;
+        (1..=qmc::lattice_table::LQMC_MAX_DIMENSIONS).contains(&dimensions.len())
+            && (self.explore_wavelength_alone
+                || !matches!(dimensions, [only] if only.kind == DimensionKind::Wavelength))
+    }
+
     /// The parameters of `class`.
     pub fn class_parameters(&self, class: PathClass) -> &ClassParameters {
         match class {

@@ -93,6 +93,9 @@ pub struct LqmcStatistics {
     /// Explorations that explore a free-flight distance (a medium vertex
     /// in the prefix).
     pub medium_explorations: u64,
+    /// Valid members whose steps after the breakup's next vertex and whose
+    /// end were the seed's (no evaluation of those vertices again).
+    pub reusing_members: u64,
     /// The closest-lattice-point search's calls and sampled time.
     pub closest_point: ClosestPointTiming,
 }
@@ -180,6 +183,7 @@ impl LqmcStatistics {
         }
         self.empty_explorations += other.empty_explorations;
         self.medium_explorations += other.medium_explorations;
+        self.reusing_members += other.reusing_members;
         self.closest_point.add(&other.closest_point);
     }
 
@@ -228,6 +232,13 @@ impl LqmcStatistics {
             members,
             100.0 * failures as f64 / members.max(1) as f64,
             self.empty_explorations
+        ));
+        let valid: u64 = self.valid_members.iter().sum();
+        lines.push(format!(
+            "  members evaluated from the seed's steps after x_(b+1): {} of {} valid ({:.1} %)",
+            self.reusing_members,
+            valid,
+            100.0 * self.reusing_members as f64 / valid.max(1) as f64
         ));
         for reason in FailureReason::ALL {
             let count = self.failures[reason.index()];

@@ -515,5 +515,6 @@ fn finish(
         contribution,
         wavelengths,
         suffix_density,
+        reused_seed_steps: false,
     })
 }
