@@ -9,7 +9,7 @@ use super::classification::{
 use super::estimator::member_weights;
 use super::explored_dimensions::{DimensionKind, ExploredDimension, explored_dimensions};
 use super::lattice_step::{LatticeMembers, TileGrid, lattice_members};
-use super::path_record::{SplatEvent, SurfaceVertex};
+use super::path_record::{CameraVertex, SplatEvent, SurfaceVertex};
 use super::path_walk::{WalkInput, walk};
 use super::prefix_rebuild::{ImagePlane, MemberCamera, MemberSource, rebuild_member};
 use super::seed_path::{SeedPath, trace_seed_path};
@@ -21,7 +21,7 @@ use crate::integrators::TraceCounters;
 use crate::integrators::path::PathSettings;
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
-use crate::spectrum::{SampledWavelengths, to_linear_srgb};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
 use qmc::hash::{hash2, hash3, to_unit_f64};
 use qmc::lattice_table::lqmc_lattice_entry;
 
@@ -114,6 +114,7 @@ pub fn render_pixel_sample(
             context,
             &seed_path,
             event,
+            seed_path.event_values[event_index],
             seed_wavelengths,
             sample_index,
             event_key,
@@ -133,6 +134,7 @@ fn handle_event(
     context: &LqmcContext<'_>,
     seed_path: &SeedPath,
     event: &SplatEvent,
+    recorded_value: Option<(SampledSpectrum, SampledWavelengths)>,
     seed_wavelengths: Option<SampledWavelengths>,
     sample_index: u64,
     event_key: u64,
@@ -146,36 +148,44 @@ fn handle_event(
     let settings = context.settings;
     let camera = seed_path.camera.as_ref().expect("traced");
     let vertices = &seed_path.vertices[event.vertex_range()];
-    scratch.segment_cache.clear();
-    let Ok(walked) = walk(
-        scene,
-        &context.path_settings,
-        &WalkInput {
-            camera,
-            vertices,
-            terminal: &event.terminal,
-            rebuilt_vertices: 0,
-            breakup: None,
-            tolerance: settings.reconnection_tolerance,
-            wavelengths: seed_wavelengths,
-            first_projection: None,
-        },
-        sampler,
-        &mut SegmentReuse::Record(&mut scratch.segment_cache),
-    ) else {
-        return;
-    };
-    statistics.events += 1;
     let image_plane = ImagePlane::new(scene);
-    let rgb = to_linear_srgb(&walked.contribution, &walked.wavelengths)
-        .map(|channel| channel * image_plane.area_scale);
-    let direct = |splats: &mut SplatBuffer, statistics: &mut LqmcStatistics| {
+    let splat_value = |contribution: &SampledSpectrum, wavelengths: &SampledWavelengths| {
+        to_linear_srgb(contribution, wavelengths).map(|channel| channel * image_plane.area_scale)
+    };
+    // The event splatted as it is: with the path tracer's value the seed's
+    // walk computed, or else (scenes with media) its value walk's.
+    let direct = |splats: &mut SplatBuffer,
+                  statistics: &mut LqmcStatistics,
+                  sampler: &mut dyn SampleSource,
+                  segment_cache: &mut SegmentCache| {
+        let rgb = match recorded_value {
+            Some((contribution, wavelengths)) => {
+                if contribution.is_black() {
+                    return;
+                }
+                splat_value(&contribution, &wavelengths)
+            }
+            None => {
+                segment_cache.clear();
+                let Ok(walked) = walk(
+                    scene,
+                    &context.path_settings,
+                    &seed_walk_input(context, camera, vertices, event, seed_wavelengths),
+                    sampler,
+                    &mut SegmentReuse::None,
+                ) else {
+                    return;
+                };
+                splat_value(&walked.contribution, &walked.wavelengths)
+            }
+        };
+        statistics.events += 1;
         statistics.direct_splats += 1;
         let _ = splats.add(camera.raster.to_array(), rgb);
     };
     // Paths of fewer than three vertices are not explored.
     if event.last_vertex() < 2 {
-        return direct(splats, statistics);
+        return direct(splats, statistics, sampler, &mut scratch.segment_cache);
     }
     let path = EventPath {
         camera,
@@ -185,7 +195,7 @@ fn handle_event(
     let class = classify(scene, settings, &path);
     let parameters = *settings.class_parameters(class);
     if !parameters.explore {
-        return direct(splats, statistics);
+        return direct(splats, statistics, sampler, &mut scratch.segment_cache);
     }
     let probe = &mut scratch.probe_dimensions;
     let mut weights = std::mem::take(&mut scratch.breakup_weights);
@@ -202,7 +212,18 @@ fn handle_event(
     let breakup = draw_breakup(&weights, to_unit_f64(hash2(event_key, BREAKUP_KEY)));
     scratch.breakup_weights = weights;
     let Some(breakup) = breakup else {
-        return direct(splats, statistics);
+        return direct(splats, statistics, sampler, &mut scratch.segment_cache);
+    };
+    // The seed's value walk, recording what its members reuse.
+    scratch.segment_cache.clear();
+    let Ok(walked) = walk(
+        scene,
+        &context.path_settings,
+        &seed_walk_input(context, camera, vertices, event, seed_wavelengths),
+        sampler,
+        &mut SegmentReuse::Record(&mut scratch.segment_cache),
+    ) else {
+        return;
     };
     debug_assert!(
         matches!(
@@ -223,8 +244,33 @@ fn handle_event(
         statistics,
         counters,
     );
+    statistics.events += 1;
     if !explored {
-        direct(splats, statistics);
+        statistics.direct_splats += 1;
+        let _ = splats.add(
+            camera.raster.to_array(),
+            splat_value(&walked.contribution, &walked.wavelengths),
+        );
+    }
+}
+
+/// The value walk's input for the seed's own path of `event`.
+fn seed_walk_input<'a>(
+    context: &LqmcContext<'_>,
+    camera: &'a CameraVertex,
+    vertices: &'a [SurfaceVertex],
+    event: &'a SplatEvent,
+    seed_wavelengths: Option<SampledWavelengths>,
+) -> WalkInput<'a> {
+    WalkInput {
+        camera,
+        vertices,
+        terminal: &event.terminal,
+        rebuilt_vertices: 0,
+        breakup: None,
+        tolerance: context.settings.reconnection_tolerance,
+        wavelengths: seed_wavelengths,
+        first_projection: None,
     }
 }
 

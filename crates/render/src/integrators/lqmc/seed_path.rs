@@ -8,8 +8,11 @@
 //! boundaries, Russian roulette on the MIS-rescaled throughput). The
 //! observer `SeedRecorder` records each vertex and each splat event
 //! (every emitter reached, every next-event connection) for exploration;
-//! the values of the events are computed afterwards by
-//! [`super::path_walk::walk`] and [`super::volume_walk`].
+//! in surface scenes it also computes each event's value as the path
+//! tracer does (the value a seed splats when its event is not explored);
+//! the values of explored events are computed again by
+//! [`super::path_walk::walk`] and [`super::volume_walk`], which record what
+//! the members reuse.
 //!
 //! Emission of index-matched boundaries that are themselves emitters (the
 //! path tracers add it as the ray passes) is recorded as an emission event
@@ -25,15 +28,16 @@ use super::medium_segment::medium_roughness;
 use super::path_record::{CameraVertex, LightConnection, SplatEvent, SurfaceVertex, Terminal};
 use crate::geometry::{Ray, SurfaceHit, spawn_ray, spawn_ray_to_point};
 use crate::integrators::TraceCounters;
-use crate::integrators::path::{PathSettings, oriented_hit};
+use crate::integrators::path::{PathSettings, emission_weight, oriented_hit};
 use crate::integrators::path_space::{
     ScattererRef, Scattering, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState,
     medium_leaving, walk,
 };
 use crate::integrators::volpath::{shadow_ray, shadow_transmittance_with};
+use crate::material::SurfaceBsdf;
 use crate::sampler::{DynSource, SampleSource, layout};
 use crate::scene::Scene;
-use crate::spectrum::SampledWavelengths;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
 use std::ops::ControlFlow;
 
@@ -46,6 +50,11 @@ pub struct SeedPath {
     pub vertices: Vec<SurfaceVertex>,
     /// The splat events, in the order the path tracer adds them.
     pub events: Vec<SplatEvent>,
+    /// Per event, its contribution and the wavelengths it was computed at,
+    /// as the path tracer's estimate (surface scenes; `None` in scenes with
+    /// media and for index-matched emitters, whose values only the value
+    /// walks compute).
+    pub event_values: Vec<Option<(SampledSpectrum, SampledWavelengths)>>,
     /// Emitting index-matched boundaries passed: (vertices before, hit, light).
     passed_emitters: Vec<(usize, SurfaceHit, u32)>,
 }
@@ -62,6 +71,7 @@ pub fn trace_seed_path(
 ) {
     path.vertices.clear();
     path.events.clear();
+    path.event_values.clear();
     path.passed_emitters.clear();
     let u_lens = sampler.get_2d(layout::LENS);
     let u_time = sampler.get(layout::TIME);
@@ -90,7 +100,11 @@ pub fn trace_seed_path(
         &mut wavelengths,
         &mut DynSource(sampler),
         counters,
-        &mut SeedRecorder { scene, path },
+        &mut SeedRecorder {
+            scene,
+            settings,
+            path,
+        },
     );
     record_passed_emitters(scene, path);
 }
@@ -100,7 +114,20 @@ pub fn trace_seed_path(
 /// splat event.
 struct SeedRecorder<'a> {
     scene: &'a Scene,
+    settings: &'a PathSettings,
     path: &'a mut SeedPath,
+}
+
+impl SeedRecorder<'_> {
+    /// Records an event and its value.
+    fn push_event(
+        &mut self,
+        event: SplatEvent,
+        value: Option<(SampledSpectrum, SampledWavelengths)>,
+    ) {
+        self.path.events.push(event);
+        self.path.event_values.push(value);
+    }
 }
 
 impl WalkObserver for SeedRecorder<'_> {
@@ -122,30 +149,79 @@ impl WalkObserver for SeedRecorder<'_> {
 
     fn emitter(
         &mut self,
-        _walk: &WalkState,
+        walk: &WalkState,
         light_index: u32,
         hit: &SurfaceHit,
-        _wo: Vec3,
-        _wavelengths: &SampledWavelengths,
+        wo: Vec3,
+        wavelengths: &SampledWavelengths,
     ) {
-        if self.scene.shapes[hit.shape_index as usize].is_interface {
+        let scene = self.scene;
+        if scene.shapes[hit.shape_index as usize].is_interface {
             let prefix = self.path.vertices.len();
             self.path.passed_emitters.push((prefix, *hit, light_index));
-        } else {
-            self.path.events.push(SplatEvent::of_first_vertices(
+            return;
+        }
+        // The path tracer's value (`path::PathRadiance::emitter`).
+        let value = (!scene.has_media()).then(|| {
+            let emitted = scene.lights[light_index as usize].emitted_radiance(
+                hit.geometric_normal,
+                hit.uv,
+                wo,
+                wavelengths,
+            );
+            let weight = emission_weight(
+                scene,
+                self.settings,
+                light_index,
+                walk.previous.delta,
+                walk.previous.point,
+                walk.previous.pdf,
+                hit.point,
+                hit.geometric_normal,
+            );
+            (walk.beta * emitted * weight, *wavelengths)
+        });
+        self.push_event(
+            SplatEvent::of_first_vertices(
                 self.path.vertices.len(),
                 Terminal::Emission { light_index },
-            ));
-        }
+            ),
+            value,
+        );
     }
 
-    fn escaped(&mut self, _walk: &WalkState, direction: Vec3, _wavelengths: &SampledWavelengths) {
-        if !self.scene.environment_lights.is_empty() {
-            self.path.events.push(SplatEvent::of_first_vertices(
+    fn escaped(&mut self, walk: &WalkState, direction: Vec3, wavelengths: &SampledWavelengths) {
+        let scene = self.scene;
+        if scene.environment_lights.is_empty() {
+            return;
+        }
+        // The path tracer's value (`path::PathRadiance::escaped`).
+        let value = (!scene.has_media()).then(|| {
+            let mut total = SampledSpectrum::zero();
+            for &index in &scene.environment_lights {
+                let emitted =
+                    scene.lights[index as usize].environment_radiance(direction, wavelengths);
+                let weight = emission_weight(
+                    scene,
+                    self.settings,
+                    index,
+                    walk.previous.delta,
+                    walk.previous.point,
+                    walk.previous.pdf,
+                    walk.previous.point + direction,
+                    Vec3::ZERO,
+                );
+                total += walk.beta * emitted * weight;
+            }
+            (total, *wavelengths)
+        });
+        self.push_event(
+            SplatEvent::of_first_vertices(
                 self.path.vertices.len(),
                 Terminal::Environment { direction },
-            ));
-        }
+            ),
+            value,
+        );
     }
 
     fn vertex<S: SampleSource + ?Sized>(
@@ -157,6 +233,7 @@ impl WalkObserver for SeedRecorder<'_> {
         counters: &mut TraceCounters,
     ) -> ControlFlow<()> {
         let scene = self.scene;
+        let mut value = None;
         let connection = match vertex.scatterer {
             ScattererRef::Medium { .. } => {
                 let medium = vertex.medium.expect("medium vertices lie in a medium");
@@ -184,23 +261,45 @@ impl WalkObserver for SeedRecorder<'_> {
                 if !flags.is_non_specular() {
                     return ControlFlow::Continue(());
                 }
-                sample_light(
-                    scene,
-                    Some(hit),
-                    offset.origin(),
-                    vertex.medium,
-                    walk.block,
-                    wavelengths,
-                    &mut DynSource(sampler),
-                    counters,
-                )
+                if scene.has_media() {
+                    sample_light(
+                        scene,
+                        Some(hit),
+                        offset.origin(),
+                        vertex.medium,
+                        walk.block,
+                        wavelengths,
+                        &mut DynSource(sampler),
+                        counters,
+                    )
+                } else {
+                    sample_surface_light(
+                        scene,
+                        self.settings,
+                        hit,
+                        offset.origin(),
+                        bsdf,
+                        vertex.wo,
+                        walk,
+                        wavelengths,
+                        &mut DynSource(sampler),
+                        counters,
+                    )
+                    .map(|(connection, contribution)| {
+                        value = Some((contribution, *wavelengths));
+                        connection
+                    })
+                }
             }
         };
         if let Some(connection) = connection {
-            self.path.events.push(SplatEvent::of_first_vertices(
-                self.path.vertices.len(),
-                Terminal::NextEvent(connection),
-            ));
+            self.push_event(
+                SplatEvent::of_first_vertices(
+                    self.path.vertices.len(),
+                    Terminal::NextEvent(connection),
+                ),
+                value,
+            );
         }
         ControlFlow::Continue(())
     }
@@ -234,6 +333,7 @@ fn record_passed_emitters(scene: &Scene, path: &mut SeedPath) {
             vertex_count: prefix + 1,
             terminal: Terminal::Emission { light_index },
         });
+        path.event_values.push(None);
     }
 }
 
@@ -294,4 +394,61 @@ fn sample_light(
         }
     }
     Some(LightConnection::from_sample(scene, light_sample))
+}
+
+/// Next-event estimation at a surface vertex of a scene without media, as
+/// the path tracer's (`path::sample_light`): the light sample's connection
+/// and its contribution `β f |cos| Le w / p`, if the BSDF passes light that
+/// way and the light is visible (no shadow ray otherwise, as the path
+/// tracer).
+#[allow(clippy::too_many_arguments)]
+fn sample_surface_light(
+    scene: &Scene,
+    settings: &PathSettings,
+    hit: &SurfaceHit,
+    reference: Vec3,
+    bsdf: &SurfaceBsdf,
+    wo: Vec3,
+    walk: &WalkState,
+    wavelengths: &SampledWavelengths,
+    sampler: &mut dyn SampleSource,
+    counters: &mut TraceCounters,
+) -> Option<(LightConnection, SampledSpectrum)> {
+    let light_sample = crate::integrators::path::sample_vertex_light(
+        scene,
+        reference,
+        walk.block,
+        wavelengths,
+        sampler,
+    )?;
+    let sample = &light_sample.sample;
+    let (value, bsdf_pdf) = bsdf.evaluate_with_pdf(wo, sample.wi, wavelengths);
+    let value = value * sample.wi.dot(bsdf.frame.normal()).abs();
+    if value.is_black() {
+        return None;
+    }
+    counters.shadow_rays += 1;
+    let visible = if sample.is_infinite {
+        let ray = spawn_ray(hit, sample.wi);
+        !scene.geometry.occluded(&ray, f32::INFINITY)
+    } else {
+        match spawn_ray_to_point(hit, sample.point, sample.normal) {
+            Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
+            None => false,
+        }
+    };
+    if !visible {
+        return None;
+    }
+    let light_pdf = light_sample.selection_probability * sample.pdf;
+    let weight_over_pdf = if sample.is_delta {
+        1.0 / light_pdf
+    } else {
+        settings.heuristic.weight_over_density(light_pdf, bsdf_pdf)
+    };
+    let contribution = walk.beta * value * sample.radiance * weight_over_pdf;
+    Some((
+        LightConnection::from_sample(scene, light_sample),
+        contribution,
+    ))
 }
