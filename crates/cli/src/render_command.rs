@@ -186,6 +186,10 @@ pub struct LqmcArgs {
     /// wavelength (b = 0 with a pinhole camera).
     #[arg(long)]
     pub explore_wavelength_alone: bool,
+    /// LQMC: also explore the camera vertex (b = 0) of paths whose first
+    /// hit is in focus (not depth-of-field paths).
+    #[arg(long)]
+    pub explore_camera_in_focus: bool,
     /// LQMC: no tile jitter.
     #[arg(long)]
     pub no_jitter: bool,
@@ -280,6 +284,7 @@ fn lqmc_settings(args: &LqmcArgs) -> Result<render::integrators::lqmc::LqmcSetti
         settings.class_parameters_mut(parse_class(name)?).explore = false;
     }
     settings.explore_wavelength_alone = args.explore_wavelength_alone;
+    settings.explore_camera_in_focus = args.explore_camera_in_focus;
     if let Some(tiles) = args.wavelength_tiles {
         settings.wavelength_tiles = tiles.max(1);
     }

@@ -203,8 +203,12 @@ pub fn breakup_weights(
                 }
             }
         };
-        if b == 0 && class == PathClass::DepthOfField {
-            weight *= settings.depth_of_field_camera_weight as f64;
+        if b == 0 {
+            if class == PathClass::DepthOfField {
+                weight *= settings.depth_of_field_camera_weight as f64;
+            } else if !settings.explore_camera_in_focus {
+                weight = 0.0;
+            }
         }
         if weight > 0.0 && !explorable(b) {
             weight = 0.0;
@@ -278,8 +282,22 @@ mod tests {
             event: &event,
         };
         let mut weights = Vec::new();
+        // By default b = 0 is left out of paths in focus.
         breakup_weights(
             &LqmcSettings::default(),
+            &path,
+            PathClass::Normal,
+            |_| true,
+            &mut weights,
+        );
+        assert_eq!(weights[0], 0.0);
+        assert_eq!(weights[1], 0.1f32 as f64);
+        let in_focus_camera = LqmcSettings {
+            explore_camera_in_focus: true,
+            ..LqmcSettings::default()
+        };
+        breakup_weights(
+            &in_focus_camera,
             &path,
             PathClass::Normal,
             |_| true,
@@ -328,18 +346,19 @@ mod tests {
             weights
         };
         let emission = Terminal::Emission { light_index: 0 };
-        let full = LqmcSettings {
-            breakup: BreakupChoice::FullPath,
+        let defaults = LqmcSettings {
+            explore_camera_in_focus: true,
             ..LqmcSettings::default()
         };
+        let full = LqmcSettings {
+            breakup: BreakupChoice::FullPath,
+            ..defaults
+        };
         assert_eq!(weights_of(&full, emission), vec![0.0, 0.0, 1.0]);
-        assert_eq!(
-            weights_of(&LqmcSettings::default(), emission),
-            vec![1.0, 1.0, 1.0]
-        );
+        assert_eq!(weights_of(&defaults, emission), vec![1.0, 1.0, 1.0]);
         let without = LqmcSettings {
             full_path_breakup: false,
-            ..LqmcSettings::default()
+            ..defaults
         };
         assert_eq!(weights_of(&without, emission), vec![1.0, 1.0, 0.0]);
         let escape = Terminal::Environment { direction: Vec3::Z };

@@ -25,6 +25,9 @@ use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
 use qmc::hash::{hash2, hash3, to_unit_f64};
 use qmc::lattice_table::lqmc_lattice_entry;
 
+/// One exploration in this many has its member loop timed (`--stats`).
+const MEMBER_TIMING_PERIOD: u64 = 16;
+
 /// Purposes of the deterministic random choices (hash keys).
 const BREAKUP_KEY: u64 = 0x6272_6561_6b75_7000;
 const JITTER_KEY: u64 = 0x6a69_7474_6572_0000;
@@ -413,6 +416,11 @@ fn explore(
     let seed_breakup_weights = std::mem::take(&mut scratch.breakup_weights);
     let mut member_breakup_weights = std::mem::take(&mut scratch.member_breakup_weights);
     let mut seed_member_valid = false;
+    let rays_before = counters.rays();
+    // The member loop of every 16th exploration of a work unit (its 1st,
+    // 17th, ...) is timed: two clock reads per timed loop, not per member.
+    let explorations_so_far: u64 = statistics.explorations.iter().sum();
+    let timed = (explorations_so_far % MEMBER_TIMING_PERIOD == 1).then(std::time::Instant::now);
     for j in 0..member_count {
         let numbers = &scratch.members.numbers[j * dimension_count..(j + 1) * dimension_count];
         let mut member_camera = MemberCamera {
@@ -554,6 +562,11 @@ fn explore(
                 }
             }
         }
+    }
+    statistics.member_rays += counters.rays() - rays_before;
+    if let Some(started) = timed {
+        statistics.timed_members += member_count as u64;
+        statistics.timed_member_nanoseconds += started.elapsed().as_nanos() as u64;
     }
     scratch.probe_dimensions = probe;
     scratch.breakup_weights = seed_breakup_weights;

@@ -96,6 +96,14 @@ pub struct LqmcStatistics {
     /// Valid members whose steps after the breakup's next vertex and whose
     /// end were the seed's (no evaluation of those vertices again).
     pub reusing_members: u64,
+    /// Rays traced for members (prefix rebuilds, reconnections, next-event
+    /// shadow rays of rebuilt vertices).
+    pub member_rays: u64,
+    /// Members of the explorations whose member loop was timed, and that
+    /// time (every 16th exploration).
+    pub timed_members: u64,
+    /// See [`LqmcStatistics::timed_members`].
+    pub timed_member_nanoseconds: u64,
     /// The closest-lattice-point search's calls and sampled time.
     pub closest_point: ClosestPointTiming,
 }
@@ -184,6 +192,9 @@ impl LqmcStatistics {
         self.empty_explorations += other.empty_explorations;
         self.medium_explorations += other.medium_explorations;
         self.reusing_members += other.reusing_members;
+        self.member_rays += other.member_rays;
+        self.timed_members += other.timed_members;
+        self.timed_member_nanoseconds += other.timed_member_nanoseconds;
         self.closest_point.add(&other.closest_point);
     }
 
@@ -232,6 +243,13 @@ impl LqmcStatistics {
             members,
             100.0 * failures as f64 / members.max(1) as f64,
             self.empty_explorations
+        ));
+        let all_members: u64 = self.members.iter().sum();
+        lines.push(format!(
+            "  cost per member: {:.0} ns CPU (timed on {} members, every 16th exploration), {:.2} rays",
+            self.timed_member_nanoseconds as f64 / self.timed_members.max(1) as f64,
+            self.timed_members,
+            self.member_rays as f64 / all_members.max(1) as f64
         ));
         let valid: u64 = self.valid_members.iter().sum();
         lines.push(format!(
