@@ -336,6 +336,7 @@ impl Geometry {
 
     /// The closest hit of `ray` with `0 < t < t_max`, or `None`. The direction
     /// should be unit length (see the module documentation).
+    #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceHit> {
         self.closest_primitive(ray, t_max)
             .map(|hit| self.surface_hit(ray, hit))

@@ -55,6 +55,8 @@ pub use sampling::{
     sample_uniform_disk_concentric, sample_uniform_sphere, sample_uniform_triangle,
 };
 pub use shape::Shape;
+#[cfg(target_arch = "x86_64")]
+pub(crate) use simd::Avx2;
 pub use spawn::{
     OffsetPoint, SHADOW_EPSILON, occlusion_segment_to_point, offset_ray_origin, spawn_ray,
     spawn_ray_through, spawn_ray_to, spawn_ray_to_point, spawn_segment_to_point,

@@ -30,6 +30,8 @@
 //! samples per pixel of the whole passes.
 
 use crate::film::{Film, FilmError, FilmTile, PixelBounds, SampleOutcome, SplatBuffer};
+#[cfg(target_arch = "x86_64")]
+use crate::geometry::Avx2;
 use crate::geometry::Ray;
 use crate::sampler::{IndependentSampler, PixelSampler, Randomization, SamplerKind, layout};
 use crate::scene::Scene;
@@ -241,7 +243,7 @@ pub fn render_pixel_samples<E: PixelSampleEstimator>(
                 // The independent sampler as its own type: its hash then
                 // inlines into the integrator's path loop.
                 let count = if run.sampler == SamplerKind::Independent {
-                    render_unit(
+                    render_unit_fastest(
                         estimator,
                         &mut unit,
                         *bounds,
@@ -298,9 +300,54 @@ pub fn render_pixel_samples<E: PixelSampleEstimator>(
     })
 }
 
+/// [`render_unit`] as AVX2 code on CPUs that have it (see
+/// [`render_unit_avx2`]), otherwise as baseline code.
+fn render_unit_fastest<E: PixelSampleEstimator, S: PixelSampler + ?Sized>(
+    estimator: &E,
+    unit: &mut E::Unit,
+    bounds: PixelBounds,
+    samples: std::ops::Range<u64>,
+    sampler: &mut S,
+    output: &mut UnitOutput,
+) -> u64 {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(avx2) = Avx2::detect() {
+        // SAFETY: the proof says the CPU supports AVX2.
+        return unsafe {
+            render_unit_avx2(avx2, estimator, unit, bounds, samples, sampler, output)
+        };
+    }
+    render_unit(estimator, unit, bounds, samples, sampler, output)
+}
+
+/// [`render_unit`] compiled for AVX2, with the integrator's path loop
+/// inlined into it: three-operand VEX instructions need fewer register
+/// copies than two-operand SSE (the path tracer's render phase on the
+/// Cornell box: 463.9 M → 452.7 M instructions). The same IEEE operations
+/// in the same order (no fused multiply–add: the `fma` feature stays off),
+/// so the same image bit for bit. Only what inlines into it is compiled
+/// for AVX2: the path tracer's `estimate` and `radiance` are
+/// `#[inline(always)]` for that (LLVM did not inline them across the
+/// change of target features); it is used with the independent sampler,
+/// the one the comparison with Mitsuba runs.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn render_unit_avx2<E: PixelSampleEstimator, S: PixelSampler + ?Sized>(
+    _: Avx2,
+    estimator: &E,
+    unit: &mut E::Unit,
+    bounds: PixelBounds,
+    samples: std::ops::Range<u64>,
+    sampler: &mut S,
+    output: &mut UnitOutput,
+) -> u64 {
+    render_unit(estimator, unit, bounds, samples, sampler, output)
+}
+
 /// Renders samples `samples` of every pixel of one tile: pixel by pixel,
 /// the samples of a pixel in order. Generic over the sampler so that a
 /// concrete one inlines into the integrator.
+#[inline(always)]
 fn render_unit<E: PixelSampleEstimator, S: PixelSampler + ?Sized>(
     estimator: &E,
     unit: &mut E::Unit,

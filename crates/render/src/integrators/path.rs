@@ -89,7 +89,9 @@ impl PixelSampleEstimator for PathEstimator<'_> {
 
     fn merge_unit(&self, _total: &mut (), _unit: (), _kept: bool) {}
 
-    #[inline]
+    /// Always inlined into the driver's tile loop, so that the AVX2 copy of
+    /// that loop compiles the path in it (see [`radiance`]).
+    #[inline(always)]
     fn estimate<S: PixelSampler + ?Sized>(
         &self,
         _unit: &mut (),
@@ -168,7 +170,9 @@ pub(crate) fn oriented_hit(scene: &Scene, hit: &SurfaceHit) -> SurfaceHit {
 ///
 /// Generic over the sampler so that a concrete sampler's numbers (a hash
 /// for the independent one) inline into the walk; `dyn SampleSource`
-/// works as well.
+/// works as well. Always inlined, so that it is compiled into the AVX2
+/// tile loop of the driver (`render_unit_avx2`).
+#[inline(always)]
 pub fn radiance<S: SampleSource + ?Sized>(
     scene: &Scene,
     settings: &PathSettings,

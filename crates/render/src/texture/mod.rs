@@ -60,8 +60,10 @@ pub enum SpectrumTexture {
 
 impl SpectrumTexture {
     /// The texture's spectrum at `context` for the path's `wavelengths`.
-    /// A constant, the common case, is handled inline; images and
-    /// checkerboards in the out-of-line [`Self::evaluate_general`].
+    /// A constant, the common case, is handled inline (an RGB reflectance,
+    /// the most common constant, without [`Spectrum::sample`]'s call and
+    /// dispatch); images and checkerboards in the out-of-line
+    /// [`Self::evaluate_general`].
     #[inline]
     pub fn evaluate(
         &self,
@@ -69,6 +71,7 @@ impl SpectrumTexture {
         wavelengths: &SampledWavelengths,
     ) -> SampledSpectrum {
         match self {
+            SpectrumTexture::Constant(Spectrum::RgbAlbedo(albedo)) => albedo.sample(wavelengths),
             SpectrumTexture::Constant(spectrum) => spectrum.sample(wavelengths),
             _ => self.evaluate_general(context, wavelengths),
         }
