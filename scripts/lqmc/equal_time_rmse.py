@@ -13,10 +13,9 @@ range) over the seeds, with their range, and the commands.
 
 "Path tracing" is the scene's default integrator: `path`, or `volpath` for
 scenes with participating media (translucent-spheres); the reference uses
-the same. Both use the Halton sampler (the default), whose points do not
-depend on the seed (only LQMC's tile jitter, breakup draws and dimension
-scrambling and the Mersenne Twister beyond dimension 256 do), so the path
-tracer's spread over seeds mostly reflects how many passes fit in the time.
+the same. Both use the Halton sampler (the default), randomized by the seed
+(a random digital shift per dimension since 2026-12-03), so the renders of
+different seeds are independent replications; the reference uses seed 1000.
 
 Runs target/release/lqmc (build it with `cargo build --release`); never run
 from cargo test. Example:
