@@ -119,6 +119,12 @@ pub struct RenderArgs {
     /// `rr_depth`, 5 if it names none — else 3).
     #[arg(long, value_name = "DEPTH")]
     pub rr_depth: Option<u32>,
+    /// path, volpath: place each sample uniformly in its pixel and splat it
+    /// over the pixels of the scene's filter (Mitsuba's film) instead of
+    /// importance-sampling the filter (pbrt-v4's, the default); LQMC always
+    /// splats, so this is its like-for-like baseline.
+    #[arg(long)]
+    pub splat_film: bool,
     /// Output image (.exr, .pfm or .png); a PNG is also written beside an
     /// EXR or PFM.
     #[arg(short, long, default_value = "render.exr")]
@@ -416,6 +422,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             HeuristicName::Balance => render::integrators::MisHeuristic::Balance,
         },
         russian_roulette_depth: args.rr_depth.or(scene.russian_roulette_depth).unwrap_or(3),
+        splat_film: args.splat_film,
         threads: args.threads,
         ..RenderSettings::default()
     };
@@ -464,6 +471,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         statistics.completed_samples_per_pixel.to_string(),
     );
     metadata.insert("seed".into(), settings.seed.to_string());
+    if settings.splat_film {
+        metadata.insert("film".into(), "splat".into());
+    }
     metadata.insert("randomization".into(), settings.randomization.name().into());
     metadata.insert("renderTimeSeconds".into(), format!("{seconds:.3}"));
     metadata.insert("scene".into(), scene_name.to_string());

@@ -39,6 +39,10 @@ pub struct RenderSettings {
     /// The vertex index from which Russian roulette may end paths, counted
     /// as Mitsuba's `rr_depth` (default 3; Mitsuba's own default is 5).
     pub russian_roulette_depth: u32,
+    /// Camera-path integrators: splat each sample over its filter's pixels
+    /// instead of importance-sampling the filter (see
+    /// [`PathSettings::splat_film`]; default false).
+    pub splat_film: bool,
     /// Worker threads (0: all cores).
     pub threads: usize,
     /// Tile side in pixels (default 16).
@@ -57,6 +61,7 @@ impl Default for RenderSettings {
             max_depth: 6,
             heuristic: MisHeuristic::Power,
             russian_roulette_depth: PathSettings::default().russian_roulette_depth,
+            splat_film: false,
             threads: 0,
             tile_size: 16,
         }
@@ -70,6 +75,7 @@ impl RenderSettings {
             max_depth: self.max_depth,
             heuristic: self.heuristic,
             russian_roulette_depth: self.russian_roulette_depth,
+            splat_film: self.splat_film,
         }
     }
 }

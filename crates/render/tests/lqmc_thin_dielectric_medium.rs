@@ -34,7 +34,14 @@ fn lqmc_and_volpath_agree_on_a_thin_dielectric_around_a_medium() {
     let scene = Scene::build(&description).unwrap();
     let render_with = |integrator: IntegratorKind, sampler: SamplerKind, spp: u64| {
         let settings = RenderSettings {
-            integrator: integrator.into(),
+            integrator: match integrator {
+                IntegratorKind::Lqmc => {
+                    render::integrators::IntegratorSettings::Lqmc(
+                        render::integrators::lqmc::LqmcSettings::paper_classes(),
+                    )
+                }
+                other => other.into(),
+            },
             sampler,
             samples_per_pixel: spp,
             max_depth: 64,

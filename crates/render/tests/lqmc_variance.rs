@@ -28,7 +28,8 @@
 use render::image::Image;
 use render::image::compare::{ReferenceVariance, compare_images};
 use render::integrators::IntegratorKind;
-use render::integrators::lqmc::LqmcDetails;
+use render::integrators::IntegratorSettings;
+use render::integrators::lqmc::{LqmcDetails, LqmcSettings};
 use render::renderer::{RenderSettings, render};
 use render::sampler::SamplerKind;
 use render::scene::Scene;
@@ -50,7 +51,11 @@ fn scene(name: &str) -> Scene {
 /// One render's image and variance layer.
 fn render_once(scene: &Scene, integrator: IntegratorKind, spp: u64, seed: u64) -> (Image, Image) {
     let settings = RenderSettings {
-        integrator: integrator.into(),
+        // The paper's classes, so that dof-spheres' paths are explored.
+        integrator: match integrator {
+            IntegratorKind::Lqmc => IntegratorSettings::Lqmc(LqmcSettings::paper_classes()),
+            other => other.into(),
+        },
         sampler: SamplerKind::Independent,
         samples_per_pixel: spp,
         seed,

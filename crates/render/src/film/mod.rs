@@ -12,6 +12,7 @@
 mod error_function;
 mod film_tile;
 mod filter;
+mod image_plane;
 mod pixel_statistics;
 mod rgb_film;
 mod splat_buffer;
@@ -19,6 +20,7 @@ mod splat_buffer;
 pub use error_function::{erf, inverse_erf};
 pub use film_tile::{FilmTile, PixelBounds, SampleOutcome};
 pub use filter::{BoxFilter, Filter, FilterSample, GaussianFilter, TriangleFilter};
+pub use image_plane::ImagePlane;
 pub use pixel_statistics::PixelStatistics;
 pub use rgb_film::{CameraSamplePosition, Film};
 pub use splat_buffer::{Splat, SplatBuffer};

@@ -142,6 +142,32 @@ impl UnitOutput {
         let _ = self.tile.add_sample(pixel, rgb, weight);
     }
 
+    /// Adds a camera path's value `rgb`, started at `start` for `pixel`:
+    /// to the pixel with its filter-importance weight, or, with
+    /// `splat_film`, splatted at its film position over the filter's pixels
+    /// (Mitsuba's film; see [`CameraPathStart::for_film`]).
+    #[inline]
+    pub fn add_camera_path(
+        &mut self,
+        start: &CameraPathStart,
+        pixel: (u32, u32),
+        rgb: [f32; 3],
+        splat_film: bool,
+    ) {
+        if splat_film {
+            let weight = start.position.weight;
+            let _ = self
+                .splats
+                .add(start.position.raster_position, rgb.map(|value| value * weight));
+        } else {
+            self.add_camera_sample(
+                [pixel.0 as usize, pixel.1 as usize],
+                rgb,
+                start.position.weight,
+            );
+        }
+    }
+
     /// Adds a splat (non-finite values are counted and dropped).
     #[inline]
     pub fn add_splat(&mut self, raster_position: [f32; 2], rgb: [f32; 3]) -> SampleOutcome {
@@ -487,6 +513,41 @@ impl CameraPathStart {
             [pixel.0 as usize, pixel.1 as usize],
             sampler.get_2d(layout::FILM),
         );
+        Self::at_position(scene, position, sampler)
+    }
+
+    /// The camera sample of `pixel` as [`CameraPathStart::new`] places it,
+    /// or, with `splat_film`, uniformly in the pixel's share of the
+    /// [`crate::film::ImagePlane`] (weight: the plane's area scale), to be
+    /// splatted over the filter's pixels by [`UnitOutput::add_camera_path`].
+    #[inline]
+    pub fn for_film<S: crate::sampler::SampleSource + ?Sized>(
+        scene: &Scene,
+        pixel: (u32, u32),
+        sampler: &mut S,
+        splat_film: bool,
+    ) -> Self {
+        if !splat_film {
+            return Self::new(scene, pixel, sampler);
+        }
+        // Spread over the image grown by the filter's reach, as LQMC's
+        // seeds are: the weight carries the domain's area over the image's.
+        let image_plane = crate::film::ImagePlane::new(scene);
+        let raster = image_plane.seed_raster(scene, pixel, sampler.get_2d(layout::FILM));
+        let position = crate::film::CameraSamplePosition {
+            raster_position: raster.to_array(),
+            weight: image_plane.area_scale,
+        };
+        Self::at_position(scene, position, sampler)
+    }
+
+    /// The camera ray and wavelengths of a sample at `position`.
+    #[inline]
+    fn at_position<S: crate::sampler::SampleSource + ?Sized>(
+        scene: &Scene,
+        position: crate::film::CameraSamplePosition,
+        sampler: &mut S,
+    ) -> Self {
         // Numbers the camera does not use (a pinhole's lens, a closed
         // shutter's time) are not drawn: a hash each saved.
         let u_lens = if scene.camera.uses_lens_sample() {

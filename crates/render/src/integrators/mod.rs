@@ -22,6 +22,7 @@ pub mod light;
 pub mod lqmc;
 pub mod path;
 pub mod path_space;
+pub mod progression_variance;
 pub mod volpath;
 
 pub use driver::{DriverStatistics, RenderError, RunControl};
@@ -146,6 +147,21 @@ pub struct IntegratorRender {
 
 impl IntegratorRender {
     /// The render of a driver whose total the integrator keeps nothing of.
+    /// A camera-path integrator's render: with film splatting, the
+    /// variance layer from its progressions.
+    pub fn from_camera_paths(
+        output: driver::DriverOutput<Option<progression_variance::ProgressionVariance>>,
+    ) -> Self {
+        let variance = output
+            .total
+            .as_ref()
+            .map(|progressions| progressions.variance_image());
+        Self {
+            variance,
+            ..Self::from_driver(output)
+        }
+    }
+
     pub fn from_driver<T>(output: driver::DriverOutput<T>) -> Self {
         Self {
             film: output.film,

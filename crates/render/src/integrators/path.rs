@@ -15,6 +15,8 @@ use super::path_space::{
 };
 pub(crate) use super::path_space::{orient_hit, russian_roulette};
 use super::{Integrator, IntegratorRender, MisHeuristic, RenderError, RunControl, TraceCounters};
+use super::progression_variance::ProgressionVariance;
+use crate::film::Film;
 use crate::geometry::{OffsetPoint, Ray, SurfaceHit, occlusion_segment_to_point};
 use crate::material::SurfaceBsdf;
 use crate::sampler::{PixelSampler, SampleSource, layout};
@@ -33,6 +35,14 @@ pub struct PathSettings {
     pub heuristic: MisHeuristic,
     /// The vertex index from which Russian roulette may end paths (default 3).
     pub russian_roulette_depth: u32,
+    /// Camera-path integrators (path, volpath): place each sample uniformly
+    /// in its pixel and splat it over the pixels of the film's filter
+    /// (Mitsuba's film) instead of importance-sampling the filter and adding
+    /// it to its own pixel (pbrt-v4's; the default). Splatting lets a
+    /// sample reach every pixel its filter covers, as LQMC's splats do, so
+    /// it is the like-for-like baseline for LQMC. The variance layer then
+    /// comes from the progressions ([`super::progression_variance`]).
+    pub splat_film: bool,
 }
 
 impl Default for PathSettings {
@@ -41,6 +51,7 @@ impl Default for PathSettings {
             max_depth: 6,
             heuristic: MisHeuristic::Power,
             russian_roulette_depth: 3,
+            splat_film: false,
         }
     }
 }
@@ -67,7 +78,7 @@ impl Integrator for PathIntegrator {
             scene,
             settings: &self.settings,
         };
-        render_pixel_samples(&estimator, scene, run).map(IntegratorRender::from_driver)
+        render_pixel_samples(&estimator, scene, run).map(IntegratorRender::from_camera_paths)
     }
 }
 
@@ -79,15 +90,28 @@ struct PathEstimator<'a> {
 
 impl PixelSampleEstimator for PathEstimator<'_> {
     type Unit = ();
-    type Total = ();
+    type Total = Option<ProgressionVariance>;
 
-    fn new_total(&self, _resolution: [usize; 2]) -> Result<(), RenderError> {
-        Ok(())
+    fn pass_size(&self, samples_per_pixel: u64, timed: bool) -> u64 {
+        camera_path_pass_size(self.settings, samples_per_pixel, timed)
+    }
+
+    fn new_total(&self, resolution: [usize; 2]) -> Result<Self::Total, RenderError> {
+        Ok(self
+            .settings
+            .splat_film
+            .then(|| ProgressionVariance::new(resolution)))
     }
 
     fn new_unit(&self) {}
 
-    fn merge_unit(&self, _total: &mut (), _unit: (), _kept: bool) {}
+    fn merge_unit(&self, _total: &mut Self::Total, _unit: (), _kept: bool) {}
+
+    fn end_pass(&self, total: &mut Self::Total, film: &Film, complete: bool) {
+        if let Some(progressions) = total {
+            progressions.end_progression(film, complete);
+        }
+    }
 
     /// Always inlined into the driver's tile loop, so that the AVX2 copy of
     /// that loop compiles the path in it (see [`radiance`]).
@@ -99,7 +123,8 @@ impl PixelSampleEstimator for PathEstimator<'_> {
         sampler: &mut S,
         output: &mut UnitOutput,
     ) {
-        let start = CameraPathStart::new(self.scene, sample.pixel, sampler);
+        let splat_film = self.settings.splat_film;
+        let start = CameraPathStart::for_film(self.scene, sample.pixel, sampler, splat_film);
         let mut wavelengths = start.wavelengths;
         let radiance = radiance(
             self.scene,
@@ -109,11 +134,27 @@ impl PixelSampleEstimator for PathEstimator<'_> {
             sampler,
             &mut output.counters,
         );
-        output.add_camera_sample(
-            [sample.pixel.0 as usize, sample.pixel.1 as usize],
+        output.add_camera_path(
+            &start,
+            sample.pixel,
             to_linear_srgb(&radiance, &wavelengths),
-            start.position.weight,
+            splat_film,
         );
+    }
+}
+
+/// Samples per pass of a camera-path integrator: one progression per pass
+/// when splatting (the variance layer needs each progression's image),
+/// else the driver's default.
+pub(crate) fn camera_path_pass_size(
+    settings: &PathSettings,
+    samples_per_pixel: u64,
+    timed: bool,
+) -> u64 {
+    if settings.splat_film || timed {
+        1
+    } else {
+        samples_per_pixel.clamp(1, 4)
     }
 }
 

@@ -78,6 +78,8 @@ use super::driver::{
     CameraPathStart, PixelSampleEstimator, PixelSampleIndex, UnitOutput, render_pixel_samples,
 };
 use super::path::{PathSettings, oriented_hit};
+use super::progression_variance::ProgressionVariance;
+use crate::film::Film;
 use super::path_space::{
     MAX_INTERFACE_CROSSINGS, ScattererRef, VertexAt, WalkObserver, WalkSettings, WalkStart,
     WalkState, medium_leaving, null_transmission, walk,
@@ -111,7 +113,7 @@ impl Integrator for VolPathIntegrator {
             scene,
             settings: &self.settings,
         };
-        render_pixel_samples(&estimator, scene, run).map(IntegratorRender::from_driver)
+        render_pixel_samples(&estimator, scene, run).map(IntegratorRender::from_camera_paths)
     }
 }
 
@@ -123,15 +125,28 @@ struct VolPathEstimator<'a> {
 
 impl PixelSampleEstimator for VolPathEstimator<'_> {
     type Unit = ();
-    type Total = ();
+    type Total = Option<ProgressionVariance>;
 
-    fn new_total(&self, _resolution: [usize; 2]) -> Result<(), RenderError> {
-        Ok(())
+    fn pass_size(&self, samples_per_pixel: u64, timed: bool) -> u64 {
+        super::path::camera_path_pass_size(self.settings, samples_per_pixel, timed)
+    }
+
+    fn new_total(&self, resolution: [usize; 2]) -> Result<Self::Total, RenderError> {
+        Ok(self
+            .settings
+            .splat_film
+            .then(|| ProgressionVariance::new(resolution)))
     }
 
     fn new_unit(&self) {}
 
-    fn merge_unit(&self, _total: &mut (), _unit: (), _kept: bool) {}
+    fn merge_unit(&self, _total: &mut Self::Total, _unit: (), _kept: bool) {}
+
+    fn end_pass(&self, total: &mut Self::Total, film: &Film, complete: bool) {
+        if let Some(progressions) = total {
+            progressions.end_progression(film, complete);
+        }
+    }
 
     fn estimate<S: PixelSampler + ?Sized>(
         &self,
@@ -140,7 +155,8 @@ impl PixelSampleEstimator for VolPathEstimator<'_> {
         sampler: &mut S,
         output: &mut UnitOutput,
     ) {
-        let start = CameraPathStart::new(self.scene, sample.pixel, sampler);
+        let splat_film = self.settings.splat_film;
+        let start = CameraPathStart::for_film(self.scene, sample.pixel, sampler, splat_film);
         let mut wavelengths = start.wavelengths;
         let radiance = radiance(
             self.scene,
@@ -150,10 +166,11 @@ impl PixelSampleEstimator for VolPathEstimator<'_> {
             sampler,
             &mut output.counters,
         );
-        output.add_camera_sample(
-            [sample.pixel.0 as usize, sample.pixel.1 as usize],
+        output.add_camera_path(
+            &start,
+            sample.pixel,
             to_linear_srgb(&radiance, &wavelengths),
-            start.position.weight,
+            splat_film,
         );
     }
 }

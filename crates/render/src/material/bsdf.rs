@@ -445,6 +445,14 @@ impl SurfaceBsdf {
         }
     }
 
+    /// Whether the BSDF is one plain Lambertian lobe (one side, opaque,
+    /// the frame not perturbed): its value and density for a pair of
+    /// directions then depend on `wo` only through the side of the shading
+    /// normal it lies on (LQMC's members reuse a seed's step on that).
+    pub fn is_plain_diffuse(&self) -> bool {
+        self.plain_diffuse().is_some()
+    }
+
     /// [`Bsdf::evaluate`] for world-space directions.
     pub fn evaluate(
         &self,

@@ -16,7 +16,9 @@
 //! the suffix density (see `estimator`).
 
 use super::path_record::{CameraVertex, SurfaceVertex, Terminal};
-use super::segment_cache::{SegmentCache, SegmentReuse, SurfaceStep, SurfaceTerminal};
+use super::segment_cache::{
+    IncomingIndependence, SegmentCache, SegmentReuse, SurfaceStep, SurfaceTerminal,
+};
 use super::statistics::FailureReason;
 use crate::camera::CameraProjection;
 use crate::geometry::{offset_ray_origin, spawn_ray, spawn_ray_to_point};
@@ -169,8 +171,26 @@ pub fn walk(
     // next-event path's last step is its end.
     let regular_steps = scattering_count - usize::from(ends_by_next_event);
     for m in 0..scattering_count {
+        let vertex = &vertices[m];
+        let previous_point = if m == 0 {
+            camera.origin
+        } else {
+            vertices[m - 1].hit.point
+        };
+        let wo = (previous_point - vertex.hit.point).normalize();
+        // The seed's steps from x_{b+2} on, and from x_{b+1} on where that
+        // vertex does not care where the member arrives from.
         if let SegmentReuse::Reuse { cache, first } = segments
-            && m >= *first
+            && (m >= *first
+                || (m + 1 == *first
+                    && cache
+                        .incoming_independence
+                        .get(m)
+                        .copied()
+                        .flatten()
+                        .is_some_and(|independence| {
+                            independence.admits(wo, vertex.hit.geometric_normal)
+                        })))
             && let Some(end) = cache.surface_terminal
             && end.wavelengths == wavelengths
             && cache.surface_steps.len() == regular_steps
@@ -192,17 +212,20 @@ pub fn walk(
                 numbers,
             );
         }
-        let vertex = &vertices[m];
-        let previous_point = if m == 0 {
-            camera.origin
-        } else {
-            vertices[m - 1].hit.point
-        };
-        let wo = (previous_point - vertex.hit.point).normalize();
         let Some(material) = &scene.shapes[vertex.hit.shape_index as usize].material else {
             return Err(FailureReason::Evaluation);
         };
         let bsdf = material.surface_bsdf_at(&vertex.hit, &wavelengths);
+        if let SegmentReuse::Record(cache) = segments {
+            let shading_normal = bsdf.frame.normal();
+            cache
+                .incoming_independence
+                .push(bsdf.is_plain_diffuse().then(|| IncomingIndependence {
+                    shading_normal,
+                    above_shading: wo.dot(shading_normal) > 0.0,
+                    above_geometric: wo.dot(vertex.hit.geometric_normal) > 0.0,
+                }));
+        }
         let reference = offset_ray_origin(vertex.hit.point, vertex.hit.geometric_normal, wo);
         let step = m + 1;
         let last = m + 1 == scattering_count;

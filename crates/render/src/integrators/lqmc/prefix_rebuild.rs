@@ -16,6 +16,7 @@ use super::classification::lobe_roughness;
 use super::medium_segment::{lands_at, medium_roughness};
 use super::path_record::{CameraVertex, SplatEvent, SurfaceVertex, Terminal};
 use super::statistics::FailureReason;
+pub use crate::film::ImagePlane;
 use crate::geometry::{Ray, SurfaceHit, spawn_ray, spawn_ray_through};
 use crate::integrators::TraceCounters;
 use crate::integrators::path::oriented_hit;
@@ -58,63 +59,6 @@ pub struct MemberCamera {
     pub u_time: f32,
     /// Wavelength number.
     pub u_wavelength: f32,
-}
-
-/// The image-plane domain of LQMC's primary sample space: the image grown
-/// by the filter's reach beyond the border pixels' centres (radius − ½), so
-/// that splatting with the filter gives the image that the path tracer's
-/// filter importance sampling gives, border pixels included.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ImagePlane {
-    /// Raster position of the domain's corner (≤ 0).
-    pub origin: Vec2,
-    /// Its size in pixels.
-    pub size: Vec2,
-    /// Domain area over image area: the factor on every splat, since seeds
-    /// are spread over the larger domain.
-    pub area_scale: f32,
-}
-
-impl ImagePlane {
-    /// The domain for `scene`.
-    pub fn new(scene: &Scene) -> Self {
-        let [width, height] = scene.camera.resolution().map(|size| size as f32);
-        let radius = scene.filter.radius();
-        let margin = Vec2::new((radius[0] - 0.5).max(0.0), (radius[1] - 0.5).max(0.0));
-        let size = Vec2::new(width, height) + 2.0 * margin;
-        Self {
-            origin: -margin,
-            size,
-            area_scale: size.x * size.y / (width * height),
-        }
-    }
-
-    /// The raster position of image-plane numbers `g ∈ [0, 1)²`.
-    pub fn raster(&self, g: Vec2) -> Vec2 {
-        (self.origin + g * self.size).min(self.origin + self.size - Vec2::splat(1e-3))
-    }
-
-    /// The image-plane numbers of a raster position.
-    pub fn numbers(&self, raster: Vec2) -> Vec2 {
-        (raster - self.origin) / self.size
-    }
-
-    /// Whether a raster position lies in the domain.
-    pub fn contains(&self, raster: Vec2) -> bool {
-        let g = self.numbers(raster);
-        g.x >= 0.0 && g.y >= 0.0 && g.x < 1.0 && g.y < 1.0
-    }
-
-    /// The seed's raster position for film numbers `u` of `pixel`: the
-    /// pixel's share of the domain.
-    pub fn seed_raster(&self, scene: &Scene, pixel: (u32, u32), u: [f32; 2]) -> Vec2 {
-        let [width, height] = scene.camera.resolution().map(|size| size as f32);
-        let g = Vec2::new(
-            (pixel.0 as f32 + u[0]) / width,
-            (pixel.1 as f32 + u[1]) / height,
-        );
-        self.raster(g)
-    }
 }
 
 /// A rebuilt surface vertex: the seed's sampled lobe, the roughness of

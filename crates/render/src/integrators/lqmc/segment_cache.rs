@@ -16,12 +16,19 @@
 //! (emission or next-event connection), recomputing only Russian roulette,
 //! whose probability follows the member's own throughput. Where the seed's
 //! walk chose its end with the last step at m ≥ b + 1 the end is the
-//! seed's too.
+//! seed's too. The step at m = b (at x_{b+1}, whose incoming direction the
+//! breakup changed) is reused as well where x_{b+1} is plainly Lambertian
+//! and the member arrives on the seed's side of its normals
+//! ([`IncomingIndependence`]): its value, density and end do not depend on
+//! the incoming direction otherwise, bit for bit. That makes a b = 0 member
+//! of a depth-of-field path on a diffuse surface a projection, one
+//! visibility ray and a splat.
 
 use super::medium_segment::TracedSegment;
 use super::statistics::FailureReason;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::Vec3;
 use std::ops::Range;
 
 /// One recorded segment.
@@ -52,6 +59,34 @@ pub struct SurfaceStep {
     pub specular: bool,
 }
 
+/// What makes a recorded step at a vertex independent of the direction the
+/// path arrives from: a plain Lambertian BSDF
+/// ([`crate::material::SurfaceBsdf::is_plain_diffuse`]), and the side of its
+/// shading and geometric normals the seed arrived from (the side selects
+/// the lobe and the offset of the next-event ray's origin).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IncomingIndependence {
+    /// The shading frame's normal.
+    pub shading_normal: Vec3,
+    /// Whether the seed's `wo` was above the shading normal.
+    pub above_shading: bool,
+    /// Whether the seed's `wo` was above the geometric normal.
+    pub above_geometric: bool,
+}
+
+impl IncomingIndependence {
+    /// Whether a path arriving from `wo` at a vertex of geometric normal
+    /// `geometric_normal` gets the recorded step's values exactly.
+    pub fn admits(&self, wo: Vec3, geometric_normal: Vec3) -> bool {
+        let shading = wo.dot(self.shading_normal);
+        let geometric = wo.dot(geometric_normal);
+        shading != 0.0
+            && geometric != 0.0
+            && (shading > 0.0) == self.above_shading
+            && (geometric > 0.0) == self.above_geometric
+    }
+}
+
 /// The end of a recorded surface walk: what multiplies the throughput
 /// after the last step (emission or environment radiance with its MIS
 /// weight; for a next-event connection, the whole last step), and the
@@ -80,6 +115,10 @@ pub struct SegmentCache {
     pub surface_steps: Vec<SurfaceStep>,
     /// The seed's end (surface scenes).
     pub surface_terminal: Option<SurfaceTerminal>,
+    /// Per layout vertex of the seed's surface walk (every scattering
+    /// vertex, the next-event one included): whether its step is
+    /// independent of the incoming direction, and on which sides.
+    pub incoming_independence: Vec<Option<IncomingIndependence>>,
 }
 
 /// What a walk does with the segment cache.
@@ -107,6 +146,7 @@ impl SegmentCache {
         self.pieces.clear();
         self.surface_steps.clear();
         self.surface_terminal = None;
+        self.incoming_independence.clear();
         self.pending.clear();
     }
 

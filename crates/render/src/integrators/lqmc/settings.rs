@@ -129,15 +129,25 @@ pub struct LqmcSettings {
     /// The breakup vertex (default: the roughness CDF).
     pub breakup: BreakupChoice,
     /// Normal paths: N = 23, 2×2 aperture tiles, 24 image tiles, 155
-    /// direction tiles.
+    /// direction tiles; not explored by default (`--explore-class normal`):
+    /// against the seeds' own splats (the same estimator as path tracing
+    /// with `--splat-film`) their exploration lowered the error at equal
+    /// samples by under 1 % on dof-spheres and 5 % on glass-sphere-box, for
+    /// 1.5 to 2.7 times the time (README, "LQMC at equal time").
     pub normal: ClassParameters,
     /// Caustic paths: N = 97, 4×4 aperture tiles, 48 image tiles, 55
-    /// direction tiles.
+    /// direction tiles; explored (on glass-sphere-box it halves the error
+    /// at equal samples and pays at equal time).
     pub caustic: ClassParameters,
     /// Depth-of-field paths: N = 7, tiles as normal paths (the paper's
     /// N = 23 over a circle of confusion of a few pixels puts about three
-    /// members in a pixel; at equal time N = 7 wins on the benchmark
-    /// scenes, see README).
+    /// members in a pixel); not explored by default (`--explore-class
+    /// dof`): on dof-spheres its exploration *raised* the error at 256
+    /// samples per pixel (RMSE 5.25e-3 against 4.83e-3 without), as the
+    /// members that land in a pixel come from other pixels' seeds and so
+    /// lose the stratification of the pixel's Halton points (LQMC's error
+    /// fell as n^-0.6 against the seeds' n^-0.75); on translucent-spheres
+    /// it lowered the MSE by 44 % for 2.2 times the time.
     pub depth_of_field: ClassParameters,
     /// Next-event-estimation paths: N = 7 (the authors' renderer), tiles as
     /// normal paths; not explored by default (the paper's rule: next-event
@@ -201,7 +211,7 @@ impl Default for LqmcSettings {
             aperture_tiles: 2,
             image_tiles: 24,
             direction_tiles: 155,
-            explore: true,
+            explore: false,
         };
         Self {
             effects: ExploredEffects::default(),
@@ -216,6 +226,7 @@ impl Default for LqmcSettings {
             },
             depth_of_field: ClassParameters {
                 lattice_size: 7,
+                explore: false,
                 ..normal
             },
             next_event: ClassParameters {
@@ -242,6 +253,16 @@ impl Default for LqmcSettings {
 }
 
 impl LqmcSettings {
+    /// The paper's classes explored: normal, caustic and depth-of-field
+    /// paths (next-event paths only as depth-of-field paths), with the
+    /// other defaults; `--explore-class normal --explore-class dof`.
+    pub fn paper_classes() -> Self {
+        let mut settings = Self::default();
+        settings.normal.explore = true;
+        settings.depth_of_field.explore = true;
+        settings
+    }
+
     /// Whether a breakup with the explored dimensions `dimensions` can be
     /// explored: between 1 and the lattice table's most dimensions, and not
     /// the wavelength alone unless [`LqmcSettings::explore_wavelength_alone`].

@@ -1,7 +1,9 @@
-//! The variance layer of an LQMC render: the estimated variance of each
-//! pixel's mean, from the images of the render's progressions.
+//! The variance layer of a splatting render (LQMC, and the path tracers
+//! with `splat_film`): the estimated variance of each pixel's mean, from
+//! the images of the render's progressions.
 //!
-//! LQMC splats every member into other pixels, so a pixel's value is not a
+//! LQMC splats every member into other pixels (and a splatting path tracer
+//! every sample over its filter's pixels), so a pixel's value is not a
 //! mean of its own samples and the film's per-pixel sample variance says
 //! nothing about it. What is a mean of identically distributed terms is the
 //! image as a whole: a render of `M` samples per pixel is the mean of the `M`
@@ -23,7 +25,7 @@
 //! path tracer's film variance does for its samples (for QMC points, whose
 //! errors tend to cancel, it usually overestimates).
 //!
-//! The renderer runs LQMC one progression per pass; after each pass the
+//! The renderer runs these integrators one progression per pass; after each pass the
 //! progression's image is the change of the film's splat sums (so splats
 //! are filtered once, by the film). Only complete progressions count: a
 //! progression cut short by a time budget or an interruption is left out
@@ -32,7 +34,7 @@
 use crate::film::Film;
 use crate::image::Image;
 
-/// Per-pixel statistics of the progression images of an LQMC render.
+/// Per-pixel statistics of the progression images of a splatting render.
 #[derive(Debug, Clone)]
 pub struct ProgressionVariance {
     resolution: [usize; 2],
