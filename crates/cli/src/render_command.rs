@@ -184,8 +184,10 @@ pub struct LqmcArgs {
     /// repeated.
     #[arg(long, value_name = "CLASS")]
     pub skip_class: Vec<String>,
-    /// LQMC: a class to explore that is not explored by default (nee); may
-    /// be repeated.
+    /// LQMC: a class to explore that is not explored by default (normal,
+    /// dof, nee; only caustic paths are explored by default, see README
+    /// "LQMC at equal time"); may be repeated. `--explore-class normal
+    /// --explore-class dof` gives the paper's classes.
     #[arg(long, value_name = "CLASS")]
     pub explore_class: Vec<String>,
     /// LQMC: also explore breakups whose only explored dimension is the
