@@ -9,6 +9,7 @@ mod error;
 mod json;
 mod lattice_command;
 mod plot;
+mod plot_font;
 mod points_command;
 mod render_command;
 
