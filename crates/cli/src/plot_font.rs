@@ -22,9 +22,8 @@ static DEJAVU_SANS: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 /// first call's outcome.
 pub fn register_plot_font() -> Result<(), CliError> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
-    let registered = *REGISTERED.get_or_init(|| {
-        register_font(PLOT_FONT_FAMILY, FontStyle::Normal, DEJAVU_SANS).is_ok()
-    });
+    let registered = *REGISTERED
+        .get_or_init(|| register_font(PLOT_FONT_FAMILY, FontStyle::Normal, DEJAVU_SANS).is_ok());
     if registered {
         Ok(())
     } else {
