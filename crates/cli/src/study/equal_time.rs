@@ -284,13 +284,12 @@ impl RenderContext<'_> {
             .write(path, &metadata)
             .map_err(|error| write_failure(path, error))?;
         let seconds = statistics.elapsed.as_secs_f64();
+        // LQMC's --stats, on stderr with the progress lines.
         if let (true, Some(details)) = (self.args.scene.lqmc.stats, &output.details) {
-            if !self.args.quiet {
-                eprintln!(
-                    "{}",
-                    details.report(seconds.max(1e-9), self.args.scene.effective_threads())
-                );
-            }
+            eprintln!(
+                "{}",
+                details.report(seconds.max(1e-9), self.args.scene.effective_threads())
+            );
         }
         Ok((
             output.image(),
