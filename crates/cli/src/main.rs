@@ -9,8 +9,11 @@ mod error;
 mod json;
 mod lattice_command;
 mod plot;
+mod plot_font;
 mod points_command;
 mod render_command;
+mod study;
+mod study_command;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -39,6 +42,9 @@ enum Command {
     /// Build a rank-1 lattice by component-by-component construction and
     /// print its generator and squared worst-case error.
     Lattice(lattice_command::LatticeArgs),
+    /// Studies that render a scene many times and compare integrators:
+    /// `equal-time`.
+    Study(study_command::StudyArgs),
 }
 
 fn main() -> ExitCode {
@@ -52,6 +58,7 @@ fn main() -> ExitCode {
         Command::Compare(args) => compare_command::run(&args),
         Command::Points(args) => points_command::run(&args),
         Command::Lattice(args) => lattice_command::run(&args),
+        Command::Study(args) => study_command::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

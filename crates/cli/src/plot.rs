@@ -28,6 +28,7 @@ pub fn write_points_plot(
     let failure = |error: &dyn std::fmt::Display| {
         CliError::Failure(format!("cannot write the plot {}: {error}", path.display()))
     };
+    crate::plot_font::register_plot_font()?;
     let count = points.len() / dims;
     let projection: Vec<(f64, f64)> = points
         .chunks(dims)
@@ -62,7 +63,7 @@ pub fn write_points_plot(
             } else {
                 format!("{count} points, dimension 0 against index")
             },
-            ("sans-serif", 18),
+            (crate::plot_font::PLOT_FONT_FAMILY, 18),
         )
         .margin(12)
         .x_label_area_size(28)
@@ -98,7 +99,7 @@ pub fn write_points_plot(
     let mut chart = ChartBuilder::on(&right)
         .caption(
             format!("local exploration: lattice N = {EXPLORATION_POINTS} vs random walk"),
-            ("sans-serif", 18),
+            (crate::plot_font::PLOT_FONT_FAMILY, 18),
         )
         .margin(12)
         .x_label_area_size(28)

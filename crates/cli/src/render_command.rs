@@ -13,11 +13,12 @@ use crate::error::{CliError, usage};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use render::image::{Metadata, write_png};
-use render::integrators::{IntegratorKind, IntegratorSettings};
-use render::renderer::{RenderSettings, render};
+use render::integrators::{IntegratorKind, IntegratorSettings, MisHeuristic};
+use render::renderer::{RenderSettings, RenderStatistics, render};
 use render::sampler::{Randomization, SamplerKind};
 use render::scene::Scene;
 use render::scene::builtin::{BUILTIN_SCENES, DEFAULT_SCENE, builtin_scene};
+use render::scene::description::SceneDescription;
 use render::scene::loader::{LoadOptions, load_scene_file};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -37,6 +38,18 @@ pub enum IntegratorName {
     Light,
 }
 
+impl IntegratorName {
+    /// The renderer's integrator of this name.
+    pub fn kind(self) -> IntegratorKind {
+        match self {
+            IntegratorName::Path => IntegratorKind::Path,
+            IntegratorName::Volpath => IntegratorKind::VolPath,
+            IntegratorName::Lqmc => IntegratorKind::Lqmc,
+            IntegratorName::Light => IntegratorKind::Light,
+        }
+    }
+}
+
 /// The samplers, as command-line values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum SamplerName {
@@ -48,6 +61,18 @@ pub enum SamplerName {
     Independent,
     /// Randomized rank-1 lattice (CBC, N = spp rounded up to a power of two).
     Lattice,
+}
+
+impl SamplerName {
+    /// The renderer's sampler of this name.
+    pub fn kind(self) -> SamplerKind {
+        match self {
+            SamplerName::Halton => SamplerKind::Halton,
+            SamplerName::Sobol => SamplerKind::Sobol,
+            SamplerName::Independent => SamplerKind::Independent,
+            SamplerName::Lattice => SamplerKind::Lattice,
+        }
+    }
 }
 
 /// Whether `--seed` randomizes the QMC samplers, as command-line values.
@@ -244,7 +269,7 @@ fn parse_class_value(
 }
 
 /// The LQMC settings from the command line.
-fn lqmc_settings(args: &LqmcArgs) -> Result<render::integrators::lqmc::LqmcSettings, CliError> {
+pub fn lqmc_settings(args: &LqmcArgs) -> Result<render::integrators::lqmc::LqmcSettings, CliError> {
     use render::integrators::lqmc::{BreakupChoice, ExploredEffects, LqmcSettings};
     let mut settings = LqmcSettings::default();
     if let Some(list) = &args.explore {
@@ -309,7 +334,7 @@ fn lqmc_settings(args: &LqmcArgs) -> Result<render::integrators::lqmc::LqmcSetti
 }
 
 /// Parses `NAME=VALUE` of `--define`.
-fn parse_definition(text: &str) -> Result<(String, String), String> {
+pub fn parse_definition(text: &str) -> Result<(String, String), String> {
     match text.split_once('=') {
         Some((name, value)) if !name.is_empty() => Ok((name.to_string(), value.to_string())),
         _ => Err(format!("expected NAME=VALUE, got '{text}'")),
@@ -324,9 +349,15 @@ pub fn list_scenes() -> Result<(), CliError> {
     Ok(())
 }
 
-/// Runs `lqmc render`.
-pub fn run(args: &RenderArgs) -> Result<(), CliError> {
-    let scene_name = args.scene.as_deref().unwrap_or("builtin:cornell-box");
+/// Loads the scene SCENE names: `builtin:NAME`, or a Mitsuba 3 / pbrt-v4
+/// file with the `-D` parameter `definitions`; `resolution` (WxH) replaces
+/// the camera's. The loader's warnings go to stderr unless `quiet`.
+pub fn load_scene_description(
+    scene_name: &str,
+    definitions: &[(String, String)],
+    resolution: Option<(u32, u32)>,
+    quiet: bool,
+) -> Result<SceneDescription, CliError> {
     let mut description = match scene_name.strip_prefix("builtin:") {
         Some(name) => builtin_scene(name).ok_or_else(|| {
             let names: Vec<&str> = BUILTIN_SCENES.iter().map(|(n, _)| *n).collect();
@@ -337,12 +368,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         })?,
         None if Path::new(scene_name).exists() => {
             let options = LoadOptions {
-                parameters: args.define.clone(),
+                parameters: definitions.to_vec(),
             };
             let loaded = load_scene_file(Path::new(scene_name), &options)
                 .map_err(|error| usage(error.to_string()))?;
             for warning in &loaded.warnings {
-                if !args.quiet {
+                if !quiet {
                     eprintln!("lqmc: warning: {warning}");
                 }
             }
@@ -354,22 +385,174 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             )));
         }
     };
-    if let Some((width, height)) = args.resolution {
+    if let Some((width, height)) = resolution {
         if width == 0 || height == 0 {
             return Err(usage("--resolution needs a width and height of at least 1"));
         }
         description.camera.resolution = [width, height];
     }
+    Ok(description)
+}
+
+/// Builds the renderable scene of `description` (`scene_name` names it in
+/// errors).
+pub fn build_scene(scene_name: &str, description: &SceneDescription) -> Result<Scene, CliError> {
+    Scene::build(description).map_err(|error| usage(format!("{scene_name}: {error}")))
+}
+
+/// The integrator `lqmc render` uses when none is named: volpath for scenes
+/// with participating media, light tracing for Mitsuba files that ask for
+/// `ptracer`, else path.
+pub fn default_integrator(description: &SceneDescription, scene: &Scene) -> IntegratorKind {
+    if scene.has_media() {
+        IntegratorKind::VolPath
+    } else if description.integrator.as_deref() == Some("ptracer") {
+        // Mitsuba's light tracer.
+        IntegratorKind::Light
+    } else {
+        IntegratorKind::Path
+    }
+}
+
+/// The path tracer for `scene`: volpath where it has participating media,
+/// else path (what "path tracing" means in comparisons and references).
+pub fn default_path_tracer(scene: &Scene) -> IntegratorKind {
+    if scene.has_media() {
+        IntegratorKind::VolPath
+    } else {
+        IntegratorKind::Path
+    }
+}
+
+/// The integrator `kind` with its settings; LQMC's come from `lqmc`.
+pub fn integrator_settings(
+    kind: IntegratorKind,
+    lqmc: &LqmcArgs,
+) -> Result<IntegratorSettings, CliError> {
+    Ok(match kind {
+        IntegratorKind::Lqmc => IntegratorSettings::Lqmc(lqmc_settings(lqmc)?),
+        other => other.into(),
+    })
+}
+
+/// A time budget in seconds from the option `option`: positive and finite.
+pub fn parse_time_budget(option: &str, seconds: f64) -> Result<Duration, CliError> {
+    if seconds > 0.0 && seconds.is_finite() {
+        Ok(Duration::from_secs_f64(seconds))
+    } else {
+        Err(usage(format!(
+            "{option} must be a positive number of seconds, got {seconds}"
+        )))
+    }
+}
+
+/// What one render is asked for on the command line; [`Self::settings`]
+/// fills in the scene's suggestions and the defaults where it says nothing.
+#[derive(Debug, Clone)]
+pub struct RenderRequest {
+    /// The integrator with its settings.
+    pub integrator: IntegratorSettings,
+    /// The sampler.
+    pub sampler: SamplerKind,
+    /// Samples per pixel (default: unlimited with a time budget, else the
+    /// scene's suggestion, else 16).
+    pub samples_per_pixel: Option<u64>,
+    /// Stop after this much time.
+    pub time_budget: Option<Duration>,
+    /// The seed of every random choice.
+    pub seed: u64,
+    /// Whether the seed randomizes the QMC samplers.
+    pub randomization: Randomization,
+    /// Maximum path depth (default: the scene's, else 6).
+    pub max_depth: Option<u32>,
+    /// Russian roulette depth (default: the scene's, else 3).
+    pub russian_roulette_depth: Option<u32>,
+    /// The MIS heuristic.
+    pub heuristic: MisHeuristic,
+    /// path, volpath: splat each sample over its filter's pixels.
+    pub splat_film: bool,
+    /// Worker threads (0: all cores).
+    pub threads: usize,
+}
+
+impl RenderRequest {
+    /// The renderer's settings for `scene`.
+    pub fn settings(&self, scene: &Scene) -> RenderSettings {
+        let samples_per_pixel = match (self.samples_per_pixel, self.time_budget) {
+            (Some(spp), _) => spp,
+            // As good as unlimited: the time budget ends the render.
+            (None, Some(_)) => u64::MAX / (1 << 32),
+            (None, None) => scene.samples_per_pixel.unwrap_or(16),
+        };
+        RenderSettings {
+            integrator: self.integrator.clone(),
+            sampler: self.sampler,
+            samples_per_pixel,
+            time_budget: self.time_budget,
+            seed: self.seed,
+            randomization: self.randomization,
+            max_depth: self.max_depth.or(scene.max_depth).unwrap_or(6),
+            heuristic: self.heuristic,
+            russian_roulette_depth: self
+                .russian_roulette_depth
+                .or(scene.russian_roulette_depth)
+                .unwrap_or(3),
+            splat_film: self.splat_film,
+            threads: self.threads,
+            ..RenderSettings::default()
+        }
+    }
+}
+
+/// The metadata `lqmc render` writes into its images: integrator, sampler,
+/// whole passes (`spp`), seed, randomization, render time, scene and depths.
+pub fn render_metadata(
+    scene_name: &str,
+    settings: &RenderSettings,
+    statistics: &RenderStatistics,
+) -> Metadata {
+    let seconds = statistics.elapsed.as_secs_f64().max(1e-9);
+    let mut metadata = Metadata::new();
+    metadata.insert("integrator".into(), settings.integrator.name().into());
+    metadata.insert("sampler".into(), settings.sampler.name().into());
+    metadata.insert(
+        "spp".into(),
+        statistics.completed_samples_per_pixel.to_string(),
+    );
+    metadata.insert("seed".into(), settings.seed.to_string());
+    if settings.splat_film {
+        metadata.insert("film".into(), "splat".into());
+    }
+    metadata.insert("randomization".into(), settings.randomization.name().into());
+    metadata.insert("renderTimeSeconds".into(), format!("{seconds:.3}"));
+    metadata.insert("scene".into(), scene_name.to_string());
+    metadata.insert("maxDepth".into(), settings.max_depth.to_string());
+    metadata.insert(
+        "rrDepth".into(),
+        settings.russian_roulette_depth.to_string(),
+    );
+    metadata
+}
+
+/// Pixel samples traced per pixel, a partial last pass included (the
+/// metadata's `spp` counts the whole passes).
+pub fn traced_samples_per_pixel(scene: &Scene, statistics: &RenderStatistics) -> f64 {
+    let [width, height] = scene.camera.resolution();
+    statistics.samples as f64 / (width as f64 * height as f64)
+}
+
+/// Runs `lqmc render`.
+pub fn run(args: &RenderArgs) -> Result<(), CliError> {
+    let scene_name = args.scene.as_deref().unwrap_or("builtin:cornell-box");
+    let description =
+        load_scene_description(scene_name, &args.define, args.resolution, args.quiet)?;
     if args.spp == Some(0) {
         return Err(usage("--spp must be at least 1"));
     }
-    let time_budget = match args.time {
-        Some(seconds) if !(seconds > 0.0 && seconds.is_finite()) => {
-            return Err(usage("--time must be a positive number of seconds"));
-        }
-        Some(seconds) => Some(Duration::from_secs_f64(seconds)),
-        None => None,
-    };
+    let time_budget = args
+        .time
+        .map(|seconds| parse_time_budget("--time", seconds))
+        .transpose()?;
     if args.max_depth == Some(0) {
         return Err(usage("--max-depth must be at least 1"));
     }
@@ -385,49 +568,31 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         )));
     }
 
-    let scene =
-        Scene::build(&description).map_err(|error| usage(format!("{scene_name}: {error}")))?;
-    let samples_per_pixel = match (args.spp, time_budget) {
-        (Some(spp), _) => spp,
-        (None, Some(_)) => u64::MAX / (1 << 32),
-        (None, None) => scene.samples_per_pixel.unwrap_or(16),
+    let scene = build_scene(scene_name, &description)?;
+    let integrator_kind = match args.integrator {
+        Some(name) => name.kind(),
+        None => default_integrator(&description, &scene),
     };
-    let settings = RenderSettings {
-        integrator: match args.integrator {
-            Some(IntegratorName::Path) => IntegratorKind::Path.into(),
-            Some(IntegratorName::Volpath) => IntegratorKind::VolPath.into(),
-            Some(IntegratorName::Lqmc) => IntegratorSettings::Lqmc(lqmc_settings(&args.lqmc)?),
-            Some(IntegratorName::Light) => IntegratorKind::Light.into(),
-            None if scene.has_media() => IntegratorKind::VolPath.into(),
-            // Mitsuba's light tracer.
-            None if description.integrator.as_deref() == Some("ptracer") => {
-                IntegratorKind::Light.into()
-            }
-            None => IntegratorKind::Path.into(),
-        },
-        sampler: match args.sampler {
-            SamplerName::Halton => SamplerKind::Halton,
-            SamplerName::Sobol => SamplerKind::Sobol,
-            SamplerName::Independent => SamplerKind::Independent,
-            SamplerName::Lattice => SamplerKind::Lattice,
-        },
-        samples_per_pixel,
+    let request = RenderRequest {
+        integrator: integrator_settings(integrator_kind, &args.lqmc)?,
+        sampler: args.sampler.kind(),
+        samples_per_pixel: args.spp,
         time_budget,
         seed: args.seed,
         randomization: match args.randomize {
             RandomizeName::Seeded => Randomization::Seeded,
             RandomizeName::None => Randomization::None,
         },
-        max_depth: args.max_depth.or(scene.max_depth).unwrap_or(6),
+        max_depth: args.max_depth,
+        russian_roulette_depth: args.rr_depth,
         heuristic: match args.mis {
-            HeuristicName::Power => render::integrators::MisHeuristic::Power,
-            HeuristicName::Balance => render::integrators::MisHeuristic::Balance,
+            HeuristicName::Power => MisHeuristic::Power,
+            HeuristicName::Balance => MisHeuristic::Balance,
         },
-        russian_roulette_depth: args.rr_depth.or(scene.russian_roulette_depth).unwrap_or(3),
         splat_film: args.splat_film,
         threads: args.threads,
-        ..RenderSettings::default()
     };
+    let settings = request.settings(&scene);
 
     let stop = Arc::new(AtomicBool::new(false));
     {
@@ -465,29 +630,8 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
 
     let statistics = output.statistics;
     let seconds = statistics.elapsed.as_secs_f64().max(1e-9);
-    let mut metadata = Metadata::new();
-    metadata.insert("integrator".into(), settings.integrator.name().into());
-    metadata.insert("sampler".into(), settings.sampler.name().into());
-    metadata.insert(
-        "spp".into(),
-        statistics.completed_samples_per_pixel.to_string(),
-    );
-    metadata.insert("seed".into(), settings.seed.to_string());
-    if settings.splat_film {
-        metadata.insert("film".into(), "splat".into());
-    }
-    metadata.insert("randomization".into(), settings.randomization.name().into());
-    metadata.insert("renderTimeSeconds".into(), format!("{seconds:.3}"));
-    metadata.insert("scene".into(), scene_name.to_string());
-    metadata.insert("maxDepth".into(), settings.max_depth.to_string());
-    metadata.insert(
-        "rrDepth".into(),
-        settings.russian_roulette_depth.to_string(),
-    );
-    // Pixel samples traced per pixel (a partial last pass included; the
-    // metadata's `spp` counts the whole passes).
-    let spp = output.statistics.samples as f64
-        / (scene.camera.resolution()[0] as f64 * scene.camera.resolution()[1] as f64);
+    let metadata = render_metadata(scene_name, &settings, &statistics);
+    let spp = traced_samples_per_pixel(&scene, &statistics);
     output
         .write(&args.output, &metadata)
         .map_err(|error| CliError::Failure(error.to_string()))?;

@@ -100,6 +100,7 @@ fn splatting_volumetric_path_tracer_converges_to_filter_importance_sampling() {
 }
 
 #[test]
+#[allow(clippy::needless_range_loop)] // pixel and channel index four arrays
 fn the_variance_layer_of_a_splatting_render_predicts_its_spread() {
     // As `lqmc_variance.rs` checks LQMC's layer: per seed r, a_r = Σ_p v̂
     // (the layer summed over pixels and channels) and e_r = R/(R−1) Σ_p

@@ -347,7 +347,12 @@ fn office_roughness_breakup() {
 
 #[test]
 fn glass_sphere_box_caustic() {
-    let statistics = assert_converges("glass-sphere-box", LqmcSettings::paper_classes(), LQMC_SPP, 256);
+    let statistics = assert_converges(
+        "glass-sphere-box",
+        LqmcSettings::paper_classes(),
+        LQMC_SPP,
+        256,
+    );
     assert!(
         // The caustic class is exercised (10 of 66,524 events at this size
         // and seed); the convergence test above covers its correctness.

@@ -35,11 +35,9 @@ fn lqmc_and_volpath_agree_on_a_thin_dielectric_around_a_medium() {
     let render_with = |integrator: IntegratorKind, sampler: SamplerKind, spp: u64| {
         let settings = RenderSettings {
             integrator: match integrator {
-                IntegratorKind::Lqmc => {
-                    render::integrators::IntegratorSettings::Lqmc(
-                        render::integrators::lqmc::LqmcSettings::paper_classes(),
-                    )
-                }
+                IntegratorKind::Lqmc => render::integrators::IntegratorSettings::Lqmc(
+                    render::integrators::lqmc::LqmcSettings::paper_classes(),
+                ),
                 other => other.into(),
             },
             sampler,

@@ -23,7 +23,10 @@ fn small_scene(name: &str) -> Scene {
 /// The image of `settings` and the whole passes it kept.
 fn render_image(scene: &Scene, settings: &RenderSettings) -> (Image, u64) {
     let output = render(scene, settings, &AtomicBool::new(false), &|_, _| {}).unwrap();
-    (output.image(), output.statistics.completed_samples_per_pixel)
+    (
+        output.image(),
+        output.statistics.completed_samples_per_pixel,
+    )
 }
 
 fn assert_partial_pass_dropped(scene_name: &str, integrator: IntegratorSettings, splat_film: bool) {

@@ -156,9 +156,10 @@ impl UnitOutput {
     ) {
         if splat_film {
             let weight = start.position.weight;
-            let _ = self
-                .splats
-                .add(start.position.raster_position, rgb.map(|value| value * weight));
+            let _ = self.splats.add(
+                start.position.raster_position,
+                rgb.map(|value| value * weight),
+            );
         } else {
             self.add_camera_sample(
                 [pixel.0 as usize, pixel.1 as usize],

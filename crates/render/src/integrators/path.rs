@@ -14,8 +14,8 @@ use super::path_space::{
     ScattererRef, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState, walk,
 };
 pub(crate) use super::path_space::{orient_hit, russian_roulette};
-use super::{Integrator, IntegratorRender, MisHeuristic, RenderError, RunControl, TraceCounters};
 use super::progression_variance::ProgressionVariance;
+use super::{Integrator, IntegratorRender, MisHeuristic, RenderError, RunControl, TraceCounters};
 use crate::film::Film;
 use crate::geometry::{OffsetPoint, Ray, SurfaceHit, occlusion_segment_to_point};
 use crate::material::SurfaceBsdf;

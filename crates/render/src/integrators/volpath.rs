@@ -78,13 +78,13 @@ use super::driver::{
     CameraPathStart, PixelSampleEstimator, PixelSampleIndex, UnitOutput, render_pixel_samples,
 };
 use super::path::{PathSettings, oriented_hit};
-use super::progression_variance::ProgressionVariance;
-use crate::film::Film;
 use super::path_space::{
     MAX_INTERFACE_CROSSINGS, ScattererRef, VertexAt, WalkObserver, WalkSettings, WalkStart,
     WalkState, medium_leaving, null_transmission, walk,
 };
+use super::progression_variance::ProgressionVariance;
 use super::{Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
+use crate::film::Film;
 use crate::geometry::{Ray, SurfaceHit, offset_ray_origin, spawn_ray, spawn_ray_to_point};
 use crate::light::LightSample;
 use crate::medium::medium_after;

@@ -39,9 +39,9 @@ pub mod settings;
 pub mod statistics;
 pub mod volume_walk;
 
+pub use super::progression_variance::{self, ProgressionVariance};
 pub use classification::PathClass;
 pub use exploration::{ClassDensity, LqmcContext, LqmcScratch, render_pixel_sample};
 pub use integrator::{LqmcDetails, LqmcIntegrator};
-pub use super::progression_variance::{self, ProgressionVariance};
 pub use settings::{BreakupChoice, ClassParameters, ExploredEffects, LqmcSettings};
 pub use statistics::{ClosestPointTiming, FailureReason, LqmcStatistics};

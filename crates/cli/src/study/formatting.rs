@@ -1,0 +1,168 @@
+//! Text for the studies' reports: numbers to a few significant digits, the
+//! date and time, the machine's load and the command line.
+
+use std::time::{SystemTime, UNIX_EPOCH};
+
+/// `value` with `digits` significant digits: fixed-point for magnitudes
+/// from 10⁻⁴ to below 10⁶, else scientific (`1.23e-7`); `0` for zero and
+/// `—` for NaN or infinity.
+pub fn format_significant(value: f64, digits: usize) -> String {
+    let digits = digits.max(1);
+    if !value.is_finite() {
+        return "—".into();
+    }
+    if value == 0.0 {
+        return "0".into();
+    }
+    let exponent = value.abs().log10().floor() as i32;
+    if (-4..6).contains(&exponent) {
+        let decimals = (digits as i32 - 1 - exponent).max(0) as usize;
+        let text = format!("{value:.decimals$}");
+        // Rounding may carry into one more digit (9.995 -> 10.00): cut it.
+        let significant = text
+            .trim_start_matches(['-', '0', '.'])
+            .chars()
+            .filter(char::is_ascii_digit)
+            .count();
+        if decimals > 0 && significant > digits {
+            format!("{value:.prec$}", prec = decimals - 1)
+        } else {
+            text
+        }
+    } else {
+        format!("{value:.prec$e}", prec = digits - 1)
+    }
+}
+
+/// A relative value as a signed percentage with `digits` significant
+/// digits, e.g. `+0.123 %`.
+pub fn format_percentage(value: f64, digits: usize) -> String {
+    if !value.is_finite() {
+        return "—".into();
+    }
+    let text = format_significant(100.0 * value, digits);
+    if value >= 0.0 {
+        format!("+{text} %")
+    } else {
+        format!("{text} %")
+    }
+}
+
+/// The time `time` in UTC as `YYYY-MM-DD HH:MM:SS UTC`.
+pub fn utc_timestamp(time: SystemTime) -> String {
+    let seconds = time
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |duration| duration.as_secs());
+    let days = (seconds / 86_400) as i64;
+    let second_of_day = seconds % 86_400;
+    let (year, month, day) = civil_date(days);
+    format!(
+        "{year:04}-{month:02}-{day:02} {:02}:{:02}:{:02} UTC",
+        second_of_day / 3600,
+        second_of_day / 60 % 60,
+        second_of_day % 60
+    )
+}
+
+/// The proleptic Gregorian date (year, month, day) `days` after 1970-01-01,
+/// counted in 400-year eras of 146 097 days that start on 1 March, so that
+/// the leap day ends a year.
+fn civil_date(days: i64) -> (i64, u32, u32) {
+    const DAYS_PER_ERA: i64 = 146_097;
+    // 1970-01-01 is 719 468 days after 0000-03-01.
+    let days = days + 719_468;
+    let era = days.div_euclid(DAYS_PER_ERA);
+    let day_of_era = days.rem_euclid(DAYS_PER_ERA);
+    // Years of 365 days, less a leap day every 4 years but every 100, plus
+    // one every 400.
+    let year_of_era =
+        (day_of_era - day_of_era / 1460 + day_of_era / 36_524 - day_of_era / 146_096) / 365;
+    let day_of_year = day_of_era - (365 * year_of_era + year_of_era / 4 - year_of_era / 100);
+    // Months from March: 31, 30, 31, 30, 31, 31, 30, 31, 30, 31, 31, 29/28.
+    let month_from_march = (5 * day_of_year + 2) / 153;
+    let day = (day_of_year - (153 * month_from_march + 2) / 5 + 1) as u32;
+    let month = if month_from_march < 10 {
+        month_from_march + 3
+    } else {
+        month_from_march - 9
+    } as u32;
+    let year = year_of_era + era * 400 + i64::from(month <= 2);
+    (year, month, day)
+}
+
+/// The load average over 1, 5 and 15 minutes as `a/b/c` (from
+/// `/proc/loadavg`), or `unavailable`.
+pub fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|text| {
+            let fields: Vec<&str> = text.split_whitespace().take(3).collect();
+            (fields.len() == 3).then(|| fields.join("/"))
+        })
+        .unwrap_or_else(|| "unavailable".into())
+}
+
+/// `argument` quoted for a POSIX shell where it needs it.
+pub fn shell_quote(argument: &str) -> String {
+    let plain = !argument.is_empty()
+        && argument
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "_-+=.,:/@%".contains(c));
+    if plain {
+        argument.to_string()
+    } else {
+        format!("'{}'", argument.replace('\'', r"'\''"))
+    }
+}
+
+/// This process's command line with the program called `lqmc`, quoted for
+/// a shell.
+pub fn command_line() -> String {
+    std::iter::once("lqmc".to_string())
+        .chain(
+            std::env::args_os()
+                .skip(1)
+                .map(|argument| shell_quote(&argument.to_string_lossy())),
+        )
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    #[test]
+    fn significant_digits() {
+        assert_eq!(format_significant(0.012345, 4), "0.01235");
+        assert_eq!(format_significant(1.5, 4), "1.500");
+        assert_eq!(format_significant(1234.4, 4), "1234");
+        assert_eq!(format_significant(0.099996, 4), "0.1000");
+        assert_eq!(format_significant(9.9996, 4), "10.00");
+        assert_eq!(format_significant(1.234e-7, 3), "1.23e-7");
+        assert_eq!(format_significant(-0.5, 2), "-0.50");
+        assert_eq!(format_significant(0.0, 4), "0");
+        assert_eq!(format_significant(f64::NAN, 4), "—");
+        assert_eq!(format_percentage(0.001234, 3), "+0.123 %");
+        assert_eq!(format_percentage(-0.02, 2), "-2.0 %");
+    }
+
+    #[test]
+    fn timestamps_are_utc_dates() {
+        assert_eq!(utc_timestamp(UNIX_EPOCH), "1970-01-01 00:00:00 UTC");
+        let leap_day = UNIX_EPOCH + Duration::from_secs(951_782_400 + 3723);
+        assert_eq!(utc_timestamp(leap_day), "2000-02-29 01:02:03 UTC");
+        let later = UNIX_EPOCH + Duration::from_secs(1_798_761_599);
+        assert_eq!(utc_timestamp(later), "2026-12-31 23:59:59 UTC");
+    }
+
+    #[test]
+    fn arguments_are_quoted_where_needed() {
+        assert_eq!(shell_quote("--time"), "--time");
+        assert_eq!(shell_quote("builtin:cornell-box"), "builtin:cornell-box");
+        assert_eq!(shell_quote("a b"), "'a b'");
+        assert_eq!(shell_quote("it's"), r"'it'\''s'");
+        assert_eq!(shell_quote(""), "''");
+    }
+}

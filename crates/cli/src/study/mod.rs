@@ -1,0 +1,227 @@
+//! The studies of `lqmc study`: experiments that render one scene many
+//! times, in this process, with several integrators, seeds and budgets,
+//! and report error measures, plots and crops. This module holds what the
+//! studies share: the scene and render options and the list of integrators.
+
+pub mod crops;
+pub mod equal_time;
+pub mod error_plot;
+pub mod formatting;
+pub mod measures;
+
+use crate::error::{CliError, usage};
+use crate::render_command::{LqmcArgs, parse_definition};
+use clap::Args;
+use render::integrators::IntegratorKind;
+use render::sampler::SamplerKind;
+
+/// The scene and the options of every render of a study.
+#[derive(Args, Debug)]
+pub struct StudySceneArgs {
+    /// The scene: a Mitsuba 3 XML (`.xml`) or pbrt-v4 (`.pbrt`) file, or
+    /// `builtin:NAME` (see `lqmc scenes`).
+    pub scene: String,
+    /// Image resolution WxH (default: the scene's).
+    #[arg(long, value_parser = crate::points_command::parse_pair)]
+    pub resolution: Option<(u32, u32)>,
+    /// Worker threads of every render (default: all cores).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    /// Maximum path depth in segments, Mitsuba's convention (default: the
+    /// scene's, else 6).
+    #[arg(long)]
+    pub max_depth: Option<u32>,
+    /// The path depth from which Russian roulette may end paths, Mitsuba's
+    /// `rr_depth` convention (default: the scene's, else 3).
+    #[arg(long, value_name = "DEPTH")]
+    pub rr_depth: Option<u32>,
+    /// A scene-file parameter, NAME=VALUE (Mitsuba's `$NAME`); may be
+    /// repeated.
+    #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_definition)]
+    pub define: Vec<(String, String)>,
+    /// Options of the `lqmc` entries.
+    #[command(flatten)]
+    pub lqmc: LqmcArgs,
+}
+
+impl StudySceneArgs {
+    /// Checks the options that need no scene.
+    pub fn validate(&self) -> Result<(), CliError> {
+        if self.max_depth == Some(0) {
+            return Err(usage("--max-depth must be at least 1"));
+        }
+        if self.lqmc.density.is_some() {
+            return Err(usage(
+                "--density is for `lqmc render`: a study writes no density images",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The worker threads a render gets: `--threads`, or all cores for 0.
+    pub fn effective_threads(&self) -> usize {
+        if self.threads == 0 {
+            std::thread::available_parallelism().map_or(1, |count| count.get())
+        } else {
+            self.threads
+        }
+    }
+}
+
+/// One entry of `--integrators`: an integrator with a sampler.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct IntegratorEntry {
+    /// The entry as written, e.g. `path:sobol`.
+    pub requested: String,
+    /// The integrator (after [`Self::resolve_path_tracer`], the one used).
+    pub integrator: IntegratorKind,
+    /// The sampler (default Halton).
+    pub sampler: SamplerKind,
+}
+
+impl IntegratorEntry {
+    /// `path` stands for the scene's path tracer: volpath in scenes with
+    /// participating media (as `lqmc render` chooses), path elsewhere.
+    pub fn resolve_path_tracer(&mut self, scene_has_media: bool) {
+        if self.integrator == IntegratorKind::Path && scene_has_media {
+            self.integrator = IntegratorKind::VolPath;
+        }
+    }
+
+    /// The name in tables and legends: the integrator used, with the
+    /// sampler unless it is Halton (`volpath`, `path:sobol`).
+    pub fn label(&self) -> String {
+        if self.sampler == SamplerKind::Halton {
+            self.integrator.name().to_string()
+        } else {
+            format!("{}:{}", self.integrator.name(), self.sampler.name())
+        }
+    }
+
+    /// The label as a file-name part (`path-sobol`).
+    pub fn file_stem(&self) -> String {
+        self.label().replace(':', "-")
+    }
+}
+
+/// Names of the known integrators, for error messages.
+fn known_integrators() -> String {
+    IntegratorKind::ALL
+        .iter()
+        .map(|(_, name)| *name)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Names of the known samplers, for error messages.
+fn known_samplers() -> String {
+    SamplerKind::ALL
+        .iter()
+        .map(|(_, name)| *name)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Parses `--integrators`: comma-separated `NAME[:SAMPLER]` entries, any
+/// integrator and sampler the renderer has.
+pub fn parse_integrator_list(list: &str) -> Result<Vec<IntegratorEntry>, CliError> {
+    let entries = list
+        .split(',')
+        .map(str::trim)
+        .filter(|entry| !entry.is_empty())
+        .map(|entry| {
+            let (name, sampler) = match entry.split_once(':') {
+                Some((name, sampler)) => (name, Some(sampler)),
+                None => (entry, None),
+            };
+            let integrator = IntegratorKind::from_name(name).ok_or_else(|| {
+                usage(format!(
+                    "--integrators: unknown integrator `{name}` (known: {})",
+                    known_integrators()
+                ))
+            })?;
+            let sampler = match sampler {
+                None => SamplerKind::Halton,
+                Some(sampler) => SamplerKind::from_name(sampler).ok_or_else(|| {
+                    usage(format!(
+                        "--integrators: unknown sampler `{sampler}` in `{entry}` (known: {})",
+                        known_samplers()
+                    ))
+                })?,
+            };
+            Ok(IntegratorEntry {
+                requested: entry.to_string(),
+                integrator,
+                sampler,
+            })
+        })
+        .collect::<Result<Vec<_>, CliError>>()?;
+    if entries.is_empty() {
+        return Err(usage(format!(
+            "--integrators needs at least one NAME[:SAMPLER] (integrators: {}; samplers: {})",
+            known_integrators(),
+            known_samplers()
+        )));
+    }
+    Ok(entries)
+}
+
+/// Refuses two entries that render the same integrator with the same
+/// sampler (e.g. `path,volpath` in a scene with media).
+pub fn check_distinct(entries: &[IntegratorEntry]) -> Result<(), CliError> {
+    for (index, entry) in entries.iter().enumerate() {
+        if let Some(earlier) = entries[..index]
+            .iter()
+            .find(|earlier| earlier.label() == entry.label())
+        {
+            return Err(usage(format!(
+                "--integrators: `{}` and `{}` both render {}",
+                earlier.requested,
+                entry.requested,
+                entry.label()
+            )));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn integrator_lists_parse_with_samplers() {
+        let entries = parse_integrator_list("path, lqmc,path:sobol,light:independent").unwrap();
+        let labels: Vec<String> = entries.iter().map(IntegratorEntry::label).collect();
+        assert_eq!(labels, ["path", "lqmc", "path:sobol", "light:independent"]);
+        assert_eq!(entries[2].file_stem(), "path-sobol");
+        assert_eq!(entries[2].requested, "path:sobol");
+    }
+
+    #[test]
+    fn unknown_names_are_usage_errors_listing_the_known_ones() {
+        let Err(CliError::Usage(message)) = parse_integrator_list("path,bdpt") else {
+            panic!("bdpt is not an integrator yet");
+        };
+        assert!(message.contains("bdpt") && message.contains("path, volpath, lqmc, light"));
+        let Err(CliError::Usage(message)) = parse_integrator_list("path:owen") else {
+            panic!("owen is not a sampler");
+        };
+        assert!(message.contains("owen") && message.contains("halton"));
+        assert!(parse_integrator_list(",").is_err());
+    }
+
+    #[test]
+    fn path_means_volpath_in_scenes_with_media() {
+        let mut entries = parse_integrator_list("path,volpath").unwrap();
+        for entry in &mut entries {
+            entry.resolve_path_tracer(false);
+        }
+        assert!(check_distinct(&entries).is_ok());
+        for entry in &mut entries {
+            entry.resolve_path_tracer(true);
+        }
+        assert_eq!(entries[0].label(), "volpath");
+        assert!(check_distinct(&entries).is_err());
+    }
+}

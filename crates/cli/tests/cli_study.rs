@@ -1,0 +1,421 @@
+//! End-to-end tests of `lqmc study equal-time`: a small study on the Cornell
+//! box whose tables are recomputed here from the images it wrote, the reuse
+//! of its reference, a reference given as a file, and bad input.
+
+#[path = "../../render/tests/support/scratch_directory.rs"]
+mod scratch_directory;
+use scratch_directory::ScratchDirectory;
+
+use render::image::{Image, read_exr, read_png, write_exr};
+use serde_json::Value;
+use std::path::Path;
+use std::process::{Command, Output};
+
+/// The relative MSE's offset, as `render::image::compare` defines it.
+const EPSILON: f64 = 1e-2;
+
+fn lqmc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lqmc"))
+        .args(args)
+        .output()
+        .expect("the lqmc binary runs")
+}
+
+/// A small study of the Cornell box writing to `directory`, with `extra`
+/// arguments after the common ones.
+fn study(directory: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "study",
+        "equal-time",
+        "builtin:cornell-box",
+        "--resolution",
+        "24x18",
+        "--threads",
+        "2",
+        "-o",
+        directory.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    lqmc(&args)
+}
+
+fn assert_success(output: &Output) {
+    assert!(
+        output.status.success(),
+        "status {:?}: {}",
+        output.status,
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+fn read_table(directory: &Path) -> Value {
+    let text = std::fs::read_to_string(directory.join("table.json")).unwrap();
+    serde_json::from_str(&text).expect("table.json is JSON")
+}
+
+/// Asserts `found` equals `expected` within 1e-9 relative.
+fn assert_close(found: f64, expected: f64, what: &str) {
+    let tolerance = 1e-9 * expected.abs().max(found.abs()) + 1e-300;
+    assert!(
+        (found - expected).abs() <= tolerance,
+        "{what}: table {found}, recomputed {expected}"
+    );
+}
+
+fn number(value: &Value) -> f64 {
+    value
+        .as_f64()
+        .unwrap_or_else(|| panic!("{value} is a number"))
+}
+
+fn median(values: &[f64]) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let middle = sorted.len() / 2;
+    if sorted.len() % 2 == 1 {
+        sorted[middle]
+    } else {
+        (sorted[middle - 1] + sorted[middle]) / 2.0
+    }
+}
+
+/// Asserts a `{median, min, max}` object of the table against `values`.
+fn assert_spread(table: &Value, values: &[f64], what: &str) {
+    assert_close(number(&table["median"]), median(values), what);
+    let min = values.iter().copied().fold(f64::INFINITY, f64::min);
+    let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    assert_close(number(&table["min"]), min, what);
+    assert_close(number(&table["max"]), max, what);
+}
+
+/// The values of every channel of every pixel.
+fn values(image: &Image) -> Vec<f64> {
+    image
+        .pixels()
+        .iter()
+        .flat_map(|pixel| pixel.map(f64::from))
+        .collect()
+}
+
+/// RMSE, relative MSE and mean absolute deviation of `image` against
+/// `reference` (all values are finite in these renders).
+fn errors(image: &[f64], reference: &[f64]) -> (f64, f64, f64) {
+    let count = image.len() as f64;
+    let mut squared = 0.0;
+    let mut relative = 0.0;
+    let mut absolute = 0.0;
+    for (&a, &b) in image.iter().zip(reference) {
+        squared += (a - b) * (a - b);
+        relative += (a - b) * (a - b) / (b * b + EPSILON);
+        absolute += (a - b).abs();
+    }
+    ((squared / count).sqrt(), relative / count, absolute / count)
+}
+
+/// The seeds' mean bias: the relative difference of the channel-averaged
+/// means of the seeds' average image and the reference.
+fn bias(images: &[Vec<f64>], reference: &[f64]) -> f64 {
+    let seeds = images.len() as f64;
+    let average: f64 = images.iter().flatten().sum::<f64>() / seeds;
+    let reference_sum: f64 = reference.iter().sum();
+    (average - reference_sum) / reference_sum
+}
+
+/// The seeds' flicker: the mean over values of the standard deviation
+/// across seeds (K − 1) over √(reference² + ε).
+fn flicker(images: &[Vec<f64>], reference: &[f64]) -> f64 {
+    let seeds = images.len() as f64;
+    let mut sum = 0.0;
+    for (index, &r) in reference.iter().enumerate() {
+        let mean = images.iter().map(|image| image[index]).sum::<f64>() / seeds;
+        let variance = images
+            .iter()
+            .map(|image| (image[index] - mean).powi(2))
+            .sum::<f64>()
+            / (seeds - 1.0);
+        sum += variance.sqrt() / (r * r + EPSILON).sqrt();
+    }
+    sum / reference.len() as f64
+}
+
+#[test]
+fn equal_time_tables_match_the_images_it_wrote() {
+    let directory = ScratchDirectory::new("study-equal-time");
+    let output_directory = directory.join("study");
+    let output = study(
+        &output_directory,
+        &[
+            "--integrators",
+            "path,lqmc",
+            "--time",
+            "0.2",
+            "--budgets",
+            "0.1,0.2",
+            "--seeds",
+            "2",
+            "--reference-spp",
+            "32",
+        ],
+    );
+    assert_success(&output);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("rendering the reference"), "{stderr}");
+    assert!(stderr.contains("[8/8]"), "{stderr}");
+
+    let table = read_table(&output_directory);
+    assert_eq!(table["scene"], "builtin:cornell-box");
+    assert_eq!(table["seeds"], 2);
+    assert_eq!(table["threads"], 2);
+    assert_eq!(table["reference"]["source"], "rendered");
+    assert_eq!(table["reference"]["spp"], 32);
+    let reference_file = read_exr(output_directory.join("reference.exr")).unwrap();
+    assert_eq!(
+        (reference_file.image.width(), reference_file.image.height()),
+        (24, 18)
+    );
+    for (key, value) in [
+        ("spp", "32"),
+        ("seed", "1000003"),
+        ("integrator", "path"),
+        ("sampler", "halton"),
+        ("scene", "builtin:cornell-box"),
+    ] {
+        assert_eq!(
+            reference_file.metadata.get(key).map(String::as_str),
+            Some(value),
+            "{key}"
+        );
+    }
+    let reference = values(&reference_file.image);
+
+    let rows = table["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 4, "2 budgets x 2 integrators");
+    let mut median_rmse_of_path = f64::NAN;
+    for (index, row) in rows.iter().enumerate() {
+        let integrator = row["integrator"].as_str().unwrap();
+        let budget = number(&row["budget_seconds"]);
+        assert_eq!(integrator, ["path", "lqmc"][index % 2]);
+        assert_eq!(budget, [0.1, 0.2][index / 2]);
+        let seeds = row["seeds"].as_array().unwrap();
+        assert_eq!(seeds.len(), 2);
+        let mut images = Vec::new();
+        let mut per_seed = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for (seed, entry) in seeds.iter().enumerate() {
+            assert_eq!(entry["seed"], seed as u64);
+            let name = entry["image"].as_str().unwrap();
+            assert_eq!(
+                name,
+                format!("images/{integrator}-b{budget}-seed{seed}.exr")
+            );
+            let contents = read_exr(output_directory.join(name)).unwrap();
+            let metadata = |key: &str| contents.metadata.get(key).cloned().unwrap_or_default();
+            assert_eq!(metadata("integrator"), integrator);
+            assert_eq!(metadata("seed"), seed.to_string());
+            assert_eq!(metadata("timeBudgetSeconds"), budget.to_string());
+            assert_eq!(metadata("spp"), entry["whole_passes"].to_string());
+            let image = values(&contents.image);
+            let (rmse, relative_mse, mad) = errors(&image, &reference);
+            let what = format!("{integrator} at {budget} s, seed {seed}");
+            assert_close(number(&entry["rmse"]), rmse, &format!("RMSE of {what}"));
+            assert_close(
+                number(&entry["relative_mse"]),
+                relative_mse,
+                &format!("relative MSE of {what}"),
+            );
+            assert_close(number(&entry["mad"]), mad, &format!("MAD of {what}"));
+            per_seed.0.push(rmse);
+            per_seed.1.push(relative_mse);
+            per_seed.2.push(mad);
+            per_seed.3.push(number(&entry["spp"]));
+            assert!(number(&entry["spp"]) >= 1.0, "{what} rendered samples");
+            images.push(image);
+        }
+        let what = format!("{integrator} at {budget} s");
+        assert_spread(&row["rmse"], &per_seed.0, &format!("RMSE of {what}"));
+        assert_spread(
+            &row["relative_mse"],
+            &per_seed.1,
+            &format!("rel. MSE of {what}"),
+        );
+        assert_spread(&row["mad"], &per_seed.2, &format!("MAD of {what}"));
+        assert_spread(&row["spp"], &per_seed.3, &format!("spp of {what}"));
+        assert_close(
+            number(&row["mean_bias"]),
+            bias(&images, &reference),
+            &format!("mean bias of {what}"),
+        );
+        assert_close(
+            number(&row["flicker"]),
+            flicker(&images, &reference),
+            &format!("flicker of {what}"),
+        );
+        if integrator == "path" {
+            median_rmse_of_path = median(&per_seed.0);
+        }
+        assert_close(
+            number(&row["rmse_ratio_to_first"]),
+            median(&per_seed.0) / median_rmse_of_path,
+            &format!("RMSE ratio of {what}"),
+        );
+    }
+
+    let markdown = std::fs::read_to_string(output_directory.join("table.md")).unwrap();
+    for expected in [
+        "builtin:cornell-box at 24x18",
+        "load average",
+        "| budget (s) | integrator | spp | RMSE | relative MSE | MAD | mean bias | flicker | RMSE / path's |",
+        "| 0.2 | lqmc |",
+        "lqmc study equal-time builtin:cornell-box --resolution 24x18",
+    ] {
+        assert!(
+            markdown.contains(expected),
+            "'{expected}' missing in {markdown}"
+        );
+    }
+    assert!(markdown.trim_end().ends_with("```"), "{markdown}");
+
+    let svg = std::fs::read_to_string(output_directory.join("error-vs-time.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("lqmc"), "{svg}");
+    let plot = read_png(output_directory.join("error-vs-time.png")).unwrap();
+    assert_eq!((plot.width(), plot.height()), (800, 560));
+    // The default crop: a 9x9 square (min(24, 18) / 2), enlarged 15 times to
+    // 135 px; reference, path and lqmc with 4-pixel gaps.
+    let crops = read_png(output_directory.join("crops.png")).unwrap();
+    assert_eq!((crops.width(), crops.height()), (3 * 135 + 2 * 4, 135));
+    assert_eq!(table["crop"]["enlargement"], 15);
+
+    // Again with the same reference options: the reference is reused, not
+    // rendered again; a reference of other spp is rendered again.
+    let reference_bytes = std::fs::read(output_directory.join("reference.exr")).unwrap();
+    let fewer_renders = [
+        "--integrators",
+        "path",
+        "--time",
+        "0.05",
+        "--budgets",
+        "0.05",
+        "--seeds",
+        "1",
+    ];
+    let output = study(
+        &output_directory,
+        &[&fewer_renders[..], &["--reference-spp", "32"]].concat(),
+    );
+    assert_success(&output);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("reusing the reference"), "{stderr}");
+    assert!(!stderr.contains("rendering the reference"), "{stderr}");
+    assert_eq!(
+        read_table(&output_directory)["reference"]["source"],
+        "reused"
+    );
+    assert_eq!(
+        std::fs::read(output_directory.join("reference.exr")).unwrap(),
+        reference_bytes
+    );
+    let flicker_of_one_seed = &read_table(&output_directory)["rows"][0]["flicker"];
+    assert!(flicker_of_one_seed.is_null(), "{flicker_of_one_seed}");
+
+    let output = study(
+        &output_directory,
+        &[&fewer_renders[..], &["--reference-spp", "16"]].concat(),
+    );
+    assert_success(&output);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("does not match (spp `32`, not `16`)"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("rendering the reference"), "{stderr}");
+
+    // A reference given as a file, with a crop.
+    let given = directory.join("given-reference.exr");
+    std::fs::write(&given, &reference_bytes).unwrap();
+    let output = study(
+        &directory.join("with-file"),
+        &[
+            &fewer_renders[..],
+            &[
+                "--reference",
+                given.to_str().unwrap(),
+                "--crop",
+                "0,0,24,18",
+            ],
+        ]
+        .concat(),
+    );
+    assert_success(&output);
+    let table = read_table(&directory.join("with-file"));
+    assert_eq!(table["reference"]["source"], "file");
+    let crops = read_png(directory.join("with-file").join("crops.png")).unwrap();
+    // 18 px tall, enlarged 8 times to 144 px.
+    assert_eq!((crops.width(), crops.height()), (2 * 24 * 8 + 4, 144));
+}
+
+#[test]
+fn bad_study_input_is_one_line_and_status_two_before_rendering() {
+    let directory = ScratchDirectory::new("study-bad-input");
+    let small_reference = directory.join("small.exr");
+    write_exr(
+        &small_reference,
+        &Image::new(8, 8),
+        &[],
+        &Default::default(),
+    )
+    .unwrap();
+    let output_directory = directory.join("never-written");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["--integrators", "path,bdpt", "--reference-spp", "4"],
+            "unknown integrator `bdpt` (known: path, volpath, lqmc, light)",
+        ),
+        (
+            vec!["--integrators", "path:owen", "--reference-spp", "4"],
+            "unknown sampler `owen`",
+        ),
+        (vec![], "a reference is needed"),
+        (
+            vec!["--reference-spp", "4", "--crop", "20,10,10,10"],
+            "lies outside the 24x18 image",
+        ),
+        (
+            vec!["--reference", small_reference.to_str().unwrap()],
+            "is 8x8, but the study renders 24x18",
+        ),
+        (
+            vec!["--reference-spp", "4", "--seeds", "0"],
+            "--seeds must be at least 1",
+        ),
+        (
+            vec!["--reference-spp", "4", "--time=0"],
+            "--time must be a positive",
+        ),
+        (
+            vec!["--reference-spp", "4", "--time=-1"],
+            "--time must be a positive",
+        ),
+        (
+            vec!["--reference-spp", "4", "--budgets", "0.1,0"],
+            "--budgets must be a positive",
+        ),
+        (
+            vec!["--reference-spp", "0"],
+            "--reference-spp must be at least 1",
+        ),
+    ];
+    for (extra, expected) in cases {
+        let mut args = extra.clone();
+        if !args.iter().any(|arg| arg.starts_with("--time")) {
+            args.extend(["--time", "0.1"]);
+        }
+        let output = study(&output_directory, &args);
+        assert_eq!(output.status.code(), Some(2), "{extra:?}");
+        let stderr = String::from_utf8(output.stderr).unwrap();
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(
+            stderr.contains(expected),
+            "{extra:?}: '{expected}' not in {stderr}"
+        );
+        assert!(!output_directory.exists(), "{extra:?} created the output");
+    }
+}
