@@ -217,7 +217,12 @@ fn handle_event(
     let Some(breakup) = breakup else {
         return direct(splats, statistics, sampler, &mut scratch.segment_cache);
     };
-    // The seed's value walk, recording what its members reuse.
+    // The seed's value walk, recording what its members reuse. Where it
+    // fails on the seed's own path (a decision on a knife's edge comes out
+    // otherwise when recomputed), the seed is splatted as the path tracer
+    // valued it: returning here would lose its contribution. The walk of
+    // the same path as a member of another set fails alike, so the seed's
+    // whole share is this direct splat.
     scratch.segment_cache.clear();
     let Ok(walked) = walk(
         scene,
@@ -226,7 +231,8 @@ fn handle_event(
         sampler,
         &mut SegmentReuse::Record(&mut scratch.segment_cache),
     ) else {
-        return;
+        statistics.unevaluable_seeds += 1;
+        return direct(splats, statistics, sampler, &mut scratch.segment_cache);
     };
     debug_assert!(
         matches!(

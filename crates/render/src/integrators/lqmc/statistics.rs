@@ -88,6 +88,13 @@ pub struct LqmcStatistics {
     /// Of those, the seed's own member's failure reason
     /// ([`FailureReason::ALL`] order).
     pub seed_failures: [u64; 8],
+    /// Seeds whose value walk failed on their own recorded path, so that
+    /// they could not be explored: the walk recomputes directions from the
+    /// vertex positions, and where a decision is on a knife's edge (a
+    /// reflect-or-refract choice or Russian roulette at a grazing angle,
+    /// deep in a specular chain) it can come out otherwise than in the path
+    /// tracer. They are splatted directly with the path tracer's value.
+    pub unevaluable_seeds: u64,
     /// Explorations per breakup vertex b = 0, 1, 2, ≥ 3.
     pub breakups: [u64; 4],
     /// Explorations that explore a free-flight distance (a medium vertex
@@ -190,6 +197,7 @@ impl LqmcStatistics {
             self.seed_failures[i] += other.seed_failures[i];
         }
         self.empty_explorations += other.empty_explorations;
+        self.unevaluable_seeds += other.unevaluable_seeds;
         self.medium_explorations += other.medium_explorations;
         self.reusing_members += other.reusing_members;
         self.member_rays += other.member_rays;
@@ -244,6 +252,12 @@ impl LqmcStatistics {
             100.0 * failures as f64 / members.max(1) as f64,
             self.empty_explorations
         ));
+        if self.unevaluable_seeds > 0 {
+            lines.push(format!(
+                "  {} seeds not explored because their value walk disagreed with the path tracer (splatted directly)",
+                self.unevaluable_seeds
+            ));
+        }
         let all_members: u64 = self.members.iter().sum();
         lines.push(format!(
             "  cost per member: {:.0} ns CPU (timed on {} members, every 16th exploration), {:.2} rays",
