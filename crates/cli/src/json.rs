@@ -8,6 +8,7 @@ use std::fmt::Write;
 pub enum Json {
     Number(f64),
     Integer(u64),
+    Bool(bool),
     String(String),
     Array(Vec<Json>),
     /// Keys in the order given.
@@ -47,6 +48,7 @@ impl Json {
             Json::Integer(value) => {
                 let _ = write!(out, "{value}");
             }
+            Json::Bool(value) => out.push_str(if *value { "true" } else { "false" }),
             Json::String(text) => write_string(text, out),
             Json::Array(items) => {
                 out.push('[');

@@ -289,7 +289,7 @@ fn equal_time_tables_match_the_images_it_wrote() {
     let reference_bytes = std::fs::read(output_directory.join("reference.exr")).unwrap();
     let fewer_renders = [
         "--integrators",
-        "path",
+        "path:splat",
         "--time",
         "0.05",
         "--budgets",
@@ -312,6 +312,20 @@ fn equal_time_tables_match_the_images_it_wrote() {
     assert_eq!(
         std::fs::read(output_directory.join("reference.exr")).unwrap(),
         reference_bytes
+    );
+    // `:splat` renders with --splat-film, and says so in the table and the
+    // image's metadata.
+    let table_of_splat = read_table(&output_directory);
+    assert_eq!(table_of_splat["integrators"][0]["label"], "path:splat");
+    assert_eq!(table_of_splat["integrators"][0]["splat_film"], true);
+    let image_of_splat = table_of_splat["rows"][0]["seeds"][0]["image"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    let splat_file = read_exr(output_directory.join(&image_of_splat)).unwrap();
+    assert_eq!(
+        splat_file.metadata.get("film").map(String::as_str),
+        Some("splat")
     );
     let flicker_of_one_seed = &read_table(&output_directory)["rows"][0]["flicker"];
     assert!(flicker_of_one_seed.is_null(), "{flicker_of_one_seed}");

@@ -56,8 +56,10 @@ const REFERENCE_FILE: &str = "reference.exr";
 pub struct EqualTimeArgs {
     #[command(flatten)]
     pub scene: StudySceneArgs,
-    /// Comma-separated NAME[:SAMPLER] entries, e.g. `path,lqmc,path:sobol`
-    /// (sampler default halton; `path` is volpath in scenes with media).
+    /// Comma-separated NAME[:SAMPLER][:splat] entries, e.g.
+    /// `path,lqmc,path:sobol,path:splat` (sampler default halton; `path` is
+    /// volpath in scenes with media; `:splat` renders path or volpath with
+    /// `--splat-film`).
     #[arg(long, value_name = "LIST", default_value = "path,lqmc")]
     pub integrators: String,
     /// Seconds per render: the main time budget.
@@ -488,6 +490,7 @@ pub fn run(args: &EqualTimeArgs) -> Result<(), CliError> {
                     args.scene.threads,
                 );
                 request.time_budget = Some(parse_time_budget("--budgets", budget)?);
+                request.splat_film = entry.splat_film;
                 let settings = request.settings(&scene);
                 let name = image_name(entry, budget, seed);
                 let (image, traced, whole_passes, seconds) = context.render_to(
@@ -800,6 +803,7 @@ fn json_table(conditions: &StudyConditions, reference: &Reference, cells: &[Cell
                 ("requested", Json::String(entry.requested.clone())),
                 ("integrator", Json::String(entry.integrator.name().into())),
                 ("sampler", Json::String(entry.sampler.name().into())),
+                ("splat_film", Json::Bool(entry.splat_film)),
             ])
         })
         .collect();

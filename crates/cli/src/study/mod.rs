@@ -77,6 +77,9 @@ pub struct IntegratorEntry {
     pub integrator: IntegratorKind,
     /// The sampler (default Halton).
     pub sampler: SamplerKind,
+    /// path, volpath: splat each sample over its filter's pixels
+    /// (`--splat-film`, written `:splat` after the entry).
+    pub splat_film: bool,
 }
 
 impl IntegratorEntry {
@@ -89,13 +92,17 @@ impl IntegratorEntry {
     }
 
     /// The name in tables and legends: the integrator used, with the
-    /// sampler unless it is Halton (`volpath`, `path:sobol`).
+    /// sampler unless it is Halton, and `:splat` for a splatting film
+    /// (`volpath`, `path:sobol`, `path:splat`).
     pub fn label(&self) -> String {
-        if self.sampler == SamplerKind::Halton {
-            self.integrator.name().to_string()
-        } else {
-            format!("{}:{}", self.integrator.name(), self.sampler.name())
+        let mut label = self.integrator.name().to_string();
+        if self.sampler != SamplerKind::Halton {
+            label = format!("{label}:{}", self.sampler.name());
         }
+        if self.splat_film {
+            label.push_str(":splat");
+        }
+        label
     }
 
     /// The label as a file-name part (`path-sobol`).
@@ -122,48 +129,66 @@ fn known_samplers() -> String {
         .join(", ")
 }
 
-/// Parses `--integrators`: comma-separated `NAME[:SAMPLER]` entries, any
-/// integrator and sampler the renderer has.
+/// Parses `--integrators`: comma-separated `NAME[:SAMPLER][:splat]`
+/// entries, any integrator and sampler the renderer has; `:splat` (path
+/// and volpath) splats each sample over its filter's pixels as
+/// `--splat-film` does.
 pub fn parse_integrator_list(list: &str) -> Result<Vec<IntegratorEntry>, CliError> {
     let entries = list
         .split(',')
         .map(str::trim)
         .filter(|entry| !entry.is_empty())
-        .map(|entry| {
-            let (name, sampler) = match entry.split_once(':') {
-                Some((name, sampler)) => (name, Some(sampler)),
-                None => (entry, None),
-            };
-            let integrator = IntegratorKind::from_name(name).ok_or_else(|| {
-                usage(format!(
-                    "--integrators: unknown integrator `{name}` (known: {})",
-                    known_integrators()
-                ))
-            })?;
-            let sampler = match sampler {
-                None => SamplerKind::Halton,
-                Some(sampler) => SamplerKind::from_name(sampler).ok_or_else(|| {
-                    usage(format!(
-                        "--integrators: unknown sampler `{sampler}` in `{entry}` (known: {})",
-                        known_samplers()
-                    ))
-                })?,
-            };
-            Ok(IntegratorEntry {
-                requested: entry.to_string(),
-                integrator,
-                sampler,
-            })
-        })
+        .map(parse_integrator_entry)
         .collect::<Result<Vec<_>, CliError>>()?;
     if entries.is_empty() {
         return Err(usage(format!(
-            "--integrators needs at least one NAME[:SAMPLER] (integrators: {}; samplers: {})",
+            "--integrators needs at least one NAME[:SAMPLER][:splat] (integrators: {}; samplers: {})",
             known_integrators(),
             known_samplers()
         )));
     }
     Ok(entries)
+}
+
+/// One `NAME[:SAMPLER][:splat]` entry of `--integrators`.
+fn parse_integrator_entry(entry: &str) -> Result<IntegratorEntry, CliError> {
+    let mut parts = entry.split(':');
+    let name = parts.next().unwrap_or_default();
+    let integrator = IntegratorKind::from_name(name).ok_or_else(|| {
+        usage(format!(
+            "--integrators: unknown integrator `{name}` (known: {})",
+            known_integrators()
+        ))
+    })?;
+    let mut sampler = None;
+    let mut splat_film = false;
+    for part in parts {
+        if part == "splat" && !splat_film {
+            if !matches!(integrator, IntegratorKind::Path | IntegratorKind::VolPath) {
+                return Err(usage(format!(
+                    "--integrators: `{entry}`: `:splat` is for path and volpath (the others choose their film themselves)"
+                )));
+            }
+            splat_film = true;
+        } else if sampler.is_none() && !splat_film {
+            sampler = Some(SamplerKind::from_name(part).ok_or_else(|| {
+                usage(format!(
+                    "--integrators: unknown sampler `{part}` in `{entry}` (known: {}; `:splat` comes last)",
+                    known_samplers()
+                ))
+            })?);
+        } else {
+            return Err(usage(format!(
+                "--integrators: `{entry}` is not NAME[:SAMPLER][:splat]"
+            )));
+        }
+    }
+    Ok(IntegratorEntry {
+        requested: entry.to_string(),
+        integrator,
+        sampler: sampler.unwrap_or(SamplerKind::Halton),
+        splat_film,
+    })
 }
 
 /// Refuses two entries that render the same integrator with the same
@@ -196,6 +221,24 @@ mod tests {
         assert_eq!(labels, ["path", "lqmc", "path:sobol", "light:independent"]);
         assert_eq!(entries[2].file_stem(), "path-sobol");
         assert_eq!(entries[2].requested, "path:sobol");
+    }
+
+    #[test]
+    fn splatting_film_entries() {
+        let entries = parse_integrator_list("path:splat,path:sobol:splat,volpath").unwrap();
+        let labels: Vec<String> = entries.iter().map(IntegratorEntry::label).collect();
+        assert_eq!(labels, ["path:splat", "path:sobol:splat", "volpath"]);
+        assert!(entries[0].splat_film && entries[1].splat_film && !entries[2].splat_film);
+        assert_eq!(entries[1].sampler, SamplerKind::Sobol);
+        assert_eq!(entries[0].file_stem(), "path-splat");
+        for bad in [
+            "lqmc:splat",
+            "path:splat:sobol",
+            "path:splat:splat",
+            "path:sobol:halton",
+        ] {
+            assert!(parse_integrator_list(bad).is_err(), "{bad}");
+        }
     }
 
     #[test]
