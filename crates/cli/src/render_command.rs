@@ -36,6 +36,9 @@ pub enum IntegratorName {
     Lqmc,
     /// Light tracing: paths from the lights connected to the camera.
     Light,
+    /// Bidirectional path tracing (every connection of a camera and a light
+    /// subpath, balance heuristic by default).
+    Bdpt,
 }
 
 impl IntegratorName {
@@ -46,6 +49,7 @@ impl IntegratorName {
             IntegratorName::Volpath => IntegratorKind::VolPath,
             IntegratorName::Lqmc => IntegratorKind::Lqmc,
             IntegratorName::Light => IntegratorKind::Light,
+            IntegratorName::Bdpt => IntegratorKind::Bdpt,
         }
     }
 }
@@ -136,9 +140,11 @@ pub struct RenderArgs {
     /// only, 2 adds direct light (default: the scene's, else 6).
     #[arg(long)]
     pub max_depth: Option<u32>,
-    /// Multiple importance sampling heuristic.
-    #[arg(long, value_enum, default_value_t = HeuristicName::Power)]
-    pub mis: HeuristicName,
+    /// Multiple importance sampling heuristic (default: balance for bdpt,
+    /// as Kollig & Keller use; power for the others, as pbrt-v4 and
+    /// Mitsuba).
+    #[arg(long, value_enum)]
+    pub mis: Option<HeuristicName>,
     /// The path depth from which Russian roulette may end paths, Mitsuba's
     /// `rr_depth` convention (default: the scene's — a Mitsuba file's
     /// `rr_depth`, 5 if it names none — else 3).
@@ -435,6 +441,15 @@ pub fn integrator_settings(
     })
 }
 
+/// The MIS heuristic of an integrator when `--mis` names none: the balance
+/// heuristic for BDPT (Kollig & Keller's), the power heuristic otherwise.
+pub fn default_heuristic(kind: IntegratorKind) -> MisHeuristic {
+    match kind {
+        IntegratorKind::Bdpt => MisHeuristic::Balance,
+        _ => MisHeuristic::Power,
+    }
+}
+
 /// A time budget in seconds from the option `option`: positive and finite.
 pub fn parse_time_budget(option: &str, seconds: f64) -> Result<Duration, CliError> {
     if seconds > 0.0 && seconds.is_finite() {
@@ -586,8 +601,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         max_depth: args.max_depth,
         russian_roulette_depth: args.rr_depth,
         heuristic: match args.mis {
-            HeuristicName::Power => MisHeuristic::Power,
-            HeuristicName::Balance => MisHeuristic::Balance,
+            Some(HeuristicName::Power) => MisHeuristic::Power,
+            Some(HeuristicName::Balance) => MisHeuristic::Balance,
+            None => default_heuristic(integrator_kind),
         },
         splat_film: args.splat_film,
         threads: args.threads,

@@ -29,13 +29,13 @@ use super::{IntegratorEntry, StudySceneArgs, check_distinct, parse_integrator_li
 use crate::error::{CliError, usage};
 use crate::json::Json;
 use crate::render_command::{
-    RenderRequest, build_scene, default_path_tracer, integrator_settings, load_scene_description,
-    parse_time_budget, render_metadata, traced_samples_per_pixel,
+    RenderRequest, build_scene, default_heuristic, default_path_tracer, integrator_settings,
+    load_scene_description, parse_time_budget, render_metadata, traced_samples_per_pixel,
 };
 use clap::Args;
 use render::image::compare::{ImageComparison, RELATIVE_MSE_EPSILON, compare_images};
 use render::image::{Image, Metadata, read_exr, read_image, write_png};
-use render::integrators::{IntegratorSettings, MisHeuristic};
+use render::integrators::IntegratorSettings;
 use render::renderer::{RenderSettings, render};
 use render::sampler::{Randomization, SamplerKind};
 use render::scene::Scene;
@@ -245,6 +245,7 @@ impl RenderContext<'_> {
         threads: usize,
     ) -> RenderRequest {
         RenderRequest {
+            heuristic: default_heuristic(integrator.kind()),
             integrator,
             sampler,
             samples_per_pixel: None,
@@ -253,7 +254,6 @@ impl RenderContext<'_> {
             randomization: Randomization::Seeded,
             max_depth: self.args.scene.max_depth,
             russian_roulette_depth: self.args.scene.rr_depth,
-            heuristic: MisHeuristic::Power,
             splat_film: false,
             threads,
         }

@@ -243,6 +243,19 @@ impl PerspectiveCamera {
         origin: Vec3,
         direction: Vec3,
     ) -> Option<Vec2> {
+        self.raster_of_ray_anywhere(frame, origin, direction)
+            .filter(|raster| self.is_inside_image(*raster))
+    }
+
+    /// The raster position of the ray leaving the lens point `origin` in
+    /// `direction`, inside the image or not (`None` if it points behind the
+    /// lens plane).
+    fn raster_of_ray_anywhere(
+        &self,
+        frame: &ImportanceFrame,
+        origin: Vec3,
+        direction: Vec3,
+    ) -> Option<Vec2> {
         let direction = frame.camera_from_world.transform_vector3(direction);
         if !is_positive(direction.z) {
             return None;
@@ -256,8 +269,43 @@ impl PerspectiveCamera {
         } else {
             direction.truncate() / direction.z
         };
-        let raster = self.raster_of_plane_point(on_plane);
-        self.is_inside_image(raster).then_some(raster)
+        Some(self.raster_of_plane_point(on_plane))
+    }
+
+    /// [`PerspectiveCamera::pdf_importance`] for camera rays whose raster
+    /// positions are uniform over the image grown by `margin` pixels per
+    /// side (the domain of splatting films and of bidirectional methods'
+    /// camera subpaths, [`crate::film::ImagePlane`]): the direction density
+    /// is that over the grown rectangle, `1 / (A' · cos³θ)` with `A'` the
+    /// grown image's area at unit distance, and 0 outside it.
+    pub fn pdf_importance_with_margin(
+        &self,
+        ray_origin: Vec3,
+        ray_direction: Vec3,
+        time: f32,
+        margin: Vec2,
+    ) -> CameraRayDensity {
+        let frame = self.importance_frame(time);
+        let lens_cosine = frame.lens_normal.dot(ray_direction);
+        let [width, height] = self.resolution.map(|size| size as f32);
+        let grown = Vec2::new(width, height) + 2.0 * margin;
+        let direction = match self.raster_of_ray_anywhere(&frame, ray_origin, ray_direction) {
+            Some(raster)
+                if lens_cosine > 0.0
+                    && raster.x >= -margin.x
+                    && raster.y >= -margin.y
+                    && raster.x < width + margin.x
+                    && raster.y < height + margin.y =>
+            {
+                let grown_area = frame.image_area * grown.x * grown.y / (width * height);
+                1.0 / (grown_area * lens_cosine * lens_cosine * lens_cosine)
+            }
+            _ => 0.0,
+        };
+        CameraRayDensity {
+            position: 1.0 / frame.density_lens_area,
+            direction,
+        }
     }
 
     /// The unit normal of the lens plane in world space at `time`, facing

@@ -17,6 +17,7 @@
 //! a variant of [`IntegratorKind`] (with its name) and of
 //! [`IntegratorSettings`], and its line in [`IntegratorSettings::create`].
 
+pub mod bdpt;
 pub mod driver;
 pub mod light;
 pub mod lqmc;
@@ -46,15 +47,20 @@ pub enum IntegratorKind {
     /// Light tracing (particle tracing): paths from the lights, every
     /// vertex connected to the camera and splatted (see [`light`]).
     Light,
+    /// Bidirectional path tracing: every connection of a camera and a
+    /// light subpath, weighted by multiple importance sampling (see
+    /// [`bdpt`]).
+    Bdpt,
 }
 
 impl IntegratorKind {
     /// Every integrator with its command-line name.
-    pub const ALL: [(IntegratorKind, &'static str); 4] = [
+    pub const ALL: [(IntegratorKind, &'static str); 5] = [
         (IntegratorKind::Path, "path"),
         (IntegratorKind::VolPath, "volpath"),
         (IntegratorKind::Lqmc, "lqmc"),
         (IntegratorKind::Light, "light"),
+        (IntegratorKind::Bdpt, "bdpt"),
     ];
 
     /// The integrator called `name`.
@@ -80,6 +86,8 @@ pub enum IntegratorSettings {
     Lqmc(lqmc::LqmcSettings),
     /// [`IntegratorKind::Light`].
     Light,
+    /// [`IntegratorKind::Bdpt`].
+    Bdpt,
 }
 
 impl From<IntegratorKind> for IntegratorSettings {
@@ -90,6 +98,7 @@ impl From<IntegratorKind> for IntegratorSettings {
             IntegratorKind::VolPath => Self::VolPath,
             IntegratorKind::Lqmc => Self::Lqmc(lqmc::LqmcSettings::default()),
             IntegratorKind::Light => Self::Light,
+            IntegratorKind::Bdpt => Self::Bdpt,
         }
     }
 }
@@ -102,6 +111,7 @@ impl IntegratorSettings {
             Self::VolPath => IntegratorKind::VolPath,
             Self::Lqmc(_) => IntegratorKind::Lqmc,
             Self::Light => IntegratorKind::Light,
+            Self::Bdpt => IntegratorKind::Bdpt,
         }
     }
 
@@ -117,6 +127,7 @@ impl IntegratorSettings {
             Self::VolPath => Box::new(volpath::VolPathIntegrator::new(path_settings)),
             Self::Lqmc(settings) => Box::new(lqmc::LqmcIntegrator::new(*settings, path_settings)),
             Self::Light => Box::new(light::LightIntegrator::new(path_settings)),
+            Self::Bdpt => Box::new(bdpt::BdptIntegrator::new(path_settings)),
         }
     }
 }

@@ -105,6 +105,23 @@ impl SubpathLayout {
         stride: layout::VERTEX_BLOCK,
     };
 
+    /// The camera subpath of bidirectional path tracing: its blocks
+    /// interleaved with the light subpath's (Kollig & Keller: vertex k of
+    /// both subpaths before vertex k + 1 of either), after the camera and
+    /// emission dimensions and the light vertex's lens pair
+    /// ([`layout::BIDIRECTIONAL_VERTICES`]).
+    pub const BIDIRECTIONAL_CAMERA: Self = Self {
+        first: layout::BIDIRECTIONAL_VERTICES,
+        stride: 2 * layout::VERTEX_BLOCK,
+    };
+
+    /// The light subpath of bidirectional path tracing: one block after
+    /// each camera block.
+    pub const BIDIRECTIONAL_LIGHT: Self = Self {
+        first: layout::BIDIRECTIONAL_VERTICES + layout::VERTEX_BLOCK,
+        stride: 2 * layout::VERTEX_BLOCK,
+    };
+
     /// The dimension of `offset` in the block of vertex `vertex`.
     #[inline]
     pub const fn dimension(&self, vertex: usize, offset: usize) -> usize {
@@ -993,20 +1010,28 @@ impl WalkObserver for VertexRecorder<'_> {
 
     #[inline]
     fn scattered(&mut self, vertex: &VertexAt<'_>, scattering: &Scattering) -> ControlFlow<()> {
-        let count = self.vertices.len();
-        if let Some(last) = self.vertices.last_mut() {
-            last.delta = scattering.delta;
-        }
-        if count >= 2 {
-            let previous = &mut self.vertices[count - 2];
-            previous.pdf_reverse = solid_angle_to_area(
-                scattering.pdf_reverse,
-                vertex.point,
-                previous.point,
-                previous.geometric_normal,
-            );
-        }
+        record_scattering(self.vertices, vertex, scattering);
         ControlFlow::Continue(())
+    }
+}
+
+/// Records in a subpath's `vertices` how its last vertex (`vertex`)
+/// scattered: whether by a delta lobe, and the area density of sampling the
+/// vertex before it from it (its `pdf_reverse`).
+#[inline]
+pub fn record_scattering(vertices: &mut [Vertex], vertex: &VertexAt<'_>, scattering: &Scattering) {
+    let count = vertices.len();
+    if let Some(last) = vertices.last_mut() {
+        last.delta = scattering.delta;
+    }
+    if count >= 2 {
+        let previous = &mut vertices[count - 2];
+        previous.pdf_reverse = solid_angle_to_area(
+            scattering.pdf_reverse,
+            vertex.point,
+            previous.point,
+            previous.geometric_normal,
+        );
     }
 }
 

@@ -37,6 +37,14 @@
 //! stride): interleaving a camera and a light subpath as Kollig & Keller do
 //! is a stride of two blocks.
 //!
+//! A bidirectional sample (`bdpt`) uses the camera's dimensions 0–5 and the
+//! light's choice, point and direction 6–10 as above, then the lens point
+//! of the light vertex's connection to the camera (11, 12), then the two
+//! subpaths' vertex blocks interleaved, as Kollig & Keller order them: camera
+//! block k at 13 + 16k, light block k at 21 + 16k, each with the offsets of
+//! the table (a camera block's light-position pair is its next-event
+//! connection, a light block's its lens point).
+//!
 //! Vertex 0 is the first surface (or medium) interaction seen from the
 //! camera. Medium interactions are vertices like surface ones: the phase
 //! function is sampled with the scattering-direction pair, next-event
@@ -125,6 +133,15 @@ pub mod layout {
     /// vertex's connection to the camera, 2 dimensions (the slot camera
     /// subpaths use for the light point of next-event estimation).
     pub const CAMERA_CONNECTION: usize = LIGHT_POSITION;
+
+    /// Bidirectional path tracing: the lens point of the light vertex's
+    /// connection to the camera, 2 dimensions (the camera subpath has the
+    /// lens pair 2, 3 for itself).
+    pub const BIDIRECTIONAL_LIGHT_VERTEX_LENS: usize = 11;
+    /// Bidirectional path tracing: the first dimension of the interleaved
+    /// vertex blocks (camera block k at 13 + 16k, light block k at
+    /// 21 + 16k).
+    pub const BIDIRECTIONAL_VERTICES: usize = 13;
 
     /// The dimension of `offset` in the block of path vertex `vertex`.
     #[inline]

@@ -81,6 +81,9 @@ pub struct LqmcScratch {
     member_splats: Vec<([f32; 2], [f32; 3])>,
     member_densities: Vec<f64>,
     weights: Vec<f64>,
+    /// The sum of the sample's events splatted directly (at the seed's
+    /// raster position): one splat per sample, as the path tracer's.
+    direct_sum: [f32; 3],
 }
 
 /// Renders one pixel sample: `sampler` is positioned at it.
@@ -111,6 +114,7 @@ pub fn render_pixel_sample(
     let seed_wavelengths = seed_path
         .camera
         .map(|camera| SampledWavelengths::sample_visible(camera.u_wavelength));
+    scratch.direct_sum = [0.0; 3];
     for (event_index, event) in seed_path.events.iter().enumerate() {
         let event_key = hash2(sample_key, event_index as u64);
         handle_event(
@@ -127,6 +131,11 @@ pub fn render_pixel_sample(
             statistics,
             counters,
         );
+    }
+    if scratch.direct_sum != [0.0; 3]
+        && let Some(camera) = &seed_path.camera
+    {
+        let _ = splats.add(camera.raster.to_array(), scratch.direct_sum);
     }
     scratch.seed_path = seed_path;
 }
@@ -157,7 +166,7 @@ fn handle_event(
     };
     // The event splatted as it is: with the path tracer's value the seed's
     // walk computed, or else (scenes with media) its value walk's.
-    let direct = |splats: &mut SplatBuffer,
+    let direct = |direct_sum: &mut [f32; 3],
                   statistics: &mut LqmcStatistics,
                   sampler: &mut dyn SampleSource,
                   segment_cache: &mut SegmentCache| {
@@ -184,11 +193,18 @@ fn handle_event(
         };
         statistics.events += 1;
         statistics.direct_splats += 1;
-        let _ = splats.add(camera.raster.to_array(), rgb);
+        for (sum, value) in direct_sum.iter_mut().zip(rgb) {
+            *sum += value;
+        }
     };
     // Paths of fewer than three vertices are not explored.
     if event.last_vertex() < 2 {
-        return direct(splats, statistics, sampler, &mut scratch.segment_cache);
+        return direct(
+            &mut scratch.direct_sum,
+            statistics,
+            sampler,
+            &mut scratch.segment_cache,
+        );
     }
     let path = EventPath {
         camera,
@@ -198,7 +214,12 @@ fn handle_event(
     let class = classify(scene, settings, &path);
     let parameters = *settings.class_parameters(class);
     if !parameters.explore {
-        return direct(splats, statistics, sampler, &mut scratch.segment_cache);
+        return direct(
+            &mut scratch.direct_sum,
+            statistics,
+            sampler,
+            &mut scratch.segment_cache,
+        );
     }
     let probe = &mut scratch.probe_dimensions;
     let mut weights = std::mem::take(&mut scratch.breakup_weights);
@@ -215,7 +236,12 @@ fn handle_event(
     let breakup = draw_breakup(&weights, to_unit_f64(hash2(event_key, BREAKUP_KEY)));
     scratch.breakup_weights = weights;
     let Some(breakup) = breakup else {
-        return direct(splats, statistics, sampler, &mut scratch.segment_cache);
+        return direct(
+            &mut scratch.direct_sum,
+            statistics,
+            sampler,
+            &mut scratch.segment_cache,
+        );
     };
     // The seed's value walk, recording what its members reuse. Where it
     // fails on the seed's own path (a decision on a knife's edge comes out
@@ -232,7 +258,12 @@ fn handle_event(
         &mut SegmentReuse::Record(&mut scratch.segment_cache),
     ) else {
         statistics.unevaluable_seeds += 1;
-        return direct(splats, statistics, sampler, &mut scratch.segment_cache);
+        return direct(
+            &mut scratch.direct_sum,
+            statistics,
+            sampler,
+            &mut scratch.segment_cache,
+        );
     };
     debug_assert!(
         matches!(
@@ -256,10 +287,10 @@ fn handle_event(
     statistics.events += 1;
     if !explored {
         statistics.direct_splats += 1;
-        let _ = splats.add(
-            camera.raster.to_array(),
-            splat_value(&walked.contribution, &walked.wavelengths),
-        );
+        let rgb = splat_value(&walked.contribution, &walked.wavelengths);
+        for (sum, value) in scratch.direct_sum.iter_mut().zip(rgb) {
+            *sum += value;
+        }
     }
 }
 

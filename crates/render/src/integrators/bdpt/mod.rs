@@ -1,0 +1,1030 @@
+//! Bidirectional path tracing (Veach & Guibas 1994; Veach 1997 ch. 10; the
+//! estimator of Kollig & Keller's Eq. 4): per pixel sample one camera
+//! subpath `z₀ z₁ …` and one light subpath `y₀ y₁ …`, both built by the
+//! path-space walk ([`super::path_space`]), and every connection of a
+//! prefix of one with a prefix of the other, weighted by multiple
+//! importance sampling over all the ways the same path could have been made
+//! ([`mis`]; balance heuristic by default, as Kollig & Keller use).
+//!
+//! Strategy (s, t) uses s light and t camera vertices, a path of s + t − 1
+//! segments (at most the depth, Mitsuba's convention as the path tracer's):
+//!
+//! - s = 0: the camera subpath reaches an emitter (t = 2: emitters seen
+//!   directly, which no other strategy makes here: weight 1);
+//! - s = 1: next-event estimation from `z_{t−1}` (the path tracer's light
+//!   choice and point sampling);
+//! - t = 1: light tracing, `y_{s−1}` connected to a lens point and splatted
+//!   where it appears (as [`super::light`] does);
+//! - s, t ≥ 2: `y_{s−1}` joined to `z_{t−1}` by a shadow ray.
+//!
+//! (s, t) = (1, 1), the light's own point seen by the camera, is left to
+//! (0, 2), as pbrt-v4 does.
+//!
+//! # Film
+//!
+//! Camera subpaths start uniformly in the pixel's share of the image grown
+//! by the filter's reach ([`crate::film::ImagePlane`]), and every
+//! contribution is splatted with the filter: the camera side's at the
+//! subpath's raster position (times the plane's area over the image's),
+//! light tracing's where its vertex appears. Light tracing's connections
+//! reach the same grown plane, and the camera rays' density is taken over
+//! it ([`crate::camera::PerspectiveCamera::pdf_importance_with_margin`]),
+//! so that the MIS weights compare the two strategies' true densities.
+//!
+//! # Numbers
+//!
+//! The camera and emission dimensions, then the subpaths' vertex blocks
+//! interleaved, camera block k before light block k (Kollig & Keller's
+//! order; the table in [`crate::sampler`]).
+//!
+//! # Lights at infinity
+//!
+//! Environments are vertices at infinity, measured by direction (pbrt-v4's
+//! convention): a camera subpath that escapes reaches every environment at
+//! once, so its origin density is the sum over them of the choice
+//! probability times the direction density
+//! ([`Bidirectional::environment_density`]); a light subpath leaving an
+//! environment starts on a disk facing the scene, and its first vertex's
+//! density is the disk's over the cosine there, without a distance.
+//!
+//! Participating media and directional lights are not handled yet: such
+//! scenes are refused with a message.
+
+pub mod mis;
+
+use super::driver::{PixelSampleIndex, SplatEstimator, render_splat_paths};
+use super::path::PathSettings;
+use super::path_space::{
+    Scatterer, Scattering, SubpathLayout, Vertex, VertexAt, WalkObserver, WalkSettings, WalkStart,
+    WalkState, random_walk, record_scattering, solid_angle_to_area, walk,
+};
+use super::{Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
+use crate::film::{ImagePlane, SplatBuffer};
+use crate::geometry::{OffsetPoint, Ray, SurfaceHit, occlusion_segment_to_point};
+use crate::light::Light;
+use crate::material::TransportMode;
+use crate::sampler::{PixelSampler, SampleSource, layout};
+use crate::scene::Scene;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
+use glam::{Vec2, Vec3};
+use mis::{VertexDensities, strategy_weight};
+use std::ops::ControlFlow;
+
+/// Bidirectional path tracing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BdptIntegrator {
+    settings: PathSettings,
+}
+
+impl BdptIntegrator {
+    /// BDPT with `settings` (depth, Russian roulette, MIS heuristic).
+    pub fn new(settings: PathSettings) -> Self {
+        Self { settings }
+    }
+}
+
+impl Integrator for BdptIntegrator {
+    fn render(&self, scene: &Scene, run: &RunControl<'_>) -> Result<IntegratorRender, RenderError> {
+        if scene.has_media() {
+            return Err(RenderError::Unsupported(
+                "bdpt does not trace participating media yet; use --integrator volpath".into(),
+            ));
+        }
+        if scene
+            .lights
+            .iter()
+            .any(|light| matches!(light, Light::Directional { .. }))
+        {
+            return Err(RenderError::Unsupported(
+                "bdpt does not handle directional lights yet; use --integrator path".into(),
+            ));
+        }
+        let image_plane = ImagePlane::new(scene);
+        let estimator = Bidirectional {
+            scene,
+            settings: &self.settings,
+            image_plane,
+            margin: -image_plane.origin,
+        };
+        render_splat_paths(&estimator, scene, run).map(IntegratorRender::from_driver)
+    }
+}
+
+/// An emitter the camera subpath reached (a strategy with s = 0).
+#[derive(Debug, Clone, Copy)]
+struct EmitterHit {
+    /// Scattering vertices of the camera subpath before it.
+    vertices_before: usize,
+    light_index: u32,
+    point: Vec3,
+    /// The geometric normal as stored (the light flips it itself).
+    stored_normal: Vec3,
+    uv: Vec2,
+    /// Unit direction towards the previous vertex.
+    wo: Vec3,
+    /// The subpath's throughput on arrival.
+    beta: SampledSpectrum,
+    /// Area density of the point sampled from the previous vertex.
+    pdf_forward: f32,
+}
+
+/// An escape of the camera subpath to the environments (s = 0).
+#[derive(Debug, Clone, Copy)]
+struct EnvironmentEscape {
+    /// Scattering vertices of the camera subpath before it.
+    vertices_before: usize,
+    /// The unit direction of escape.
+    direction: Vec3,
+    /// The subpath's throughput on escape.
+    beta: SampledSpectrum,
+    /// The solid-angle density of the direction (0 after a delta).
+    pdf_forward: f32,
+}
+
+/// The light subpath's first vertex: the point on the light.
+#[derive(Debug, Clone, Copy)]
+struct LightOrigin {
+    point: Vec3,
+    /// The light's front normal (zero for lights without a surface).
+    normal: Vec3,
+    /// The light has a delta position (no camera path can reach it).
+    delta_position: bool,
+    /// For an environment: the direction the subpath leaves it in (`point`
+    /// is then on the disk it starts from).
+    from_infinity: Option<Vec3>,
+    /// Its densities.
+    densities: VertexDensities,
+    /// The light subpath's vertices carry their throughput over this
+    /// (the largest component of `β(y₁)`), so that Russian roulette
+    /// decides on the scatterings' product as from the camera (see
+    /// [`super::light`]); connections multiply it back.
+    beta_scale: f32,
+}
+
+/// A work unit's scratch: the two subpaths and the densities of a strategy.
+#[derive(Default)]
+pub struct BidirectionalScratch {
+    camera: Vec<Vertex>,
+    emitters: Vec<EmitterHit>,
+    escapes: Vec<EnvironmentEscape>,
+    light: Vec<Vertex>,
+    camera_densities: Vec<VertexDensities>,
+    light_densities: Vec<VertexDensities>,
+}
+
+struct Bidirectional<'a> {
+    scene: &'a Scene,
+    settings: &'a PathSettings,
+    image_plane: ImagePlane,
+    /// The grown plane's margin in pixels per side.
+    margin: Vec2,
+}
+
+/// The camera subpath's observer: records the vertices with their
+/// densities, and the emitters reached.
+struct CameraSubpathRecorder<'a> {
+    vertices: &'a mut Vec<Vertex>,
+    emitters: &'a mut Vec<EmitterHit>,
+    escapes: &'a mut Vec<EnvironmentEscape>,
+    camera_point: Vec3,
+}
+
+impl WalkObserver for CameraSubpathRecorder<'_> {
+    const FINDS_EMISSION: bool = true;
+    const RECORDS_DENSITIES: bool = true;
+
+    fn emitter(
+        &mut self,
+        walk: &WalkState,
+        light_index: u32,
+        hit: &SurfaceHit,
+        wo: Vec3,
+        _wavelengths: &SampledWavelengths,
+    ) {
+        let previous_point = self.vertices.last().map_or(self.camera_point, |v| v.point);
+        let pdf_forward = if walk.previous.delta {
+            0.0
+        } else {
+            solid_angle_to_area(
+                walk.previous.pdf,
+                previous_point,
+                hit.point,
+                hit.geometric_normal,
+            )
+        };
+        self.emitters.push(EmitterHit {
+            vertices_before: self.vertices.len(),
+            light_index,
+            point: hit.point,
+            stored_normal: hit.geometric_normal,
+            uv: hit.uv,
+            wo,
+            beta: walk.beta,
+            pdf_forward,
+        });
+    }
+
+    fn escaped(&mut self, walk: &WalkState, direction: Vec3, _wavelengths: &SampledWavelengths) {
+        self.escapes.push(EnvironmentEscape {
+            vertices_before: self.vertices.len(),
+            direction,
+            beta: walk.beta,
+            pdf_forward: if walk.previous.delta {
+                0.0
+            } else {
+                walk.previous.pdf
+            },
+        });
+    }
+
+    #[inline]
+    fn vertex<S: SampleSource + ?Sized>(
+        &mut self,
+        walk: &WalkState,
+        vertex: &VertexAt<'_>,
+        _wavelengths: &SampledWavelengths,
+        _sampler: &mut S,
+        _counters: &mut TraceCounters,
+    ) -> ControlFlow<()> {
+        self.vertices.push(Vertex::record(vertex, walk.beta));
+        ControlFlow::Continue(())
+    }
+
+    #[inline]
+    fn scattered(&mut self, vertex: &VertexAt<'_>, scattering: &Scattering) -> ControlFlow<()> {
+        record_scattering(self.vertices, vertex, scattering);
+        ControlFlow::Continue(())
+    }
+}
+
+/// The solid-angle density with which `vertex` scatters from `wo` into
+/// `wi` (its BSDF's or phase function's).
+fn scattering_pdf(vertex: &Vertex, wo: Vec3, wi: Vec3) -> f32 {
+    match &vertex.scatterer {
+        Scatterer::Surface { bsdf, .. } => bsdf.pdf(wo, wi),
+        Scatterer::Medium { phase } => phase.pdf(wo, wi),
+    }
+}
+
+/// The area density at `to` (normal `to_normal`, zero in a medium) of
+/// `vertex` scattering towards it after arriving from `wo`.
+fn area_density_from(vertex: &Vertex, wo: Vec3, to: Vec3, to_normal: Vec3) -> f32 {
+    let wi = (to - vertex.point).normalize_or_zero();
+    solid_angle_to_area(scattering_pdf(vertex, wo, wi), vertex.point, to, to_normal)
+}
+
+/// The density of `vertex`, arrived at from `wo`, scattering towards the
+/// light subpath's origin `origin`: per unit area there, or per unit solid
+/// angle for an origin at infinity.
+fn density_towards_origin(vertex: &Vertex, wo: Vec3, origin: &LightOrigin) -> f32 {
+    match origin.from_infinity {
+        Some(direction) => scattering_pdf(vertex, wo, -direction),
+        None => area_density_from(vertex, wo, origin.point, origin.normal),
+    }
+}
+
+/// The geometry's stored normal of an area light's point from its front
+/// normal (the light flips stored normals itself).
+fn stored_normal(light: &Light, front: Vec3) -> Vec3 {
+    let flipped = match light {
+        Light::Area { flip_normals, .. } => *flip_normals,
+        Light::TexturedArea(light) => light.flip_normals,
+        _ => false,
+    };
+    if flipped { -front } else { front }
+}
+
+/// The lens numbers at `dimension` (a pinhole draws none).
+#[inline]
+fn lens_numbers<S: SampleSource + ?Sized>(
+    scene: &Scene,
+    sampler: &mut S,
+    dimension: usize,
+) -> [f32; 2] {
+    if scene.camera.uses_lens_sample() {
+        sampler.get_2d(dimension)
+    } else {
+        [0.5; 2]
+    }
+}
+
+impl Bidirectional<'_> {
+    /// The density of a light subpath starting at infinity in the unit
+    /// direction `-direction` (`direction` points from the scene to the
+    /// sky), over all environments, each chosen with its probability: what
+    /// a camera subpath escaping along `direction` is compared with.
+    fn environment_density(&self, direction: Vec3) -> f32 {
+        let scene = self.scene;
+        scene
+            .environment_lights
+            .iter()
+            .map(|&index| {
+                scene.light_sampler.probability(index as usize)
+                    * scene.lights[index as usize].pdf_incident(
+                        &scene.geometry,
+                        Vec3::ZERO,
+                        direction,
+                        Vec3::ZERO,
+                    )
+            })
+            .sum()
+    }
+
+    /// The densities of the camera subpath's first `t` vertices (`z₀`
+    /// included) into `densities`.
+    fn camera_densities(&self, camera: &[Vertex], t: usize, densities: &mut Vec<VertexDensities>) {
+        densities.clear();
+        densities.push(VertexDensities::default());
+        densities.extend(camera[..t - 1].iter().map(|vertex| VertexDensities {
+            forward: vertex.pdf_forward,
+            reverse: vertex.pdf_reverse,
+            delta: vertex.delta,
+        }));
+    }
+
+    /// The densities of the light subpath's first `s` vertices (`y₀`
+    /// included) into `densities`.
+    fn light_densities(
+        &self,
+        origin: &LightOrigin,
+        light: &[Vertex],
+        s: usize,
+        densities: &mut Vec<VertexDensities>,
+    ) {
+        densities.clear();
+        densities.push(origin.densities);
+        densities.extend(light[..s - 1].iter().map(|vertex| VertexDensities {
+            forward: vertex.pdf_forward,
+            reverse: vertex.pdf_reverse,
+            delta: vertex.delta,
+        }));
+    }
+}
+
+impl SplatEstimator for Bidirectional<'_> {
+    type Unit = BidirectionalScratch;
+    type Total = ();
+
+    fn new_total(&self, _resolution: [usize; 2]) -> Result<(), RenderError> {
+        Ok(())
+    }
+
+    fn new_unit(&self) -> BidirectionalScratch {
+        BidirectionalScratch::default()
+    }
+
+    fn merge_unit(&self, _total: &mut (), _unit: BidirectionalScratch, _kept: bool) {}
+
+    fn trace<S: PixelSampler + ?Sized>(
+        &self,
+        scratch: &mut BidirectionalScratch,
+        path: PixelSampleIndex,
+        sampler: &mut S,
+        splats: &mut SplatBuffer,
+        counters: &mut TraceCounters,
+    ) {
+        let scene = self.scene;
+        let camera = &scene.camera;
+        let max_depth = self.settings.max_depth as usize;
+        let heuristic = self.settings.heuristic;
+        if max_depth == 0 {
+            return;
+        }
+
+        // The camera subpath.
+        let raster = self
+            .image_plane
+            .seed_raster(scene, path.pixel, sampler.get_2d(layout::FILM));
+        let u_lens = lens_numbers(scene, sampler, layout::LENS);
+        let u_time = if camera.uses_time_sample() {
+            sampler.get(layout::TIME)
+        } else {
+            0.5
+        };
+        let mut wavelengths = SampledWavelengths::sample_visible(sampler.get(layout::WAVELENGTH));
+        let camera_ray = camera.generate_ray(raster, u_lens, u_time);
+        let time = camera_ray.time;
+        let camera_density = camera.pdf_importance_with_margin(
+            camera_ray.origin,
+            camera_ray.direction,
+            time,
+            self.margin,
+        );
+        if camera_density.direction <= 0.0 {
+            return;
+        }
+        let BidirectionalScratch {
+            camera: camera_vertices,
+            emitters,
+            escapes,
+            light: light_vertices,
+            camera_densities,
+            light_densities,
+        } = scratch;
+        camera_vertices.clear();
+        emitters.clear();
+        escapes.clear();
+        walk(
+            scene,
+            WalkStart {
+                ray: Ray::with_time(camera_ray.origin, camera_ray.direction, time),
+                beta: SampledSpectrum::splat(1.0),
+                pdf_direction: camera_density.direction,
+                medium: None,
+            },
+            &WalkSettings {
+                mode: TransportMode::Radiance,
+                max_vertices: WalkSettings::camera_vertices(self.settings.max_depth),
+                russian_roulette_depth: self.settings.russian_roulette_depth,
+                layout: SubpathLayout::BIDIRECTIONAL_CAMERA,
+                media: false,
+                null_crossings: false,
+            },
+            &mut wavelengths,
+            sampler,
+            counters,
+            &mut CameraSubpathRecorder {
+                vertices: camera_vertices,
+                emitters,
+                escapes,
+                camera_point: camera_ray.origin,
+            },
+        );
+
+        // The light subpath.
+        light_vertices.clear();
+        let light_origin =
+            self.trace_light_subpath(time, &mut wavelengths, sampler, counters, light_vertices);
+
+        // The camera side's strategies (t ≥ 2), summed and splatted at the
+        // camera subpath's raster position.
+        let mut camera_side = SampledSpectrum::zero();
+
+        // s = 0: emitters the camera subpath reached.
+        for hit in emitters.iter() {
+            let light = &scene.lights[hit.light_index as usize];
+            let emitted = light.emitted_radiance(hit.stored_normal, hit.uv, hit.wo, &wavelengths);
+            if emitted.is_black() {
+                continue;
+            }
+            let t = hit.vertices_before + 2;
+            self.camera_densities(camera_vertices, t - 1, camera_densities);
+            let choice = scene.light_sampler.probability(hit.light_index as usize);
+            let emission_pdf =
+                light.pdf_emission(&scene.geometry, hit.point, hit.wo, hit.stored_normal);
+            camera_densities.push(VertexDensities {
+                forward: hit.pdf_forward,
+                reverse: choice * emission_pdf.position,
+                delta: false,
+            });
+            if t >= 3 {
+                let previous = &camera_vertices[t - 3];
+                camera_densities[t - 2].reverse = solid_angle_to_area(
+                    emission_pdf.direction,
+                    hit.point,
+                    previous.point,
+                    previous.geometric_normal,
+                );
+            }
+            let weight = strategy_weight(camera_densities, &[], false, heuristic);
+            camera_side += hit.beta * emitted * weight;
+        }
+
+        // s = 0: escapes to the environments.
+        for escape in escapes.iter() {
+            let mut emitted = SampledSpectrum::zero();
+            for &index in &scene.environment_lights {
+                emitted += scene.lights[index as usize]
+                    .environment_radiance(escape.direction, &wavelengths);
+            }
+            if emitted.is_black() {
+                continue;
+            }
+            let t = escape.vertices_before + 2;
+            self.camera_densities(camera_vertices, t - 1, camera_densities);
+            camera_densities.push(VertexDensities {
+                forward: escape.pdf_forward,
+                reverse: self.environment_density(escape.direction),
+                delta: false,
+            });
+            if t >= 3 {
+                // The density of z_{t−2} as the first vertex of a light
+                // subpath from the sky: the disk's, times the cosine there.
+                let previous = &camera_vertices[t - 3];
+                camera_densities[t - 2].reverse = self.disk_density(escape.direction, previous);
+            }
+            let weight = strategy_weight(camera_densities, &[], false, heuristic);
+            camera_side += escape.beta * emitted * weight;
+        }
+
+        for t in 2..=(camera_vertices.len() + 1).min(max_depth + 1) {
+            let end = &camera_vertices[t - 2];
+            if !end.is_connectible() {
+                continue;
+            }
+            // s = 1: next-event estimation from z_{t−1}.
+            if t <= max_depth {
+                camera_side += self.next_event(
+                    camera_vertices,
+                    t,
+                    &wavelengths,
+                    sampler,
+                    counters,
+                    camera_densities,
+                    light_densities,
+                );
+            }
+            // s ≥ 2: connections to the light subpath's vertices.
+            let Some(origin) = &light_origin else {
+                continue;
+            };
+            for s in 2..=(light_vertices.len() + 1).min(max_depth + 1 - t) {
+                camera_side += self.connect(
+                    camera_vertices,
+                    t,
+                    origin,
+                    light_vertices,
+                    s,
+                    &wavelengths,
+                    counters,
+                    camera_densities,
+                    light_densities,
+                );
+            }
+        }
+        if !camera_side.is_black() {
+            let rgb = to_linear_srgb(&camera_side, &wavelengths);
+            let _ = splats.add(
+                raster.to_array(),
+                rgb.map(|channel| channel * self.image_plane.area_scale),
+            );
+        }
+
+        // t = 1: light tracing.
+        let Some(origin) = &light_origin else {
+            return;
+        };
+        for s in 2..=(light_vertices.len() + 1).min(max_depth) {
+            self.light_tracing(
+                origin,
+                light_vertices,
+                s,
+                &wavelengths,
+                sampler,
+                splats,
+                counters,
+                camera_densities,
+                light_densities,
+            );
+        }
+    }
+}
+
+impl Bidirectional<'_> {
+    /// The area density at `vertex` of a light subpath leaving the sky
+    /// seen in `direction` (from the scene): the density of its starting
+    /// disk times the cosine at the vertex (the light's own, the same for
+    /// every environment: the disk spans the scene).
+    fn disk_density(&self, direction: Vec3, vertex: &Vertex) -> f32 {
+        let Some(&index) = self.scene.environment_lights.first() else {
+            return 0.0;
+        };
+        let position = self.scene.lights[index as usize]
+            .pdf_emission(&self.scene.geometry, vertex.point, -direction, Vec3::ZERO)
+            .position;
+        if vertex.geometric_normal == Vec3::ZERO {
+            position
+        } else {
+            position * direction.dot(vertex.geometric_normal).abs()
+        }
+    }
+
+    /// Traces the light subpath into `vertices` (its walk's vertices, `y₁`
+    /// on) and returns its origin `y₀`, or `None` if no light emits. The
+    /// vertices' throughputs include the emission: `β(y₁) = Le |cos| /
+    /// (p_choice p_position p_direction)`.
+    fn trace_light_subpath<S: SampleSource + ?Sized>(
+        &self,
+        time: f32,
+        wavelengths: &mut SampledWavelengths,
+        sampler: &mut S,
+        counters: &mut TraceCounters,
+        vertices: &mut Vec<Vertex>,
+    ) -> Option<LightOrigin> {
+        let scene = self.scene;
+        let (light_index, choice, u_primitive) = scene
+            .light_sampler
+            .sample(sampler.get(layout::LIGHT_CHOICE))?;
+        let light = &scene.lights[light_index];
+        let emission = light.sample_emission(
+            &scene.geometry,
+            u_primitive,
+            sampler.get_2d(layout::LIGHT_EMISSION_POSITION),
+            sampler.get_2d(layout::LIGHT_EMISSION_DIRECTION),
+            wavelengths,
+        )?;
+        if emission.radiance.is_black() || choice <= 0.0 {
+            return None;
+        }
+        let at_infinity = light.is_infinite();
+        let on_surface =
+            !emission.is_delta_position && !at_infinity && emission.normal != Vec3::ZERO;
+        let mut origin = LightOrigin {
+            point: emission.origin,
+            normal: if on_surface {
+                emission.normal
+            } else {
+                Vec3::ZERO
+            },
+            delta_position: emission.is_delta_position,
+            from_infinity: at_infinity.then_some(emission.direction),
+            densities: VertexDensities {
+                forward: if at_infinity {
+                    self.environment_density(-emission.direction)
+                } else {
+                    choice * emission.pdf_position
+                },
+                reverse: 0.0,
+                delta: false,
+            },
+            beta_scale: 1.0,
+        };
+        let max_vertices = self.settings.max_depth.saturating_sub(1) as usize;
+        if max_vertices == 0 {
+            return Some(origin);
+        }
+        let cosine = if on_surface {
+            emission.normal.dot(emission.direction).abs()
+        } else {
+            1.0
+        };
+        let beta = emission.radiance
+            * (cosine / (choice * emission.pdf_position * emission.pdf_direction));
+        let beta_scale = beta.max_component();
+        if !(beta_scale > 0.0 && beta_scale.is_finite()) {
+            return Some(origin);
+        }
+        origin.beta_scale = beta_scale;
+        let ray_origin = if on_surface {
+            OffsetPoint::new(emission.origin, emission.normal, emission.direction)
+                .towards(emission.direction)
+        } else {
+            emission.origin
+        };
+        random_walk(
+            scene,
+            WalkStart {
+                ray: Ray::with_time(ray_origin, emission.direction, time),
+                beta: beta / beta_scale,
+                pdf_direction: emission.pdf_direction,
+                medium: None,
+            },
+            &WalkSettings {
+                mode: TransportMode::Importance,
+                max_vertices,
+                russian_roulette_depth: self.settings.russian_roulette_depth,
+                layout: SubpathLayout::BIDIRECTIONAL_LIGHT,
+                media: false,
+                null_crossings: false,
+            },
+            wavelengths,
+            sampler,
+            counters,
+            vertices,
+        );
+        // From the sky, y₁'s density is the disk's over its cosine (no
+        // distance: the disk is at infinity).
+        if at_infinity && let Some(first) = vertices.first_mut() {
+            let cosine = if first.geometric_normal == Vec3::ZERO {
+                1.0
+            } else {
+                emission.direction.dot(first.geometric_normal).abs()
+            };
+            first.pdf_forward = emission.pdf_position * cosine;
+        }
+        // y₀'s reverse density: y₁ scattering back to it after arriving
+        // from y₂ (used by the strategies with s ≥ 3).
+        if vertices.len() >= 2 {
+            let (first, second) = (&vertices[0], &vertices[1]);
+            origin.densities.reverse = density_towards_origin(first, -second.wo, &origin);
+        }
+        Some(origin)
+    }
+
+    /// Strategy (1, t): next-event estimation from `z_{t−1}`, weighted.
+    #[allow(clippy::too_many_arguments)]
+    fn next_event<S: SampleSource + ?Sized>(
+        &self,
+        camera: &[Vertex],
+        t: usize,
+        wavelengths: &SampledWavelengths,
+        sampler: &mut S,
+        counters: &mut TraceCounters,
+        camera_densities: &mut Vec<VertexDensities>,
+        light_densities: &mut Vec<VertexDensities>,
+    ) -> SampledSpectrum {
+        let scene = self.scene;
+        let end = &camera[t - 2];
+        let block = SubpathLayout::BIDIRECTIONAL_CAMERA;
+        let Some((light_index, choice, u_primitive)) = scene
+            .light_sampler
+            .sample(sampler.get(block.dimension(t - 2, layout::LIGHT_SELECTION)))
+        else {
+            return SampledSpectrum::zero();
+        };
+        let light = &scene.lights[light_index];
+        // The reference point off the surface on the arriving side, as the
+        // path tracer's (a sphere sampled from a point on itself would be
+        // seen from outside).
+        let Some(sample) = light.sample_incident(
+            &scene.geometry,
+            end.origin_towards(end.wo),
+            u_primitive,
+            sampler.get_2d(block.dimension(t - 2, layout::LIGHT_POSITION)),
+            wavelengths,
+        ) else {
+            return SampledSpectrum::zero();
+        };
+        if sample.radiance.is_black() || sample.pdf.is_nan() || sample.pdf <= 0.0 || choice <= 0.0 {
+            return SampledSpectrum::zero();
+        }
+        let factor = end.connection_factor(sample.wi, wavelengths, TransportMode::Radiance);
+        if factor.is_black() {
+            return SampledSpectrum::zero();
+        }
+        counters.shadow_rays += 1;
+        let visible = if sample.is_infinite {
+            let ray = Ray::with_time(end.origin_towards(sample.wi), sample.wi, end.time);
+            !scene.geometry.occluded(&ray, f32::INFINITY)
+        } else {
+            match occlusion_segment_to_point(
+                end.origin_towards(sample.wi),
+                end.time,
+                sample.point,
+                sample.normal,
+            ) {
+                Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
+                None => false,
+            }
+        };
+        if !visible {
+            return SampledSpectrum::zero();
+        }
+        let value = end.beta * factor * sample.radiance / (choice * sample.pdf);
+        if sample.is_infinite {
+            // The sampled sky direction as the light subpath's origin.
+            light_densities.clear();
+            light_densities.push(VertexDensities {
+                forward: self.environment_density(sample.wi),
+                reverse: scattering_pdf(end, end.wo, sample.wi),
+                delta: false,
+            });
+            self.camera_densities(camera, t, camera_densities);
+            camera_densities[t - 1].reverse = self.disk_density(sample.wi, end);
+            camera_densities[t - 1].delta = false;
+            if t >= 3 {
+                let previous = &camera[t - 3];
+                camera_densities[t - 2].reverse =
+                    area_density_from(end, sample.wi, previous.point, previous.geometric_normal);
+            }
+            let weight = strategy_weight(
+                camera_densities,
+                light_densities,
+                false,
+                self.settings.heuristic,
+            );
+            return value * weight;
+        }
+        // The sampled light point as the light subpath's origin.
+        let light_normal = if sample.is_delta {
+            Vec3::ZERO
+        } else {
+            sample.normal
+        };
+        let emission_pdf = light.pdf_emission(
+            &scene.geometry,
+            sample.point,
+            -sample.wi,
+            stored_normal(light, sample.normal),
+        );
+        light_densities.clear();
+        light_densities.push(VertexDensities {
+            forward: choice
+                * if sample.is_delta {
+                    1.0
+                } else {
+                    emission_pdf.position
+                },
+            reverse: area_density_from(end, end.wo, sample.point, light_normal),
+            delta: false,
+        });
+        self.camera_densities(camera, t, camera_densities);
+        camera_densities[t - 1].reverse = solid_angle_to_area(
+            emission_pdf.direction,
+            sample.point,
+            end.point,
+            end.geometric_normal,
+        );
+        camera_densities[t - 1].delta = false;
+        if t >= 3 {
+            let previous = &camera[t - 3];
+            camera_densities[t - 2].reverse =
+                area_density_from(end, sample.wi, previous.point, previous.geometric_normal);
+        }
+        let weight = strategy_weight(
+            camera_densities,
+            light_densities,
+            sample.is_delta,
+            self.settings.heuristic,
+        );
+        value * weight
+    }
+
+    /// Strategy (s, t), s, t ≥ 2: `y_{s−1}` joined to `z_{t−1}`, weighted.
+    #[allow(clippy::too_many_arguments)]
+    fn connect(
+        &self,
+        camera: &[Vertex],
+        t: usize,
+        origin: &LightOrigin,
+        light: &[Vertex],
+        s: usize,
+        wavelengths: &SampledWavelengths,
+        counters: &mut TraceCounters,
+        camera_densities: &mut Vec<VertexDensities>,
+        light_densities: &mut Vec<VertexDensities>,
+    ) -> SampledSpectrum {
+        let camera_end = &camera[t - 2];
+        let light_end = &light[s - 2];
+        if !light_end.is_connectible() {
+            return SampledSpectrum::zero();
+        }
+        let offset = light_end.point - camera_end.point;
+        let distance_squared = offset.length_squared();
+        if distance_squared.is_nan() || distance_squared <= 0.0 {
+            return SampledSpectrum::zero();
+        }
+        let direction = offset / distance_squared.sqrt();
+        let camera_factor =
+            camera_end.connection_factor(direction, wavelengths, TransportMode::Radiance);
+        if camera_factor.is_black() {
+            return SampledSpectrum::zero();
+        }
+        let light_factor =
+            light_end.connection_factor(-direction, wavelengths, TransportMode::Importance);
+        if light_factor.is_black() {
+            return SampledSpectrum::zero();
+        }
+        let value = camera_end.beta
+            * camera_factor
+            * light_factor
+            * light_end.beta
+            * (origin.beta_scale / distance_squared);
+        if value.is_black() {
+            return SampledSpectrum::zero();
+        }
+        counters.shadow_rays += 1;
+        let visible = match occlusion_segment_to_point(
+            camera_end.origin_towards(direction),
+            camera_end.time,
+            light_end.point,
+            light_end.geometric_normal,
+        ) {
+            Some((ray, t_max)) => !self.scene.geometry.occluded(&ray, t_max),
+            None => false,
+        };
+        if !visible {
+            return SampledSpectrum::zero();
+        }
+        self.camera_densities(camera, t, camera_densities);
+        self.light_densities(origin, light, s, light_densities);
+        camera_densities[t - 1].reverse = area_density_from(
+            light_end,
+            light_end.wo,
+            camera_end.point,
+            camera_end.geometric_normal,
+        );
+        camera_densities[t - 1].delta = false;
+        light_densities[s - 1].reverse = area_density_from(
+            camera_end,
+            camera_end.wo,
+            light_end.point,
+            light_end.geometric_normal,
+        );
+        light_densities[s - 1].delta = false;
+        if t >= 3 {
+            let previous = &camera[t - 3];
+            camera_densities[t - 2].reverse = area_density_from(
+                camera_end,
+                direction,
+                previous.point,
+                previous.geometric_normal,
+            );
+        }
+        light_densities[s - 2].reverse = if s >= 3 {
+            let before = &light[s - 3];
+            area_density_from(light_end, -direction, before.point, before.geometric_normal)
+        } else {
+            density_towards_origin(light_end, -direction, origin)
+        };
+        let weight = strategy_weight(
+            camera_densities,
+            light_densities,
+            origin.delta_position,
+            self.settings.heuristic,
+        );
+        value * weight
+    }
+
+    /// Strategy (s, 1): `y_{s−1}` connected to a lens point and splatted
+    /// where it appears, weighted.
+    #[allow(clippy::too_many_arguments)]
+    fn light_tracing<S: SampleSource + ?Sized>(
+        &self,
+        origin: &LightOrigin,
+        light: &[Vertex],
+        s: usize,
+        wavelengths: &SampledWavelengths,
+        sampler: &mut S,
+        splats: &mut SplatBuffer,
+        counters: &mut TraceCounters,
+        camera_densities: &mut Vec<VertexDensities>,
+        light_densities: &mut Vec<VertexDensities>,
+    ) {
+        let scene = self.scene;
+        let light_end = &light[s - 2];
+        if !light_end.is_connectible() {
+            return;
+        }
+        let u_lens = lens_numbers(
+            scene,
+            sampler,
+            SubpathLayout::BIDIRECTIONAL_LIGHT.dimension(s - 2, layout::CAMERA_CONNECTION),
+        );
+        let Some(camera_sample) = scene.camera.sample_incident_importance_with_margin(
+            light_end.point,
+            light_end.time,
+            u_lens,
+            self.margin,
+        ) else {
+            return;
+        };
+        let factor =
+            light_end.connection_factor(camera_sample.wi, wavelengths, TransportMode::Importance);
+        let value =
+            light_end.beta * factor * (origin.beta_scale * camera_sample.value / camera_sample.pdf);
+        if value.is_black() {
+            return;
+        }
+        counters.shadow_rays += 1;
+        let visible = match occlusion_segment_to_point(
+            light_end.origin_towards(camera_sample.wi),
+            light_end.time,
+            camera_sample.lens_point,
+            Vec3::ZERO,
+        ) {
+            Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
+            None => false,
+        };
+        if !visible {
+            return;
+        }
+        camera_densities.clear();
+        camera_densities.push(VertexDensities::default());
+        self.light_densities(origin, light, s, light_densities);
+        let camera_direction = scene.camera.pdf_importance_with_margin(
+            camera_sample.lens_point,
+            -camera_sample.wi,
+            light_end.time,
+            self.margin,
+        );
+        light_densities[s - 1].reverse = solid_angle_to_area(
+            camera_direction.direction,
+            camera_sample.lens_point,
+            light_end.point,
+            light_end.geometric_normal,
+        );
+        light_densities[s - 1].delta = false;
+        light_densities[s - 2].reverse = if s >= 3 {
+            let before = &light[s - 3];
+            area_density_from(
+                light_end,
+                camera_sample.wi,
+                before.point,
+                before.geometric_normal,
+            )
+        } else {
+            density_towards_origin(light_end, camera_sample.wi, origin)
+        };
+        let weight = strategy_weight(
+            camera_densities,
+            light_densities,
+            origin.delta_position,
+            self.settings.heuristic,
+        );
+        let _ = splats.add(
+            camera_sample.raster.to_array(),
+            to_linear_srgb(&(value * weight), wavelengths),
+        );
+    }
+}

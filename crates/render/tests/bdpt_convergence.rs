@@ -1,0 +1,189 @@
+//! Bidirectional path tracing (`--integrator bdpt`) converges to the path
+//! tracer's image: the image-mean t-test and the per-pixel z-test of
+//! [`path_comparison`], with variances from independent seeds, on the
+//! built-in scenes it handles, with the independent sampler and with
+//! randomized QMC (Halton, randomized by the seed); pbrt-v4's furnace gives
+//! one; the balance and power heuristics agree.
+
+use render::integrators::IntegratorKind;
+use render::renderer::{RenderSettings, render};
+use render::sampler::SamplerKind;
+use std::sync::atomic::AtomicBool;
+
+mod path_comparison;
+use path_comparison::{SEEDS, Tested, assert_matches_path, builtin, render_with, values};
+
+const BDPT: Tested = Tested {
+    integrator: IntegratorKind::Bdpt,
+    sampler: SamplerKind::Independent,
+};
+
+const BDPT_HALTON: Tested = Tested {
+    integrator: IntegratorKind::Bdpt,
+    sampler: SamplerKind::Halton,
+};
+
+#[test]
+fn bdpt_matches_path_tracing_in_the_cornell_box() {
+    assert_matches_path(
+        "cornell-box",
+        &builtin("cornell-box"),
+        BDPT,
+        4096,
+        64,
+        None,
+        true,
+    );
+}
+
+#[test]
+fn bdpt_with_halton_matches_path_tracing_in_the_cornell_box() {
+    assert_matches_path(
+        "cornell-box (Halton)",
+        &builtin("cornell-box"),
+        BDPT_HALTON,
+        4096,
+        64,
+        None,
+        true,
+    );
+}
+
+#[test]
+fn bdpt_matches_path_tracing_in_the_office() {
+    assert_matches_path("office", &builtin("office"), BDPT, 4096, 64, None, true);
+}
+
+/// A thin lens and a sky (a constant environment): the lens point and the
+/// vertices at infinity.
+#[test]
+fn bdpt_matches_path_tracing_with_depth_of_field_and_a_sky() {
+    assert_matches_path(
+        "dof-spheres",
+        &builtin("dof-spheres"),
+        BDPT,
+        4096,
+        64,
+        None,
+        true,
+    );
+}
+
+/// The path tracer is the noisy one in the caustic (see `light_tracing.rs`):
+/// the image mean is asserted, the per-pixel test reported.
+#[test]
+fn bdpt_matches_path_tracing_around_a_glass_sphere() {
+    assert_matches_path(
+        "glass-sphere-box",
+        &builtin("glass-sphere-box"),
+        BDPT,
+        4096,
+        64,
+        None,
+        false,
+    );
+}
+
+/// The image means of `seeds` renders with `heuristic`.
+fn image_means(
+    name: &str,
+    heuristic: render::integrators::MisHeuristic,
+    spp: u64,
+    max_depth: u32,
+) -> Vec<f64> {
+    let scene = builtin(name);
+    (0..SEEDS)
+        .map(|seed| {
+            let settings = RenderSettings {
+                integrator: IntegratorKind::Bdpt.into(),
+                sampler: SamplerKind::Independent,
+                samples_per_pixel: spp,
+                seed,
+                max_depth,
+                heuristic,
+                ..RenderSettings::default()
+            };
+            let image = render(&scene, &settings, &AtomicBool::new(false), &|_, _| {})
+                .unwrap()
+                .image();
+            values(&image).sum::<f64>() / (image.pixels().len() * 3) as f64
+        })
+        .collect()
+}
+
+fn mean_and_error(values: &[f64]) -> (f64, f64) {
+    let r = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / r;
+    let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (r - 1.0);
+    (mean, (variance / r).sqrt())
+}
+
+/// pbrt-v4's analytic furnace: every pixel is 1 (the depth limit of 64
+/// segments leaves 0.5^63 of it out).
+#[test]
+fn bdpt_in_the_furnace_gives_one() {
+    let means = image_means("furnace", render::integrators::MisHeuristic::Balance, 8, 64);
+    let (mean, error) = mean_and_error(&means);
+    let t = (mean - 1.0) / error;
+    eprintln!("furnace (bdpt): mean {mean:.5} ± {error:.5} (t = {t:.2})");
+    assert!(t.abs() < 4.5, "furnace mean {mean} ± {error}");
+}
+
+/// The balance and power heuristics weigh the same strategies differently
+/// but both sum to one: the images agree in the mean.
+#[test]
+fn balance_and_power_heuristics_agree() {
+    use render::integrators::MisHeuristic;
+    let (balance, balance_error) =
+        mean_and_error(&image_means("cornell-box", MisHeuristic::Balance, 16, 6));
+    let (power, power_error) =
+        mean_and_error(&image_means("cornell-box", MisHeuristic::Power, 16, 6));
+    let t = (balance - power) / (balance_error.powi(2) + power_error.powi(2)).sqrt();
+    eprintln!(
+        "cornell-box: balance {balance:.5} ± {balance_error:.5}, power {power:.5} ± {power_error:.5} (t = {t:.2})"
+    );
+    assert!(t.abs() < 4.5, "balance {balance} vs power {power}");
+}
+
+/// Scenes with participating media are refused with a message that names
+/// the integrator to use, not rendered wrongly.
+#[test]
+fn scenes_with_media_are_refused() {
+    let scene = builtin("translucent-spheres");
+    let settings = RenderSettings {
+        integrator: IntegratorKind::Bdpt.into(),
+        samples_per_pixel: 1,
+        ..RenderSettings::default()
+    };
+    let error = match render(&scene, &settings, &AtomicBool::new(false), &|_, _| {}) {
+        Ok(_) => panic!("a scene with media was rendered"),
+        Err(error) => error.to_string(),
+    };
+    assert!(error.contains("volpath"), "{error}");
+}
+
+/// Every image is finite and not black in a scene BDPT handles, at every
+/// depth from emitters only (1) to six segments.
+#[test]
+fn depths_from_one_segment_on() {
+    let scene = builtin("cornell-box");
+    let mut previous = 0.0;
+    for max_depth in 1..=6 {
+        let (image, _) = render_with(
+            &scene,
+            IntegratorKind::Bdpt,
+            SamplerKind::Independent,
+            4,
+            0,
+            max_depth,
+        );
+        let sum: f64 = values(&image).sum();
+        assert!(sum.is_finite() && sum > 0.0, "depth {max_depth}: {sum}");
+        // More segments add light.
+        assert!(
+            sum > previous * 0.99,
+            "depth {max_depth}: {sum} after {previous}"
+        );
+        previous = sum;
+    }
+}
