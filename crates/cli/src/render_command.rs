@@ -140,6 +140,16 @@ pub struct RenderArgs {
     /// only, 2 adds direct light (default: the scene's, else 6).
     #[arg(long)]
     pub max_depth: Option<u32>,
+    /// bdpt: leave out the strategies that connect light subpath vertices
+    /// to the camera (light tracing, t = 1), as Kollig & Keller do for
+    /// OFFICE.
+    #[arg(long)]
+    pub bdpt_skip_eye_connections: bool,
+    /// bdpt: write one weighted image per strategy to DIR/s{s}_t{t}.exr
+    /// (s light and t camera vertices; they sum to the image), as pbrt-v4's
+    /// `visualizestrategies`.
+    #[arg(long, value_name = "DIR")]
+    pub strategy_images: Option<PathBuf>,
     /// Multiple importance sampling heuristic (default: balance for bdpt,
     /// as Kollig & Keller use; power for the others, as pbrt-v4 and
     /// Mitsuba).
@@ -588,8 +598,33 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         Some(name) => name.kind(),
         None => default_integrator(&description, &scene),
     };
+    let mut integrator = integrator_settings(integrator_kind, &args.lqmc)?;
+    for (given, option) in [
+        (
+            args.bdpt_skip_eye_connections,
+            "--bdpt-skip-eye-connections",
+        ),
+        (args.strategy_images.is_some(), "--strategy-images"),
+    ] {
+        if given && !matches!(integrator, IntegratorSettings::Bdpt(_)) {
+            return Err(usage(format!("{option} is an option of --integrator bdpt")));
+        }
+    }
+    if let IntegratorSettings::Bdpt(bdpt) = &mut integrator {
+        bdpt.camera_connections = !args.bdpt_skip_eye_connections;
+        bdpt.strategy_images = args.strategy_images.is_some();
+    }
+    if let Some(directory) = &args.strategy_images {
+        // Reported before rendering, not after.
+        std::fs::create_dir_all(directory).map_err(|error| {
+            usage(format!(
+                "--strategy-images: cannot create {}: {error}",
+                directory.display()
+            ))
+        })?;
+    }
     let request = RenderRequest {
-        integrator: integrator_settings(integrator_kind, &args.lqmc)?,
+        integrator,
         sampler: args.sampler.kind(),
         samples_per_pixel: args.spp,
         time_budget,
@@ -640,8 +675,11 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         let seconds = started.elapsed().as_secs_f64().max(1e-9);
         bar.set_message(format!("{:.3} M samples/s", done as f64 / seconds / 1e6));
     };
-    let output = render(&scene, &settings, &stop, &progress)
-        .map_err(|error| CliError::Failure(error.to_string()))?;
+    let output = render(&scene, &settings, &stop, &progress).map_err(|error| match error {
+        // The integrator cannot render this scene: bad input, status 2.
+        render::integrators::RenderError::Unsupported(message) => usage(message),
+        other => CliError::Failure(other.to_string()),
+    })?;
     bar.finish_and_clear();
 
     let statistics = output.statistics;
@@ -660,6 +698,20 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         render::image::write_exr(path, &layers[0].1, &named, &metadata)
             .map_err(|error| CliError::Failure(error.to_string()))?;
         written.push(path.display().to_string());
+    }
+    if let (Some(directory), Some(layers)) =
+        (&args.strategy_images, output.auxiliary_image("strategies"))
+    {
+        for (name, image) in layers {
+            let path = directory.join(format!("{name}.exr"));
+            render::image::write_exr(&path, image, &[], &metadata)
+                .map_err(|error| CliError::Failure(error.to_string()))?;
+        }
+        written.push(format!(
+            "{} strategy images in {}",
+            layers.len(),
+            directory.display()
+        ));
     }
     if extension.as_deref() != Some("png") {
         let png = args.output.with_extension("png");

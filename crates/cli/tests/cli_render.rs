@@ -129,7 +129,24 @@ fn bad_render_input_is_one_line_and_status_two() {
         &["render", "builtin:furnace", "-o", "image.txt"],
         &["render", "builtin:furnace", "--sampler", "zsobol"],
         &["render", "builtin:furnace", "--randomize", "sometimes"],
-        &["render", "builtin:furnace", "--integrator", "bdpt"],
+        &["render", "builtin:furnace", "--integrator", "mmlt"],
+        &[
+            "render",
+            "builtin:furnace",
+            "--strategy-images",
+            "strategies",
+        ],
+        &["render", "builtin:furnace", "--bdpt-skip-eye-connections"],
+        &[
+            "render",
+            "builtin:translucent-spheres",
+            "--integrator",
+            "bdpt",
+            "--spp",
+            "1",
+            "--resolution",
+            "8x6",
+        ],
     ];
     for args in cases {
         let output = lqmc(args);
@@ -180,4 +197,46 @@ fn randomize_none_ignores_the_seed_and_seeded_does_not() {
     let seeded_first = render_with("seeded-1.exr", "1", "seeded");
     let seeded_second = render_with("seeded-2.exr", "2", "seeded");
     assert_ne!(seeded_first.image, seeded_second.image);
+}
+
+/// `--integrator bdpt --strategy-images DIR` writes one EXR per strategy
+/// next to the image.
+#[test]
+fn bdpt_writes_strategy_images() {
+    let directory = temporary_directory("bdpt-strategies");
+    let exr = directory.join("bdpt.exr");
+    let strategies = directory.join("strategies");
+    let output = lqmc(&[
+        "render",
+        "builtin:cornell-box",
+        "--integrator",
+        "bdpt",
+        "--resolution",
+        "16x16",
+        "--spp",
+        "2",
+        "--max-depth",
+        "3",
+        "--quiet",
+        "--strategy-images",
+        strategies.to_str().unwrap(),
+        "-o",
+        exr.to_str().unwrap(),
+    ]);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    // Depth 3: s + t − 1 ≤ 3, (1, 1) left to (0, 2).
+    for name in [
+        "s0_t2", "s0_t3", "s0_t4", "s1_t2", "s1_t3", "s2_t1", "s2_t2", "s3_t1",
+    ] {
+        assert!(
+            strategies.join(format!("{name}.exr")).exists(),
+            "{name}.exr missing"
+        );
+    }
+    assert!(!strategies.join("s1_t1.exr").exists());
+    assert!(exr.exists());
 }

@@ -5,7 +5,8 @@
 //! randomized QMC (Halton, randomized by the seed); pbrt-v4's furnace gives
 //! one; the balance and power heuristics agree.
 
-use render::integrators::IntegratorKind;
+use render::integrators::bdpt::BdptSettings;
+use render::integrators::{IntegratorKind, IntegratorSettings};
 use render::renderer::{RenderSettings, render};
 use render::sampler::SamplerKind;
 use std::sync::atomic::AtomicBool;
@@ -84,9 +85,20 @@ fn bdpt_matches_path_tracing_around_a_glass_sphere() {
     );
 }
 
-/// The image means of `seeds` renders with `heuristic`.
+/// The image means of `SEEDS` renders with `heuristic`.
 fn image_means(
     name: &str,
+    heuristic: render::integrators::MisHeuristic,
+    spp: u64,
+    max_depth: u32,
+) -> Vec<f64> {
+    image_means_of(name, IntegratorKind::Bdpt.into(), heuristic, spp, max_depth)
+}
+
+/// The image means of `SEEDS` renders with `integrator` and `heuristic`.
+fn image_means_of(
+    name: &str,
+    integrator: IntegratorSettings,
     heuristic: render::integrators::MisHeuristic,
     spp: u64,
     max_depth: u32,
@@ -95,7 +107,7 @@ fn image_means(
     (0..SEEDS)
         .map(|seed| {
             let settings = RenderSettings {
-                integrator: IntegratorKind::Bdpt.into(),
+                integrator: integrator.clone(),
                 sampler: SamplerKind::Independent,
                 samples_per_pixel: spp,
                 seed,
@@ -143,6 +155,74 @@ fn balance_and_power_heuristics_agree() {
         "cornell-box: balance {balance:.5} ± {balance_error:.5}, power {power:.5} ± {power_error:.5} (t = {t:.2})"
     );
     assert!(t.abs() < 4.5, "balance {balance} vs power {power}");
+}
+
+/// Without the light-tracing strategies (Kollig & Keller's OFFICE setting)
+/// the other strategies' weights still sum to one: the image mean is the
+/// full BDPT's.
+#[test]
+fn without_camera_connections_the_image_is_the_same() {
+    use render::integrators::MisHeuristic;
+    let without = IntegratorSettings::Bdpt(BdptSettings {
+        camera_connections: false,
+        ..BdptSettings::default()
+    });
+    let (full, full_error) = mean_and_error(&image_means("office", MisHeuristic::Balance, 64, 3));
+    let (skipped, skipped_error) = mean_and_error(&image_means_of(
+        "office",
+        without,
+        MisHeuristic::Balance,
+        16,
+        3,
+    ));
+    let t = (full - skipped) / (full_error.powi(2) + skipped_error.powi(2)).sqrt();
+    eprintln!(
+        "office, depth 3: all strategies {full:.5} ± {full_error:.5}, without t = 1 {skipped:.5} ± {skipped_error:.5} (t = {t:.2})"
+    );
+    assert!(t.abs() < 4.5, "{full} vs {skipped}");
+}
+
+/// The strategy images (pbrt-v4's `visualizestrategies`) sum to the image:
+/// every contribution is in exactly one of them.
+#[test]
+fn strategy_images_sum_to_the_image() {
+    let scene = builtin("glass-sphere-box");
+    let settings = RenderSettings {
+        integrator: IntegratorSettings::Bdpt(BdptSettings {
+            strategy_images: true,
+            ..BdptSettings::default()
+        }),
+        samples_per_pixel: 4,
+        max_depth: 5,
+        ..RenderSettings::default()
+    };
+    let output = render(&scene, &settings, &AtomicBool::new(false), &|_, _| {}).unwrap();
+    let layers = output.auxiliary_image("strategies").unwrap();
+    let names: Vec<&str> = layers.iter().map(|(name, _)| *name).collect();
+    for expected in ["s0_t2", "s0_t3", "s1_t2", "s2_t1", "s2_t2", "s3_t1"] {
+        assert!(
+            names.contains(&expected),
+            "{expected} missing from {names:?}"
+        );
+    }
+    // Depth 5: no strategy of more than six vertices.
+    assert!(!names.iter().any(|name| {
+        let (s, t) = name[1..].split_once("_t").unwrap();
+        s.parse::<usize>().unwrap() + t.parse::<usize>().unwrap() > 6
+    }));
+    let image = output.image();
+    let mut sum = vec![0.0f64; image.pixels().len() * 3];
+    for (_, layer) in layers {
+        for (total, value) in sum.iter_mut().zip(values(layer)) {
+            *total += value;
+        }
+    }
+    for (index, (total, value)) in sum.iter().zip(values(&image)).enumerate() {
+        assert!(
+            (total - value).abs() <= 1e-4 * value.abs() + 1e-6,
+            "pixel channel {index}: strategies sum to {total}, image {value}"
+        );
+    }
 }
 
 /// Scenes with participating media are refused with a message that names

@@ -86,8 +86,8 @@ pub enum IntegratorSettings {
     Lqmc(lqmc::LqmcSettings),
     /// [`IntegratorKind::Light`].
     Light,
-    /// [`IntegratorKind::Bdpt`].
-    Bdpt,
+    /// [`IntegratorKind::Bdpt`] with its options.
+    Bdpt(bdpt::BdptSettings),
 }
 
 impl From<IntegratorKind> for IntegratorSettings {
@@ -98,7 +98,7 @@ impl From<IntegratorKind> for IntegratorSettings {
             IntegratorKind::VolPath => Self::VolPath,
             IntegratorKind::Lqmc => Self::Lqmc(lqmc::LqmcSettings::default()),
             IntegratorKind::Light => Self::Light,
-            IntegratorKind::Bdpt => Self::Bdpt,
+            IntegratorKind::Bdpt => Self::Bdpt(bdpt::BdptSettings::default()),
         }
     }
 }
@@ -111,7 +111,7 @@ impl IntegratorSettings {
             Self::VolPath => IntegratorKind::VolPath,
             Self::Lqmc(_) => IntegratorKind::Lqmc,
             Self::Light => IntegratorKind::Light,
-            Self::Bdpt => IntegratorKind::Bdpt,
+            Self::Bdpt(_) => IntegratorKind::Bdpt,
         }
     }
 
@@ -127,7 +127,7 @@ impl IntegratorSettings {
             Self::VolPath => Box::new(volpath::VolPathIntegrator::new(path_settings)),
             Self::Lqmc(settings) => Box::new(lqmc::LqmcIntegrator::new(*settings, path_settings)),
             Self::Light => Box::new(light::LightIntegrator::new(path_settings)),
-            Self::Bdpt => Box::new(bdpt::BdptIntegrator::new(path_settings)),
+            Self::Bdpt(settings) => Box::new(bdpt::BdptIntegrator::new(*settings, path_settings)),
         }
     }
 }

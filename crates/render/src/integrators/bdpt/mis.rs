@@ -40,6 +40,18 @@ pub struct VertexDensities {
     pub delta: bool,
 }
 
+/// Which strategies a render uses besides the always-present ones, and the
+/// heuristic that weighs them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Strategies {
+    /// The heuristic.
+    pub heuristic: MisHeuristic,
+    /// Whether the strategies with t = 1 (light tracing: the light
+    /// subpath's vertices connected to the camera) are used; Kollig & Keller
+    /// leave them out for OFFICE.
+    pub camera_connections: bool,
+}
+
 /// The weight of the strategy that made a path from the camera subpath's
 /// `camera` vertices (`z₀` first) and the light subpath's `light` vertices
 /// (`y₀` first), their densities as this strategy sees them;
@@ -49,8 +61,9 @@ pub fn strategy_weight(
     camera: &[VertexDensities],
     light: &[VertexDensities],
     delta_light: bool,
-    heuristic: MisHeuristic,
+    strategies: Strategies,
 ) -> f32 {
+    let heuristic = strategies.heuristic;
     if camera.len() + light.len() == 2 {
         return 1.0;
     }
@@ -63,7 +76,8 @@ pub fn strategy_weight(
     let mut ratio = 1.0f64;
     for i in (1..camera.len()).rev() {
         ratio *= remap(camera[i].reverse) as f64 / remap(camera[i].forward) as f64;
-        if !camera[i].delta && !camera[i - 1].delta {
+        // i = 1 is the split with one camera vertex: light tracing.
+        if !camera[i].delta && !camera[i - 1].delta && (i > 1 || strategies.camera_connections) {
             sum += power(ratio);
         }
     }
@@ -85,6 +99,13 @@ pub fn strategy_weight(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn all(heuristic: MisHeuristic) -> Strategies {
+        Strategies {
+            heuristic,
+            camera_connections: true,
+        }
+    }
 
     fn vertex(forward: f32, reverse: f32) -> VertexDensities {
         VertexDensities {
@@ -129,7 +150,7 @@ mod tests {
                 let light: Vec<VertexDensities> = (0..s)
                     .map(|i| vertex(from_light[i], from_camera[i]))
                     .collect();
-                let weight = strategy_weight(&camera, &light, false, heuristic) as f64;
+                let weight = strategy_weight(&camera, &light, false, all(heuristic)) as f64;
                 let expected = path_density(s).powi(exponent) / total;
                 assert!(
                     (weight - expected).abs() < 1e-6,
@@ -148,20 +169,27 @@ mod tests {
         let camera = [vertex(1.0, 1.0), vertex(1.0, 1.0)];
         let light = [vertex(1.0, 1.0)];
         // Three splits of equal density: 1/3 each.
-        let weight = strategy_weight(&camera, &light, false, MisHeuristic::Balance);
+        let weight = strategy_weight(&camera, &light, false, all(MisHeuristic::Balance));
         assert!((weight - 1.0 / 3.0).abs() < 1e-6);
         // The light cannot be hit: two splits left.
-        let weight = strategy_weight(&camera, &light, true, MisHeuristic::Balance);
+        let weight = strategy_weight(&camera, &light, true, all(MisHeuristic::Balance));
         assert!((weight - 0.5).abs() < 1e-6);
         let mut specular = camera;
         specular[1].delta = true;
         // z₁ is a delta vertex: the split connecting z₁ to the light's
         // vertex is gone (the strategy itself is the caller's to rule out).
-        let weight = strategy_weight(&specular, &light, false, MisHeuristic::Balance);
+        let weight = strategy_weight(&specular, &light, false, all(MisHeuristic::Balance));
         assert!((weight - 1.0 / 2.0).abs() < 1e-6);
         assert_eq!(
-            strategy_weight(&camera[..1], &light, false, MisHeuristic::Power),
+            strategy_weight(&camera[..1], &light, false, all(MisHeuristic::Power)),
             1.0
         );
+        // Without light tracing the split with one camera vertex is gone.
+        let without = Strategies {
+            heuristic: MisHeuristic::Balance,
+            camera_connections: false,
+        };
+        let weight = strategy_weight(&camera, &light, false, without);
+        assert!((weight - 0.5).abs() < 1e-6);
     }
 }

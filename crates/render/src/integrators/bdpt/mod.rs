@@ -58,8 +58,8 @@ use super::path_space::{
     Scatterer, Scattering, SubpathLayout, Vertex, VertexAt, WalkObserver, WalkSettings, WalkStart,
     WalkState, random_walk, record_scattering, solid_angle_to_area, walk,
 };
-use super::{Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
-use crate::film::{ImagePlane, SplatBuffer};
+use super::{AuxiliaryImage, Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
+use crate::film::{Film, ImagePlane, SplatBuffer};
 use crate::geometry::{OffsetPoint, Ray, SurfaceHit, occlusion_segment_to_point};
 use crate::light::Light;
 use crate::material::TransportMode;
@@ -67,19 +67,68 @@ use crate::sampler::{PixelSampler, SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
 use glam::{Vec2, Vec3};
-use mis::{VertexDensities, strategy_weight};
+use mis::{Strategies, VertexDensities, strategy_weight};
 use std::ops::ControlFlow;
+
+/// The options of bidirectional path tracing beyond the shared path
+/// settings (depth, Russian roulette, heuristic).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BdptSettings {
+    /// Use the strategies that connect light subpath vertices to the camera
+    /// (t = 1, light tracing; default on). Kollig & Keller leave them out
+    /// for OFFICE (`--bdpt-skip-eye-connections`): without them, paths
+    /// seen through a specular surface first (`… S E`) get only the camera
+    /// subpath's strategies.
+    pub camera_connections: bool,
+    /// Keep one weighted image per strategy (s, t) (pbrt-v4's
+    /// `visualizestrategies`; `--strategy-images DIR`), returned as the
+    /// layers of the auxiliary image `strategies` named `s{s}_t{t}`; they
+    /// sum to the image. Strategies with more than
+    /// [`STRATEGY_IMAGE_LIMIT`] vertices on either side are not kept.
+    pub strategy_images: bool,
+}
+
+impl Default for BdptSettings {
+    fn default() -> Self {
+        Self {
+            camera_connections: true,
+            strategy_images: false,
+        }
+    }
+}
+
+/// Strategy images keep (s, t) with s, t up to this.
+pub const STRATEGY_IMAGE_LIMIT: usize = 16;
+
+/// The index of strategy (s, t) among the strategy images.
+fn strategy_index(s: usize, t: usize) -> Option<usize> {
+    (s <= STRATEGY_IMAGE_LIMIT && t <= STRATEGY_IMAGE_LIMIT)
+        .then_some(s * (STRATEGY_IMAGE_LIMIT + 1) + t)
+}
+
+/// The layer name of strategy (s, t): `s{s}_t{t}`.
+pub fn strategy_layer_name(s: usize, t: usize) -> &'static str {
+    static NAMES: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
+    let names = NAMES.get_or_init(|| {
+        (0..=STRATEGY_IMAGE_LIMIT)
+            .flat_map(|s| (0..=STRATEGY_IMAGE_LIMIT).map(move |t| format!("s{s}_t{t}")))
+            .collect()
+    });
+    strategy_index(s, t).map_or("", |index| names[index].as_str())
+}
 
 /// Bidirectional path tracing.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BdptIntegrator {
+    bdpt: BdptSettings,
     settings: PathSettings,
 }
 
 impl BdptIntegrator {
-    /// BDPT with `settings` (depth, Russian roulette, MIS heuristic).
-    pub fn new(settings: PathSettings) -> Self {
-        Self { settings }
+    /// BDPT with its options `bdpt` and `settings` (depth, Russian
+    /// roulette, MIS heuristic).
+    pub fn new(bdpt: BdptSettings, settings: PathSettings) -> Self {
+        Self { bdpt, settings }
     }
 }
 
@@ -103,10 +152,57 @@ impl Integrator for BdptIntegrator {
         let estimator = Bidirectional {
             scene,
             settings: &self.settings,
+            strategies: Strategies {
+                heuristic: self.settings.heuristic,
+                camera_connections: self.bdpt.camera_connections,
+            },
+            strategy_images: self.bdpt.strategy_images,
             image_plane,
             margin: -image_plane.origin,
         };
-        render_splat_paths(&estimator, scene, run).map(IntegratorRender::from_driver)
+        let output = render_splat_paths(&estimator, scene, run)?;
+        let auxiliary_images = output
+            .total
+            .into_layers()
+            .map(|layers| AuxiliaryImage {
+                name: "strategies",
+                layers,
+            })
+            .into_iter()
+            .collect();
+        Ok(IntegratorRender {
+            film: output.film,
+            statistics: output.statistics,
+            variance: None,
+            auxiliary_images,
+            details: None,
+        })
+    }
+}
+
+/// The strategy images of a render: a film per (s, t) that received
+/// splats.
+pub struct StrategyFilms {
+    films: Option<Vec<Option<Film>>>,
+    resolution: [usize; 2],
+    filter: crate::film::Filter,
+}
+
+impl StrategyFilms {
+    /// The films with their layer names, in (s, t) order.
+    fn into_layers(self) -> Option<Vec<(&'static str, Film)>> {
+        let films = self.films?;
+        let mut layers = Vec::new();
+        for (index, film) in films.into_iter().enumerate() {
+            if let Some(film) = film {
+                let (s, t) = (
+                    index / (STRATEGY_IMAGE_LIMIT + 1),
+                    index % (STRATEGY_IMAGE_LIMIT + 1),
+                );
+                layers.push((strategy_layer_name(s, t), film));
+            }
+        }
+        Some(layers)
     }
 }
 
@@ -170,11 +266,15 @@ pub struct BidirectionalScratch {
     light: Vec<Vertex>,
     camera_densities: Vec<VertexDensities>,
     light_densities: Vec<VertexDensities>,
+    /// Per strategy, its splats ([`BdptSettings::strategy_images`]).
+    strategy_splats: Option<Vec<SplatBuffer>>,
 }
 
 struct Bidirectional<'a> {
     scene: &'a Scene,
     settings: &'a PathSettings,
+    strategies: Strategies,
+    strategy_images: bool,
     image_plane: ImagePlane,
     /// The grown plane's margin in pixels per side.
     margin: Vec2,
@@ -363,17 +463,51 @@ impl Bidirectional<'_> {
 
 impl SplatEstimator for Bidirectional<'_> {
     type Unit = BidirectionalScratch;
-    type Total = ();
+    type Total = StrategyFilms;
 
-    fn new_total(&self, _resolution: [usize; 2]) -> Result<(), RenderError> {
-        Ok(())
+    fn new_total(&self, resolution: [usize; 2]) -> Result<StrategyFilms, RenderError> {
+        let count = (STRATEGY_IMAGE_LIMIT + 1) * (STRATEGY_IMAGE_LIMIT + 1);
+        Ok(StrategyFilms {
+            films: self
+                .strategy_images
+                .then(|| (0..count).map(|_| None).collect()),
+            resolution,
+            filter: self.scene.filter,
+        })
     }
 
     fn new_unit(&self) -> BidirectionalScratch {
-        BidirectionalScratch::default()
+        let count = (STRATEGY_IMAGE_LIMIT + 1) * (STRATEGY_IMAGE_LIMIT + 1);
+        BidirectionalScratch {
+            strategy_splats: self
+                .strategy_images
+                .then(|| vec![SplatBuffer::default(); count]),
+            ..BidirectionalScratch::default()
+        }
     }
 
-    fn merge_unit(&self, _total: &mut (), _unit: BidirectionalScratch, _kept: bool) {}
+    fn merge_unit(&self, total: &mut StrategyFilms, unit: BidirectionalScratch, kept: bool) {
+        let (Some(films), Some(buffers)) = (&mut total.films, &unit.strategy_splats) else {
+            return;
+        };
+        if !kept {
+            return;
+        }
+        for (film, buffer) in films.iter_mut().zip(buffers) {
+            if buffer.is_empty() {
+                continue;
+            }
+            if film.is_none() {
+                match Film::new(total.resolution, total.filter) {
+                    Ok(new) => *film = Some(new),
+                    Err(_) => continue,
+                }
+            }
+            if let Some(film) = film {
+                film.merge_splats(buffer);
+            }
+        }
+    }
 
     fn trace<S: PixelSampler + ?Sized>(
         &self,
@@ -386,7 +520,6 @@ impl SplatEstimator for Bidirectional<'_> {
         let scene = self.scene;
         let camera = &scene.camera;
         let max_depth = self.settings.max_depth as usize;
-        let heuristic = self.settings.heuristic;
         if max_depth == 0 {
             return;
         }
@@ -420,6 +553,7 @@ impl SplatEstimator for Bidirectional<'_> {
             light: light_vertices,
             camera_densities,
             light_densities,
+            strategy_splats,
         } = scratch;
         camera_vertices.clear();
         emitters.clear();
@@ -486,8 +620,10 @@ impl SplatEstimator for Bidirectional<'_> {
                     previous.geometric_normal,
                 );
             }
-            let weight = strategy_weight(camera_densities, &[], false, heuristic);
-            camera_side += hit.beta * emitted * weight;
+            let weight = strategy_weight(camera_densities, &[], false, self.strategies);
+            let value = hit.beta * emitted * weight;
+            self.record(strategy_splats, 0, t, raster, &value, &wavelengths);
+            camera_side += value;
         }
 
         // s = 0: escapes to the environments.
@@ -513,8 +649,10 @@ impl SplatEstimator for Bidirectional<'_> {
                 let previous = &camera_vertices[t - 3];
                 camera_densities[t - 2].reverse = self.disk_density(escape.direction, previous);
             }
-            let weight = strategy_weight(camera_densities, &[], false, heuristic);
-            camera_side += escape.beta * emitted * weight;
+            let weight = strategy_weight(camera_densities, &[], false, self.strategies);
+            let value = escape.beta * emitted * weight;
+            self.record(strategy_splats, 0, t, raster, &value, &wavelengths);
+            camera_side += value;
         }
 
         for t in 2..=(camera_vertices.len() + 1).min(max_depth + 1) {
@@ -524,7 +662,7 @@ impl SplatEstimator for Bidirectional<'_> {
             }
             // s = 1: next-event estimation from z_{t−1}.
             if t <= max_depth {
-                camera_side += self.next_event(
+                let value = self.next_event(
                     camera_vertices,
                     t,
                     &wavelengths,
@@ -533,13 +671,15 @@ impl SplatEstimator for Bidirectional<'_> {
                     camera_densities,
                     light_densities,
                 );
+                self.record(strategy_splats, 1, t, raster, &value, &wavelengths);
+                camera_side += value;
             }
             // s ≥ 2: connections to the light subpath's vertices.
             let Some(origin) = &light_origin else {
                 continue;
             };
             for s in 2..=(light_vertices.len() + 1).min(max_depth + 1 - t) {
-                camera_side += self.connect(
+                let value = self.connect(
                     camera_vertices,
                     t,
                     origin,
@@ -550,6 +690,8 @@ impl SplatEstimator for Bidirectional<'_> {
                     camera_densities,
                     light_densities,
                 );
+                self.record(strategy_splats, s, t, raster, &value, &wavelengths);
+                camera_side += value;
             }
         }
         if !camera_side.is_black() {
@@ -564,17 +706,55 @@ impl SplatEstimator for Bidirectional<'_> {
         let Some(origin) = &light_origin else {
             return;
         };
+        if !self.strategies.camera_connections {
+            return;
+        }
         for s in 2..=(light_vertices.len() + 1).min(max_depth) {
-            self.light_tracing(
+            let Some((raster, rgb)) = self.light_tracing(
                 origin,
                 light_vertices,
                 s,
                 &wavelengths,
                 sampler,
-                splats,
                 counters,
                 camera_densities,
                 light_densities,
+            ) else {
+                continue;
+            };
+            let _ = splats.add(raster.to_array(), rgb);
+            if let Some(buffers) = strategy_splats
+                && let Some(index) = strategy_index(s, 1)
+            {
+                let _ = buffers[index].add(raster.to_array(), rgb);
+            }
+        }
+    }
+}
+
+impl Bidirectional<'_> {
+    /// Splats a camera-side strategy's `value` into its strategy image,
+    /// where they are kept.
+    fn record(
+        &self,
+        buffers: &mut Option<Vec<SplatBuffer>>,
+        s: usize,
+        t: usize,
+        raster: Vec2,
+        value: &SampledSpectrum,
+        wavelengths: &SampledWavelengths,
+    ) {
+        let Some(buffers) = buffers else {
+            return;
+        };
+        if value.is_black() {
+            return;
+        }
+        if let Some(index) = strategy_index(s, t) {
+            let rgb = to_linear_srgb(value, wavelengths);
+            let _ = buffers[index].add(
+                raster.to_array(),
+                rgb.map(|channel| channel * self.image_plane.area_scale),
             );
         }
     }
@@ -787,12 +967,7 @@ impl Bidirectional<'_> {
                 camera_densities[t - 2].reverse =
                     area_density_from(end, sample.wi, previous.point, previous.geometric_normal);
             }
-            let weight = strategy_weight(
-                camera_densities,
-                light_densities,
-                false,
-                self.settings.heuristic,
-            );
+            let weight = strategy_weight(camera_densities, light_densities, false, self.strategies);
             return value * weight;
         }
         // The sampled light point as the light subpath's origin.
@@ -835,7 +1010,7 @@ impl Bidirectional<'_> {
             camera_densities,
             light_densities,
             sample.is_delta,
-            self.settings.heuristic,
+            self.strategies,
         );
         value * weight
     }
@@ -931,13 +1106,13 @@ impl Bidirectional<'_> {
             camera_densities,
             light_densities,
             origin.delta_position,
-            self.settings.heuristic,
+            self.strategies,
         );
         value * weight
     }
 
-    /// Strategy (s, 1): `y_{s−1}` connected to a lens point and splatted
-    /// where it appears, weighted.
+    /// Strategy (s, 1): `y_{s−1}` connected to a lens point, weighted; the
+    /// raster position where it appears and its value to splat there.
     #[allow(clippy::too_many_arguments)]
     fn light_tracing<S: SampleSource + ?Sized>(
         &self,
@@ -946,35 +1121,32 @@ impl Bidirectional<'_> {
         s: usize,
         wavelengths: &SampledWavelengths,
         sampler: &mut S,
-        splats: &mut SplatBuffer,
         counters: &mut TraceCounters,
         camera_densities: &mut Vec<VertexDensities>,
         light_densities: &mut Vec<VertexDensities>,
-    ) {
+    ) -> Option<(Vec2, [f32; 3])> {
         let scene = self.scene;
         let light_end = &light[s - 2];
         if !light_end.is_connectible() {
-            return;
+            return None;
         }
         let u_lens = lens_numbers(
             scene,
             sampler,
             SubpathLayout::BIDIRECTIONAL_LIGHT.dimension(s - 2, layout::CAMERA_CONNECTION),
         );
-        let Some(camera_sample) = scene.camera.sample_incident_importance_with_margin(
+        let camera_sample = scene.camera.sample_incident_importance_with_margin(
             light_end.point,
             light_end.time,
             u_lens,
             self.margin,
-        ) else {
-            return;
-        };
+        )?;
         let factor =
             light_end.connection_factor(camera_sample.wi, wavelengths, TransportMode::Importance);
         let value =
             light_end.beta * factor * (origin.beta_scale * camera_sample.value / camera_sample.pdf);
         if value.is_black() {
-            return;
+            return None;
         }
         counters.shadow_rays += 1;
         let visible = match occlusion_segment_to_point(
@@ -987,7 +1159,7 @@ impl Bidirectional<'_> {
             None => false,
         };
         if !visible {
-            return;
+            return None;
         }
         camera_densities.clear();
         camera_densities.push(VertexDensities::default());
@@ -1020,11 +1192,11 @@ impl Bidirectional<'_> {
             camera_densities,
             light_densities,
             origin.delta_position,
-            self.settings.heuristic,
+            self.strategies,
         );
-        let _ = splats.add(
-            camera_sample.raster.to_array(),
+        Some((
+            camera_sample.raster,
             to_linear_srgb(&(value * weight), wavelengths),
-        );
+        ))
     }
 }
