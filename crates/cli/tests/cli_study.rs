@@ -380,8 +380,8 @@ fn bad_study_input_is_one_line_and_status_two_before_rendering() {
     let output_directory = directory.join("never-written");
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (
-            vec!["--integrators", "path,bdpt", "--reference-spp", "4"],
-            "unknown integrator `bdpt` (known: path, volpath, lqmc, light)",
+            vec!["--integrators", "path,mmlt", "--reference-spp", "4"],
+            "unknown integrator `mmlt` (known: path, volpath, lqmc, light, bdpt)",
         ),
         (
             vec!["--integrators", "path:owen", "--reference-spp", "4"],

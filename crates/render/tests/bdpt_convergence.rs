@@ -172,7 +172,7 @@ fn without_camera_connections_the_image_is_the_same() {
         "office",
         without,
         MisHeuristic::Balance,
-        16,
+        64,
         3,
     ));
     let t = (full - skipped) / (full_error.powi(2) + skipped_error.powi(2)).sqrt();

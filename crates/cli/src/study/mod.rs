@@ -243,10 +243,10 @@ mod tests {
 
     #[test]
     fn unknown_names_are_usage_errors_listing_the_known_ones() {
-        let Err(CliError::Usage(message)) = parse_integrator_list("path,bdpt") else {
-            panic!("bdpt is not an integrator yet");
+        let Err(CliError::Usage(message)) = parse_integrator_list("path,mmlt") else {
+            panic!("mmlt is not an integrator yet");
         };
-        assert!(message.contains("bdpt") && message.contains("path, volpath, lqmc, light"));
+        assert!(message.contains("mmlt") && message.contains("path, volpath, lqmc, light, bdpt"));
         let Err(CliError::Usage(message)) = parse_integrator_list("path:owen") else {
             panic!("owen is not a sampler");
         };
