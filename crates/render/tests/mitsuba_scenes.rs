@@ -538,6 +538,48 @@ const LIGHT_PATHS_PER_RENDER_LIMIT: u64 = 48 * 48 * 256;
 /// only.
 #[test]
 fn light_tracing_matches_the_references() {
+    splatting_integrator_matches_the_references(
+        IntegratorKind::Light,
+        LIGHT_TRACING_KNOWN_FAILURES,
+        MEAN_SHARED_WITH_VOLPATH,
+    );
+}
+
+/// Bidirectional path tracing on every test scene it renders (scenes with
+/// media or directional lights are refused and skipped), with the
+/// statistics of [`light_tracing_matches_the_references`]; every pixel
+/// counts (BDPT reaches paths seen through delta lobes).
+#[test]
+fn bidirectional_path_tracing_matches_the_references() {
+    splatting_integrator_matches_the_references(
+        IntegratorKind::Bdpt,
+        BDPT_KNOWN_FAILURES,
+        BDPT_KNOWN_FAILURES,
+    );
+}
+
+/// Scenes BDPT does not match yet (their pixel fraction and image mean are
+/// reported, not asserted): the three with shading normals from bump and
+/// normal maps (2026-12-04, 16 × 64 spp: bump map 98.65 % of pixels, image
+/// mean −0.37 % at t = −8.0; normal map 98.52 %, −0.53 %, t = −9.4; normal-
+/// mapped rough conductor 98.39 %, −1.18 %, t = −3.0). Light tracing and the
+/// path tracer match them, so the connections or the MIS weights of BDPT
+/// mishandle shading normals somewhere (pbrt-v4 #385 is the known bug of
+/// this kind); an open item of issue 17.
+const BDPT_KNOWN_FAILURES: &[&str] = &[
+    "bsdf_spheres/test_bumpmap_path.xml",
+    "bsdf_spheres/test_normalmap_path.xml",
+    "bsdf_spheres/test_normalmap_roughconductor_path.xml",
+];
+
+/// The per-pixel z-test and image-mean t-test of a splatting integrator
+/// against Mitsuba's references; light tracing leaves out the pixels seen
+/// through delta lobes, which it cannot reach.
+fn splatting_integrator_matches_the_references(
+    integrator: IntegratorKind,
+    known_failures: &[&str],
+    mean_not_asserted: &[&str],
+) {
     let mut failures = Vec::new();
     for (name, status) in SCENES {
         let Render { samples_per_pixel } = *status else {
@@ -547,6 +589,16 @@ fn light_tracing_matches_the_references() {
         let loaded = load(&path);
         let scene = Scene::build(&loaded.description)
             .unwrap_or_else(|error| panic!("{name} does not build: {error}"));
+        if integrator == IntegratorKind::Bdpt
+            && (scene.has_media()
+                || scene
+                    .lights
+                    .iter()
+                    .any(|light| matches!(light, render::light::Light::Directional { .. })))
+        {
+            eprintln!("{name}: not rendered by bdpt (media or a directional light)");
+            continue;
+        }
         let [width, height] = loaded.description.camera.resolution.map(|v| v as usize);
         let pixels = (width * height) as u64;
         let spp = samples_per_pixel
@@ -558,12 +610,16 @@ fn light_tracing_matches_the_references() {
         let mut sum_squares = vec![[0.0f64; 3]; width * height];
         // Pixels the camera sees through a delta lobe are left out (see
         // `specular_first_hits`).
-        let unreachable = specular_first_hits(&scene);
+        let unreachable = if integrator == IntegratorKind::Light {
+            specular_first_hits(&scene)
+        } else {
+            vec![false; width * height]
+        };
         let masked = unreachable.iter().filter(|&&skip| skip).count();
         let mut image_means = Vec::new();
         for seed in 0..LIGHT_TRACING_SEEDS {
             let settings = RenderSettings {
-                integrator: IntegratorKind::Light.into(),
+                integrator: integrator.into(),
                 sampler: SamplerKind::Independent,
                 samples_per_pixel: spp,
                 max_depth: scene.max_depth.unwrap_or(u32::MAX),
@@ -672,22 +728,24 @@ fn light_tracing_matches_the_references() {
         let tested = z_test.pixels - masked;
         let fraction = (z_test.passed_pixels - masked) as f64 / tested.max(1) as f64;
         eprintln!(
-            "{name}: light, {LIGHT_TRACING_SEEDS} x {spp} spp in {seconds:.2} s; z-test (XYZ): {} of {tested} pixels pass ({:.2} %; {masked} seen through delta lobes left out), largest |z| {:.2}; image mean {:+.2} % (t = {t:.2})",
+            "{name}: {}, {LIGHT_TRACING_SEEDS} x {spp} spp in {seconds:.2} s; z-test (XYZ): {} of {tested} pixels pass ({:.2} %; {masked} seen through delta lobes left out), largest |z| {:.2}; image mean {:+.2} % (t = {t:.2})",
+            integrator.name(),
             z_test.passed_pixels - masked,
             100.0 * fraction,
             z_test.max_z,
             100.0 * (light_mean / reference_mean - 1.0)
         );
-        if t.abs() >= 4.5 && !MEAN_SHARED_WITH_VOLPATH.contains(name) {
+        if t.abs() >= 4.5 && !mean_not_asserted.contains(name) {
             failures.push(format!("{name} (image mean t = {t:.2})"));
         }
-        if fraction < PIXEL_FRACTION_REQUIRED && !LIGHT_TRACING_KNOWN_FAILURES.contains(name) {
+        if fraction < PIXEL_FRACTION_REQUIRED && !known_failures.contains(name) {
             failures.push(format!("{name} ({:.2} %)", 100.0 * fraction));
         }
     }
     assert!(
         failures.is_empty(),
-        "light tracing: fewer than 99 % of pixels agree with Mitsuba, or the image mean is off, in {}",
+        "{}: fewer than 99 % of pixels agree with Mitsuba, or the image mean is off, in {}",
+        integrator.name(),
         failures.join(", ")
     );
 }
