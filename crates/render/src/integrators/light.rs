@@ -306,7 +306,7 @@ impl SplatEstimator for LightTracer<'_> {
 /// The lens numbers at `dimension` (0.5, 0.5 for a pinhole, which has no
 /// lens: the number is not drawn).
 #[inline]
-fn lens_numbers<S: SampleSource + ?Sized>(
+pub(super) fn lens_numbers<S: SampleSource + ?Sized>(
     scene: &Scene,
     sampler: &mut S,
     dimension: usize,

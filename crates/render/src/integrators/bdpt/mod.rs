@@ -53,6 +53,7 @@
 pub mod mis;
 
 use super::driver::{PixelSampleIndex, SplatEstimator, render_splat_paths};
+use super::light::lens_numbers;
 use super::path::PathSettings;
 use super::path_space::{
     Scatterer, Scattering, SubpathLayout, Vertex, VertexAt, WalkObserver, WalkSettings, WalkStart,
@@ -394,18 +395,38 @@ fn stored_normal(light: &Light, front: Vec3) -> Vec3 {
     if flipped { -front } else { front }
 }
 
-/// The lens numbers at `dimension` (a pinhole draws none).
-#[inline]
-fn lens_numbers<S: SampleSource + ?Sized>(
+/// Whether `point` (unit normal `normal`, zero for a point without a
+/// surface) is seen from `origin` at `time`: one shadow ray, counted.
+fn point_visible(
     scene: &Scene,
-    sampler: &mut S,
-    dimension: usize,
-) -> [f32; 2] {
-    if scene.camera.uses_lens_sample() {
-        sampler.get_2d(dimension)
-    } else {
-        [0.5; 2]
+    origin: Vec3,
+    time: f32,
+    point: Vec3,
+    normal: Vec3,
+    counters: &mut TraceCounters,
+) -> bool {
+    counters.shadow_rays += 1;
+    match occlusion_segment_to_point(origin, time, point, normal) {
+        Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
+        None => false,
     }
+}
+
+/// The densities of a subpath's vertex at its origin (`origin`) and its
+/// first `count − 1` recorded vertices, into `densities`.
+fn subpath_densities(
+    origin: VertexDensities,
+    vertices: &[Vertex],
+    count: usize,
+    densities: &mut Vec<VertexDensities>,
+) {
+    densities.clear();
+    densities.push(origin);
+    densities.extend(vertices[..count - 1].iter().map(|vertex| VertexDensities {
+        forward: vertex.pdf_forward,
+        reverse: vertex.pdf_reverse,
+        delta: vertex.delta,
+    }));
 }
 
 impl Bidirectional<'_> {
@@ -428,36 +449,6 @@ impl Bidirectional<'_> {
                     )
             })
             .sum()
-    }
-
-    /// The densities of the camera subpath's first `t` vertices (`z₀`
-    /// included) into `densities`.
-    fn camera_densities(&self, camera: &[Vertex], t: usize, densities: &mut Vec<VertexDensities>) {
-        densities.clear();
-        densities.push(VertexDensities::default());
-        densities.extend(camera[..t - 1].iter().map(|vertex| VertexDensities {
-            forward: vertex.pdf_forward,
-            reverse: vertex.pdf_reverse,
-            delta: vertex.delta,
-        }));
-    }
-
-    /// The densities of the light subpath's first `s` vertices (`y₀`
-    /// included) into `densities`.
-    fn light_densities(
-        &self,
-        origin: &LightOrigin,
-        light: &[Vertex],
-        s: usize,
-        densities: &mut Vec<VertexDensities>,
-    ) {
-        densities.clear();
-        densities.push(origin.densities);
-        densities.extend(light[..s - 1].iter().map(|vertex| VertexDensities {
-            forward: vertex.pdf_forward,
-            reverse: vertex.pdf_reverse,
-            delta: vertex.delta,
-        }));
     }
 }
 
@@ -602,7 +593,12 @@ impl SplatEstimator for Bidirectional<'_> {
                 continue;
             }
             let t = hit.vertices_before + 2;
-            self.camera_densities(camera_vertices, t - 1, camera_densities);
+            subpath_densities(
+                VertexDensities::default(),
+                camera_vertices,
+                t - 1,
+                camera_densities,
+            );
             let choice = scene.light_sampler.probability(hit.light_index as usize);
             let emission_pdf =
                 light.pdf_emission(&scene.geometry, hit.point, hit.wo, hit.stored_normal);
@@ -637,7 +633,12 @@ impl SplatEstimator for Bidirectional<'_> {
                 continue;
             }
             let t = escape.vertices_before + 2;
-            self.camera_densities(camera_vertices, t - 1, camera_densities);
+            subpath_densities(
+                VertexDensities::default(),
+                camera_vertices,
+                t - 1,
+                camera_densities,
+            );
             camera_densities.push(VertexDensities {
                 forward: escape.pdf_forward,
                 reverse: self.environment_density(escape.direction),
@@ -932,20 +933,19 @@ impl Bidirectional<'_> {
         if factor.is_black() {
             return SampledSpectrum::zero();
         }
-        counters.shadow_rays += 1;
         let visible = if sample.is_infinite {
+            counters.shadow_rays += 1;
             let ray = Ray::with_time(end.origin_towards(sample.wi), sample.wi, end.time);
             !scene.geometry.occluded(&ray, f32::INFINITY)
         } else {
-            match occlusion_segment_to_point(
+            point_visible(
+                scene,
                 end.origin_towards(sample.wi),
                 end.time,
                 sample.point,
                 sample.normal,
-            ) {
-                Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
-                None => false,
-            }
+                counters,
+            )
         };
         if !visible {
             return SampledSpectrum::zero();
@@ -959,7 +959,7 @@ impl Bidirectional<'_> {
                 reverse: scattering_pdf(end, end.wo, sample.wi),
                 delta: false,
             });
-            self.camera_densities(camera, t, camera_densities);
+            subpath_densities(VertexDensities::default(), camera, t, camera_densities);
             camera_densities[t - 1].reverse = self.disk_density(sample.wi, end);
             camera_densities[t - 1].delta = false;
             if t >= 3 {
@@ -993,7 +993,7 @@ impl Bidirectional<'_> {
             reverse: area_density_from(end, end.wo, sample.point, light_normal),
             delta: false,
         });
-        self.camera_densities(camera, t, camera_densities);
+        subpath_densities(VertexDensities::default(), camera, t, camera_densities);
         camera_densities[t - 1].reverse = solid_angle_to_area(
             emission_pdf.direction,
             sample.point,
@@ -1058,21 +1058,18 @@ impl Bidirectional<'_> {
         if value.is_black() {
             return SampledSpectrum::zero();
         }
-        counters.shadow_rays += 1;
-        let visible = match occlusion_segment_to_point(
+        if !point_visible(
+            self.scene,
             camera_end.origin_towards(direction),
             camera_end.time,
             light_end.point,
             light_end.geometric_normal,
+            counters,
         ) {
-            Some((ray, t_max)) => !self.scene.geometry.occluded(&ray, t_max),
-            None => false,
-        };
-        if !visible {
             return SampledSpectrum::zero();
         }
-        self.camera_densities(camera, t, camera_densities);
-        self.light_densities(origin, light, s, light_densities);
+        subpath_densities(VertexDensities::default(), camera, t, camera_densities);
+        subpath_densities(origin.densities, light, s, light_densities);
         camera_densities[t - 1].reverse = area_density_from(
             light_end,
             light_end.wo,
@@ -1148,22 +1145,19 @@ impl Bidirectional<'_> {
         if value.is_black() {
             return None;
         }
-        counters.shadow_rays += 1;
-        let visible = match occlusion_segment_to_point(
+        if !point_visible(
+            scene,
             light_end.origin_towards(camera_sample.wi),
             light_end.time,
             camera_sample.lens_point,
             Vec3::ZERO,
+            counters,
         ) {
-            Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
-            None => false,
-        };
-        if !visible {
             return None;
         }
         camera_densities.clear();
         camera_densities.push(VertexDensities::default());
-        self.light_densities(origin, light, s, light_densities);
+        subpath_densities(origin.densities, light, s, light_densities);
         let camera_direction = scene.camera.pdf_importance_with_margin(
             camera_sample.lens_point,
             -camera_sample.wi,
