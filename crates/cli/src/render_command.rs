@@ -65,6 +65,20 @@ pub enum SamplerName {
     Independent,
     /// Randomized rank-1 lattice (CBC, N = spp rounded up to a power of two).
     Lattice,
+    /// The image-wide Sobol sequence, a consecutive block per pixel
+    /// (Owen-scrambled by the seed unless --randomize none).
+    GlobalSobol,
+    /// The image-wide Niederreiter sequence (base 2), a consecutive block
+    /// per pixel (Owen-scrambled by the seed unless --randomize none).
+    GlobalNiederreiter,
+    /// Faure-scrambled Hammersley set of --pattern-size points (else spp),
+    /// a Cranley–Patterson rotation per pixel and replication.
+    Hammersley,
+    /// Padded replications of the 2-D Hammersley pattern (Kollig & Keller).
+    Padded,
+    /// Latin supercube samples of the 2-D Hammersley pattern (unshifted
+    /// with --randomize none).
+    LatinSupercube,
 }
 
 impl SamplerName {
@@ -75,6 +89,11 @@ impl SamplerName {
             SamplerName::Sobol => SamplerKind::Sobol,
             SamplerName::Independent => SamplerKind::Independent,
             SamplerName::Lattice => SamplerKind::Lattice,
+            SamplerName::GlobalSobol => SamplerKind::GlobalSobol,
+            SamplerName::GlobalNiederreiter => SamplerKind::GlobalNiederreiter,
+            SamplerName::Hammersley => SamplerKind::Hammersley,
+            SamplerName::Padded => SamplerKind::Padded,
+            SamplerName::LatinSupercube => SamplerKind::LatinSupercube,
         }
     }
 }
@@ -119,6 +138,16 @@ pub struct RenderArgs {
     /// Render for this many seconds (with --spp: at most that many samples).
     #[arg(long, value_name = "SECONDS")]
     pub time: Option<f64>,
+    /// Each pixel's samples are independent replications of this many
+    /// points (Kollig & Keller's m), one per pass; the EXR's variance layer
+    /// is then estimated from them (Eq. 6). Samplers: independent, sobol,
+    /// lattice, hammersley, padded, latin-supercube.
+    #[arg(long, value_name = "M")]
+    pub pattern_size: Option<u64>,
+    /// Render this many replications (r): spp = r × the pattern size (or,
+    /// with --spp, the pattern size is spp / r).
+    #[arg(long, value_name = "R")]
+    pub replications: Option<u64>,
     /// Seed of every random choice; with the default `--randomize seeded`
     /// also of the sampler's randomization (different seeds give
     /// independent renders with every sampler).
@@ -479,6 +508,8 @@ pub struct RenderRequest {
     pub integrator: IntegratorSettings,
     /// The sampler.
     pub sampler: SamplerKind,
+    /// Points per replication, if each pixel's samples are replications.
+    pub pattern_size: Option<u64>,
     /// Samples per pixel (default: unlimited with a time budget, else the
     /// scene's suggestion, else 16).
     pub samples_per_pixel: Option<u64>,
@@ -512,6 +543,7 @@ impl RenderRequest {
         RenderSettings {
             integrator: self.integrator.clone(),
             sampler: self.sampler,
+            pattern_size: self.pattern_size,
             samples_per_pixel,
             time_budget: self.time_budget,
             seed: self.seed,
@@ -549,6 +581,13 @@ pub fn render_metadata(
         metadata.insert("film".into(), "splat".into());
     }
     metadata.insert("randomization".into(), settings.randomization.name().into());
+    if let Some(pattern_size) = settings.pattern_size {
+        metadata.insert("patternSize".into(), pattern_size.to_string());
+        metadata.insert(
+            "replications".into(),
+            (statistics.completed_samples_per_pixel / pattern_size).to_string(),
+        );
+    }
     metadata.insert("renderTimeSeconds".into(), format!("{seconds:.3}"));
     metadata.insert("scene".into(), scene_name.to_string());
     metadata.insert("maxDepth".into(), settings.max_depth.to_string());
@@ -564,6 +603,45 @@ pub fn render_metadata(
 pub fn traced_samples_per_pixel(scene: &Scene, statistics: &RenderStatistics) -> f64 {
     let [width, height] = scene.camera.resolution();
     statistics.samples as f64 / (width as f64 * height as f64)
+}
+
+/// The pattern size and samples per pixel that `--pattern-size`,
+/// `--replications` and `--spp` ask for together: spp = r × m, any two of
+/// them fixing the third (checked for consistency when all three are given).
+fn replication_plan(args: &RenderArgs) -> Result<(Option<u64>, Option<u64>), CliError> {
+    if args.pattern_size == Some(0) {
+        return Err(usage("--pattern-size must be at least 1"));
+    }
+    if args.replications == Some(0) {
+        return Err(usage("--replications must be at least 1"));
+    }
+    match (args.pattern_size, args.replications, args.spp) {
+        (pattern, None, spp) => Ok((pattern, spp)),
+        (Some(pattern), Some(replications), spp) => {
+            let product = pattern
+                .checked_mul(replications)
+                .ok_or_else(|| usage("--pattern-size × --replications is too large"))?;
+            if spp.is_some_and(|spp| spp != product) {
+                return Err(usage(format!(
+                    "--spp {} disagrees with --pattern-size {pattern} × --replications \
+                     {replications} = {product}",
+                    spp.unwrap_or_default()
+                )));
+            }
+            Ok((Some(pattern), Some(product)))
+        }
+        (None, Some(replications), Some(spp)) => {
+            if !spp.is_multiple_of(replications) {
+                return Err(usage(format!(
+                    "--spp {spp} is not a multiple of --replications {replications}"
+                )));
+            }
+            Ok((Some(spp / replications), Some(spp)))
+        }
+        (None, Some(_), None) => Err(usage(
+            "--replications needs --pattern-size or --spp (spp = replications × pattern size)",
+        )),
+    }
 }
 
 /// Runs `lqmc render`.
@@ -623,10 +701,16 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             ))
         })?;
     }
+    let (pattern_size, samples_per_pixel) = replication_plan(args)?;
+    args.sampler
+        .kind()
+        .check_pattern_size(pattern_size)
+        .map_err(|error| usage(error.to_string()))?;
     let request = RenderRequest {
         integrator,
         sampler: args.sampler.kind(),
-        samples_per_pixel: args.spp,
+        pattern_size,
+        samples_per_pixel,
         time_budget,
         seed: args.seed,
         randomization: match args.randomize {
@@ -678,6 +762,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let output = render(&scene, &settings, &stop, &progress).map_err(|error| match error {
         // The integrator cannot render this scene: bad input, status 2.
         render::integrators::RenderError::Unsupported(message) => usage(message),
+        render::integrators::RenderError::Sampler(error) => usage(error.to_string()),
         other => CliError::Failure(other.to_string()),
     })?;
     bar.finish_and_clear();

@@ -1,10 +1,11 @@
 //! `lqmc study`: experiments that render a scene many times in this process
 //! and report error measures, plots and crops (see [`crate::study`]). Each
-//! study is a subcommand: `equal-time` now; the Kollig–Keller and
-//! Heinrich–Keller comparisons will join it.
+//! study is a subcommand: `equal-time` and `kollig-keller`; the
+//! Heinrich–Keller comparison will join them.
 
 use crate::error::CliError;
 use crate::study::equal_time::{self, EqualTimeArgs};
+use crate::study::kollig_keller::{self, KolligKellerArgs};
 use clap::{Args, Subcommand};
 
 /// Arguments of `lqmc study`.
@@ -21,11 +22,17 @@ pub enum StudyName {
     /// smaller ones) and compare with a reference: tables of RMSE, relative
     /// MSE, MAD, mean bias and flicker, an error-versus-time plot and crops.
     EqualTime(Box<EqualTimeArgs>),
+    /// Kollig & Keller's Sect. 6: BDPT's L2 error against a master image
+    /// for n = 1 … 128 samples per pixel and technique with MC, QMC
+    /// sequences and randomized QMC point sets; convergence plots (Figs. 7,
+    /// 8), samples relative to MC (Fig. 9), fitted rates.
+    KolligKeller(Box<KolligKellerArgs>),
 }
 
 /// Runs `lqmc study`.
 pub fn run(args: &StudyArgs) -> Result<(), CliError> {
     match &args.study {
         StudyName::EqualTime(arguments) => equal_time::run(arguments),
+        StudyName::KolligKeller(arguments) => kollig_keller::run(arguments),
     }
 }

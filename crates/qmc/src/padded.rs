@@ -308,8 +308,17 @@ impl PointSet for PaddedPointSet {
 
 /// A uniform random permutation of `0..count` (`count ≤ 2^32`) by Fisher–Yates,
 /// drawing from the counter-based stream `hash2(stream_seed, k)`.
-fn random_permutation(count: u64, stream_seed: u64) -> Vec<u32> {
-    let mut permutation: Vec<u32> = (0..count).map(|index| index as u32).collect();
+pub fn random_permutation(count: u64, stream_seed: u64) -> Vec<u32> {
+    let mut permutation = Vec::new();
+    random_permutation_into(count, stream_seed, &mut permutation);
+    permutation
+}
+
+/// [`random_permutation`] written into `permutation` (its old contents
+/// replaced), for callers that draw many and keep the allocation.
+pub fn random_permutation_into(count: u64, stream_seed: u64, permutation: &mut Vec<u32>) {
+    permutation.clear();
+    permutation.extend((0..count).map(|index| index as u32));
     let mut counter = 0u64;
     let mut next = || {
         counter += 1;
@@ -319,7 +328,6 @@ fn random_permutation(count: u64, stream_seed: u64) -> Vec<u32> {
         let chosen = uniform_below(last as u64 + 1, &mut next) as usize;
         permutation.swap(last, chosen);
     }
-    permutation
 }
 
 /// An unbiased uniform integer in `0..range` (`range ≥ 1`) by Lemire's

@@ -23,6 +23,12 @@ pub struct RenderSettings {
     pub integrator: IntegratorSettings,
     /// The sampler (default Halton).
     pub sampler: SamplerKind,
+    /// With a pattern size `m`, each pixel's samples are independent
+    /// replications of `m` points (Kollig & Keller, Eq. 5), rendered one
+    /// per pass, and the variance layer is estimated from them (Eq. 6).
+    /// Only for samplers with replications
+    /// ([`SamplerKind::has_replications`]); default none.
+    pub pattern_size: Option<u64>,
     /// Samples per pixel to render (with a time budget: at most this many).
     pub samples_per_pixel: u64,
     /// Stop after this much time, at the end of a tile.
@@ -54,6 +60,7 @@ impl Default for RenderSettings {
         Self {
             integrator: IntegratorSettings::Path,
             sampler: SamplerKind::Halton,
+            pattern_size: None,
             samples_per_pixel: 16,
             time_budget: None,
             seed: 0,
@@ -191,6 +198,7 @@ pub fn render(
     let integrator = settings.integrator.create(settings.path_settings());
     let run = RunControl {
         sampler: settings.sampler,
+        pattern_size: settings.pattern_size,
         seed: settings.seed,
         randomization: settings.randomization,
         samples_per_pixel: settings.samples_per_pixel,
@@ -223,11 +231,17 @@ pub fn render(
             (auxiliary.name, layers)
         })
         .collect();
+    // Independent replications describe any integrator's error.
+    let variance = rendered
+        .film
+        .replication_variance()
+        .cloned()
+        .or(rendered.variance);
     Ok(RenderOutput {
         film: rendered.film,
         statistics,
         splat_scale,
-        variance: rendered.variance,
+        variance,
         auxiliary_images,
         details: rendered.details,
     })

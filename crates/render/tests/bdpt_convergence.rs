@@ -50,6 +50,35 @@ fn bdpt_with_halton_matches_path_tracing_in_the_cornell_box() {
     );
 }
 
+/// Kollig & Keller's samplers: quasi-Monte Carlo sequences over the whole
+/// image (randomized by the seed, so that renders are independent) and
+/// randomized point sets (Cranley–Patterson rotated Hammersley, padded
+/// replications, Latin supercube), in the Cornell box.
+#[test]
+fn bdpt_with_kollig_keller_samplers_matches_path_tracing() {
+    let scene = builtin("cornell-box");
+    for sampler in [
+        SamplerKind::GlobalSobol,
+        SamplerKind::GlobalNiederreiter,
+        SamplerKind::Hammersley,
+        SamplerKind::Padded,
+        SamplerKind::LatinSupercube,
+    ] {
+        assert_matches_path(
+            &format!("cornell-box ({})", sampler.name()),
+            &scene,
+            Tested {
+                integrator: IntegratorKind::Bdpt,
+                sampler,
+            },
+            4096,
+            32,
+            None,
+            true,
+        );
+    }
+}
+
 #[test]
 fn bdpt_matches_path_tracing_in_the_office() {
     assert_matches_path("office", &builtin("office"), BDPT, 4096, 64, None, true);

@@ -117,6 +117,11 @@ fn every_sampler_is_an_independent_randomization_per_seed() {
         SamplerKind::Halton,
         SamplerKind::Sobol,
         SamplerKind::Lattice,
+        SamplerKind::GlobalSobol,
+        SamplerKind::GlobalNiederreiter,
+        SamplerKind::Hammersley,
+        SamplerKind::Padded,
+        SamplerKind::LatinSupercube,
     ] {
         let statistics = seed_statistics(&scene, sampler);
         let name = sampler.name();

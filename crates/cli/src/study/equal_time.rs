@@ -196,7 +196,7 @@ fn image_name(entry: &IntegratorEntry, budget: f64, seed: u64) -> String {
 
 /// Creates `directory` and its `images` folder and checks that files can
 /// be written there, before anything is rendered.
-fn prepare_output_directory(directory: &Path) -> Result<(), CliError> {
+pub(super) fn prepare_output_directory(directory: &Path) -> Result<(), CliError> {
     let images = directory.join("images");
     std::fs::create_dir_all(&images).map_err(|error| {
         CliError::Failure(format!("cannot create {}: {error}", images.display()))
@@ -213,7 +213,7 @@ fn prepare_output_directory(directory: &Path) -> Result<(), CliError> {
 }
 
 /// A failure to write `path`.
-fn write_failure(path: &Path, error: impl std::fmt::Display) -> CliError {
+pub(super) fn write_failure(path: &Path, error: impl std::fmt::Display) -> CliError {
     CliError::Failure(format!("cannot write {}: {error}", path.display()))
 }
 
@@ -248,6 +248,7 @@ impl RenderContext<'_> {
             heuristic: default_heuristic(integrator.kind()),
             integrator,
             sampler,
+            pattern_size: None,
             samples_per_pixel: None,
             time_budget: None,
             seed,
@@ -554,6 +555,8 @@ pub fn run(args: &EqualTimeArgs) -> Result<(), CliError> {
             "{} {width}x{height}, {} threads, {} seeds",
             conditions.scene, conditions.threads, conditions.seeds
         ),
+        "seconds per render",
+        "RMSE (median over seeds; bars: min to max)",
         &error_curves(&conditions, &cells),
     )?;
     let crops = args.output.join("crops.png");
@@ -905,7 +908,7 @@ fn error_curves(conditions: &StudyConditions, cells: &[Cell<'_>]) -> Vec<ErrorCu
                 .iter()
                 .filter(|cell| cell.entry == entry)
                 .map(|cell| ErrorPoint {
-                    seconds: conditions.budgets[cell.budget],
+                    x: conditions.budgets[cell.budget],
                     median: cell.rmse.median,
                     min: cell.rmse.min,
                     max: cell.rmse.max,

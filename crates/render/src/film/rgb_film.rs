@@ -65,6 +65,9 @@ pub struct Film {
     /// with compare-exchange.
     splats: Vec<[AtomicU64; 3]>,
     nonfinite_samples: AtomicU64,
+    /// The variance of each pixel's value estimated from independent
+    /// replications (Kollig & Keller's Eq. 6), when the render had them.
+    replication_variance: Option<Image>,
 }
 
 /// Adds `value` to the `f64` stored as bits in `cell`, atomically.
@@ -95,7 +98,21 @@ impl Film {
                 .map(|_| [0.0f64; 3].map(|zero| AtomicU64::new(zero.to_bits())))
                 .collect(),
             nonfinite_samples: AtomicU64::new(0),
+            replication_variance: None,
         })
+    }
+
+    /// Records the variance of each pixel's value estimated from the
+    /// render's independent replications (set by the drivers).
+    pub fn set_replication_variance(&mut self, variance: Image) {
+        self.replication_variance = Some(variance);
+    }
+
+    /// The variance of each pixel's value from independent replications,
+    /// if the render had them: the best variance layer there is, for any
+    /// integrator.
+    pub fn replication_variance(&self) -> Option<&Image> {
+        self.replication_variance.as_ref()
     }
 
     /// `[width, height]` in pixels.

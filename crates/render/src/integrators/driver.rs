@@ -33,7 +33,9 @@ use crate::film::{Film, FilmError, FilmTile, PixelBounds, SampleOutcome, SplatBu
 #[cfg(target_arch = "x86_64")]
 use crate::geometry::Avx2;
 use crate::geometry::Ray;
-use crate::sampler::{IndependentSampler, PixelSampler, Randomization, SamplerKind, layout};
+use crate::sampler::{
+    IndependentSampler, PixelSampler, Randomization, SamplerError, SamplerKind, layout,
+};
 use crate::scene::Scene;
 use crate::spectrum::SampledWavelengths;
 use glam::Vec2;
@@ -48,6 +50,10 @@ use super::TraceCounters;
 pub struct RunControl<'a> {
     /// The sampler.
     pub sampler: SamplerKind,
+    /// Points per replication, if each pixel's samples are independent
+    /// replications: the driver then renders one replication per pass and
+    /// estimates the variance from them.
+    pub pattern_size: Option<u64>,
     /// The seed of every random choice.
     pub seed: u64,
     /// Whether the seed randomizes the sampler's QMC points.
@@ -88,6 +94,9 @@ pub enum RenderError {
     /// The integrator cannot render this scene; the message says why.
     #[error("{0}")]
     Unsupported(String),
+    /// The sampler cannot be built with these settings.
+    #[error(transparent)]
+    Sampler(#[from] SamplerError),
 }
 
 /// What a driver measured.
@@ -243,9 +252,16 @@ pub fn render_pixel_samples<E: PixelSampleEstimator>(
         run.randomization,
         (width, height),
         run.samples_per_pixel,
-    );
+        run.pattern_size,
+    )?;
     let mut total = estimator.new_total(resolution)?;
-    let pass_size = estimator.pass_size(run.samples_per_pixel, run.time_budget.is_some());
+    // With replications, a pass is one replication of every pixel.
+    let pass_size = run
+        .pattern_size
+        .unwrap_or_else(|| estimator.pass_size(run.samples_per_pixel, run.time_budget.is_some()));
+    let mut replications = run
+        .pattern_size
+        .map(|_| super::progression_variance::ProgressionVariance::new(resolution));
     let pixel_count = width as u64 * height as u64;
     let all_samples = pixel_count * run.samples_per_pixel;
     let mut statistics = DriverStatistics::default();
@@ -313,6 +329,12 @@ pub fn render_pixel_samples<E: PixelSampleEstimator>(
             film.merge_splat_buffers(&splat_buffers.iter().collect::<Vec<_>>());
         }
         estimator.end_pass(&mut total, &film, complete);
+        if let Some(replications) = &mut replications {
+            // A replication cut short by the samples per pixel (not a
+            // multiple of the pattern size) is not a replication either.
+            let whole = end_sample - first_sample == pass_size;
+            replications.end_progression_of(&film, complete && whole, pass_size);
+        }
         if complete {
             statistics.completed_samples_per_pixel = end_sample;
         }
@@ -320,6 +342,9 @@ pub fn render_pixel_samples<E: PixelSampleEstimator>(
         first_sample = end_sample;
     }
     statistics.stopped_early = statistics.completed_samples_per_pixel < run.samples_per_pixel;
+    if let Some(replications) = replications {
+        film.set_replication_variance(replications.variance_image());
+    }
     Ok(DriverOutput {
         film,
         statistics,

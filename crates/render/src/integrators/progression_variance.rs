@@ -30,6 +30,14 @@
 //! are filtered once, by the film). Only complete progressions count: a
 //! progression cut short by a time budget or an interruption is left out
 //! of the variance (its splats are in the image).
+//!
+//! The same statistics serve Kollig & Keller's replications (Eqs. 5–6):
+//! with a pattern size `m` the driver renders one replication (`m` samples
+//! per pixel) per pass and ends it here as a progression of `m` samples,
+//! whose image is the change of each pixel's camera-sample mean plus the
+//! change of its splat sums over `m`. The replications of a randomized
+//! point set are independent, so `s² / r` is then the unbiased estimate of
+//! Eq. (6), for any integrator.
 
 use crate::film::Film;
 use crate::image::Image;
@@ -40,6 +48,9 @@ pub struct ProgressionVariance {
     resolution: [usize; 2],
     /// The film's splat sums at the end of the previous progression.
     previous: Vec<[f64; 3]>,
+    /// The film's weighted camera-sample sums and weight sums at the end of
+    /// the previous progression.
+    previous_camera: Vec<([f64; 3], f64)>,
     /// Running mean of the finished progressions' images.
     mean: Vec<[f64; 3]>,
     /// Running sum of squared deviations from the mean.
@@ -54,39 +65,62 @@ impl ProgressionVariance {
         Self {
             resolution,
             previous: vec![[0.0; 3]; pixel_count],
+            previous_camera: vec![([0.0; 3], 0.0); pixel_count],
             mean: vec![[0.0; 3]; pixel_count],
             squared_deviations: vec![[0.0; 3]; pixel_count],
             progressions: 0,
         }
     }
 
-    /// Ends a progression whose splats `film` has just merged: its image
-    /// is the change of the film's splat sums since the previous call, and
-    /// joins the statistics if `complete` (else it is dropped).
-    #[allow(clippy::needless_range_loop)] // channel indexes four parallel arrays
+    /// Ends a progression of one sample per pixel whose splats `film` has
+    /// just merged: its image is the change of the film's splat sums since
+    /// the previous call, and joins the statistics if `complete` (else it
+    /// is dropped).
     pub fn end_progression(&mut self, film: &Film, complete: bool) {
+        self.end_progression_of(film, complete, 1);
+    }
+
+    /// Ends a progression of `samples` samples per pixel (a replication)
+    /// that `film` has just merged: its image is, per pixel, the mean of the
+    /// camera samples it added plus its splats over `samples`.
+    #[allow(clippy::needless_range_loop)] // channel indexes parallel arrays
+    pub fn end_progression_of(&mut self, film: &Film, complete: bool, samples: u64) {
         if complete {
             self.progressions += 1;
         }
         let count = self.progressions as f64;
+        let splat_scale = 1.0 / samples.max(1) as f64;
         let width = self.resolution[0];
-        for (index, ((previous, mean), squared)) in self
+        for (index, (((previous, previous_camera), mean), squared)) in self
             .previous
             .iter_mut()
+            .zip(&mut self.previous_camera)
             .zip(&mut self.mean)
             .zip(&mut self.squared_deviations)
             .enumerate()
         {
-            let sums = film.splat(index % width, index / width).unwrap_or([0.0; 3]);
+            let (x, y) = (index % width, index / width);
+            let sums = film.splat(x, y).unwrap_or([0.0; 3]);
+            let camera = film
+                .pixel(x, y)
+                .map(|pixel| (pixel.weighted_sum(), pixel.weight_sum()))
+                .unwrap_or(([0.0; 3], 0.0));
             if complete {
+                let camera_weight = camera.1 - previous_camera.1;
                 for channel in 0..3 {
-                    let value = sums[channel] - previous[channel];
+                    let camera_mean = if camera_weight != 0.0 {
+                        (camera.0[channel] - previous_camera.0[channel]) / camera_weight
+                    } else {
+                        0.0
+                    };
+                    let value = camera_mean + (sums[channel] - previous[channel]) * splat_scale;
                     let deviation = value - mean[channel];
                     mean[channel] += deviation / count;
                     squared[channel] += deviation * (value - mean[channel]);
                 }
             }
             *previous = sums;
+            *previous_camera = camera;
         }
     }
 

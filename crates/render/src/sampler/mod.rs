@@ -29,21 +29,27 @@
 //! A light subpath (light tracing) uses the same time (4) and wavelength
 //! (5) dimensions; 0, 1 place its environment camera ray and 2, 3 the lens
 //! point of its light vertex's connection; then the light's choice (6),
-//! point (7, 8) and direction of emission (9, 10), and vertex blocks from
-//! 11 + 8k with the same offsets, the light-position pair (4, 5) holding
+//! point (8, 9) and direction of emission (10, 11), and vertex blocks from
+//! 12 + 8k with the same offsets, the light-position pair (4, 5) holding
 //! the lens point of the vertex's camera connection
-//! ([`layout::LIGHT_CHOICE`] and after). Every subpath's blocks are a
+//! ([`layout::LIGHT_CHOICE`] and after; 7 is unused). Every subpath's blocks are a
 //! [`crate::integrators::path_space::SubpathLayout`] (first block and
 //! stride): interleaving a camera and a light subpath as Kollig & Keller do
 //! is a stride of two blocks.
 //!
 //! A bidirectional sample (`bdpt`) uses the camera's dimensions 0–5 and the
-//! light's choice, point and direction 6–10 as above, then the lens point
-//! of the light vertex's connection to the camera (11, 12), then the two
+//! light's choice, point and direction 6–11 as above, then the lens point
+//! of the light vertex's connection to the camera (12, 13), then the two
 //! subpaths' vertex blocks interleaved, as Kollig & Keller order them: camera
-//! block k at 13 + 16k, light block k at 21 + 16k, each with the offsets of
+//! block k at 14 + 16k, light block k at 22 + 16k, each with the offsets of
 //! the table (a camera block's light-position pair is its next-event
 //! connection, a light block's its lens point).
+//!
+//! Every 2-D decision (film, lens, light point, emission and scattering
+//! directions, lens point of a connection) is a pair of dimensions
+//! `(2k, 2k + 1)`: the padded samplers ([`PaddedSampler`]) fill each pair
+//! from one 2-D pattern, as Kollig & Keller's padded replications do per
+//! 2-D subproblem.
 //!
 //! Vertex 0 is the first surface (or medium) interaction seen from the
 //! camera. Medium interactions are vertices like surface ones: the phase
@@ -72,7 +78,23 @@
 //!   and dimension;
 //! - [`SamplerKind::Lattice`] ([`PointSetSampler`]): the per-pixel
 //!   Cranley–Patterson shift, keyed by seed, pixel and dimension;
-//! - [`IndependentSampler`]: SplitMix64 keyed by the seed.
+//! - [`IndependentSampler`]: SplitMix64 keyed by the seed;
+//! - [`GlobalSequenceSampler`] (`global-sobol`, `global-niederreiter`): the
+//!   whole sequence Owen-scrambled, keyed by the seed;
+//! - [`SamplerKind::Hammersley`], [`PaddedSampler`]: a Cranley–Patterson
+//!   rotation per pixel, replication and dimension, keyed by the seed.
+//!
+//! # Replications
+//!
+//! With a pattern size `m` (`--pattern-size`), the samplers built on a
+//! finite point set (`hammersley`, `padded`, `latin-supercube`, `lattice`,
+//! `sobol`) and `independent` give each pixel `r` independent replications
+//! of `m` points (Kollig & Keller, Eq. 5): sample `j` is point `j mod m` of
+//! replication `⌊j / m⌋`, randomized on its own. The drivers then render one
+//! replication per pass and estimate each pixel's variance from the
+//! replication images (Eq. 6). The sequences (`halton`, `global-sobol`,
+//! `global-niederreiter`) are one randomization per render: their
+//! replications are renders with different seeds.
 //!
 //! [`Randomization::None`] keeps the deterministic QMC points: Halton is the
 //! LQMC paper's Faure-permuted sequence (bit for bit the sampler before the
@@ -81,14 +103,18 @@
 //! reaches only pseudo-random numbers (MT19937 past Halton's 256
 //! dimensions, the PCG streams past a point set, the independent sampler).
 
+mod global_sequence;
 mod halton;
 mod independent;
+mod padded;
 mod pixel_randomization;
 mod point_set;
 mod sobol;
 
+pub use global_sequence::GlobalSequenceSampler;
 pub use halton::HaltonSampler;
 pub use independent::IndependentSampler;
+pub use padded::{PaddedSampler, Padding};
 pub use point_set::PointSetSampler;
 pub use sobol::SobolSampler;
 
@@ -123,12 +149,13 @@ pub mod layout {
 
     /// Light subpaths (light tracing): the light's choice.
     pub const LIGHT_CHOICE: usize = 6;
-    /// Light subpaths: the point on the light, 2 dimensions.
-    pub const LIGHT_EMISSION_POSITION: usize = 7;
+    /// Light subpaths: the point on the light, 2 dimensions (a pair: 7 is
+    /// unused).
+    pub const LIGHT_EMISSION_POSITION: usize = 8;
     /// Light subpaths: the direction of emission, 2 dimensions.
-    pub const LIGHT_EMISSION_DIRECTION: usize = 9;
+    pub const LIGHT_EMISSION_DIRECTION: usize = 10;
     /// Light subpaths: the first dimension of vertex 0's block.
-    pub const LIGHT_SUBPATH_VERTICES: usize = 11;
+    pub const LIGHT_SUBPATH_VERTICES: usize = 12;
     /// Offset in a light-subpath vertex block: the lens point of the
     /// vertex's connection to the camera, 2 dimensions (the slot camera
     /// subpaths use for the light point of next-event estimation).
@@ -137,11 +164,11 @@ pub mod layout {
     /// Bidirectional path tracing: the lens point of the light vertex's
     /// connection to the camera, 2 dimensions (the camera subpath has the
     /// lens pair 2, 3 for itself).
-    pub const BIDIRECTIONAL_LIGHT_VERTEX_LENS: usize = 11;
+    pub const BIDIRECTIONAL_LIGHT_VERTEX_LENS: usize = 12;
     /// Bidirectional path tracing: the first dimension of the interleaved
-    /// vertex blocks (camera block k at 13 + 16k, light block k at
-    /// 21 + 16k).
-    pub const BIDIRECTIONAL_VERTICES: usize = 13;
+    /// vertex blocks (camera block k at 14 + 16k, light block k at
+    /// 22 + 16k).
+    pub const BIDIRECTIONAL_VERTICES: usize = 14;
 
     /// The dimension of `offset` in the block of path vertex `vertex`.
     #[inline]
@@ -255,7 +282,9 @@ pub enum SamplerKind {
     Independent,
     /// Faure-permuted Halton with per-pixel enumeration (the LQMC paper's),
     /// randomized by a random digital shift per dimension and digit
-    /// position unless [`Randomization::None`].
+    /// position unless [`Randomization::None`]. Kollig & Keller's
+    /// "scrambled Halton": each pixel takes its own subsequence of the one
+    /// image-wide sequence.
     Halton,
     /// Sobol, Owen-scrambled per pixel (hash-based), keyed by the seed
     /// unless [`Randomization::None`].
@@ -266,15 +295,51 @@ pub enum SamplerKind {
     /// most 2^16 (built in about 25 ms); samples past N, as a time budget
     /// may ask for, fall back to independent numbers.
     Lattice,
+    /// The image-wide Sobol sequence, a consecutive block per pixel
+    /// ([`GlobalSequenceSampler`]), Owen-scrambled by the seed unless
+    /// [`Randomization::None`].
+    GlobalSobol,
+    /// The image-wide Niederreiter sequence in base 2, a consecutive block
+    /// per pixel, as [`SamplerKind::GlobalSobol`].
+    GlobalNiederreiter,
+    /// The Faure-scrambled Hammersley set of `m` points (the pattern size,
+    /// else the samples per pixel), rotated per pixel and replication:
+    /// Kollig & Keller's Cranley–Patterson rotations (Sect. 4.1).
+    Hammersley,
+    /// Padded replications of the 2-D Hammersley pattern ([`PaddedSampler`]).
+    Padded,
+    /// Latin supercube samples of the 2-D Hammersley pattern
+    /// ([`PaddedSampler`]); unshifted with [`Randomization::None`].
+    LatinSupercube,
+}
+
+/// Why a sampler cannot be built.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SamplerError {
+    /// A sequence sampler was asked for replications.
+    #[error(
+        "the {0} sampler is one randomization of a sequence and has no replications \
+         (--pattern-size); render with different seeds, or use independent, sobol, \
+         lattice, hammersley, padded or latin-supercube"
+    )]
+    NoReplications(&'static str),
+    /// The pattern size is zero or too large.
+    #[error("the pattern size must be between 1 and 2^32, not {0}")]
+    PatternSize(u64),
 }
 
 impl SamplerKind {
     /// Every sampler with its command-line name.
-    pub const ALL: [(SamplerKind, &'static str); 4] = [
+    pub const ALL: [(SamplerKind, &'static str); 9] = [
         (SamplerKind::Independent, "independent"),
         (SamplerKind::Halton, "halton"),
         (SamplerKind::Sobol, "sobol"),
         (SamplerKind::Lattice, "lattice"),
+        (SamplerKind::GlobalSobol, "global-sobol"),
+        (SamplerKind::GlobalNiederreiter, "global-niederreiter"),
+        (SamplerKind::Hammersley, "hammersley"),
+        (SamplerKind::Padded, "padded"),
+        (SamplerKind::LatinSupercube, "latin-supercube"),
     ];
 
     /// The sampler called `name`.
@@ -287,38 +352,121 @@ impl SamplerKind {
         Self::ALL.iter().find(|(k, _)| *k == self).unwrap().1
     }
 
+    /// Whether a pixel's samples can be independent replications of a
+    /// pattern (see the module docs).
+    pub fn has_replications(self) -> bool {
+        !matches!(
+            self,
+            SamplerKind::Halton | SamplerKind::GlobalSobol | SamplerKind::GlobalNiederreiter
+        )
+    }
+
+    /// Checks that the sampler can have replications of `pattern_size`
+    /// points, if one is given.
+    pub fn check_pattern_size(self, pattern_size: Option<u64>) -> Result<(), SamplerError> {
+        match pattern_size {
+            None => Ok(()),
+            Some(size) if size == 0 || size > 1 << 32 => Err(SamplerError::PatternSize(size)),
+            Some(_) if !self.has_replications() => Err(SamplerError::NoReplications(self.name())),
+            Some(_) => Ok(()),
+        }
+    }
+
     /// Builds the sampler for an image of `resolution` pixels and
-    /// `samples_per_pixel` samples (which sizes the lattice), randomized by
-    /// `seed` as `randomization` says.
+    /// `samples_per_pixel` samples (which sizes the lattice and the
+    /// sequences' blocks), randomized by `seed` as `randomization` says,
+    /// its samples replications of `pattern_size` points if given.
     pub fn create(
         self,
         seed: u64,
         randomization: Randomization,
         resolution: (u32, u32),
         samples_per_pixel: u64,
-    ) -> Box<dyn PixelSampler> {
-        match self {
+        pattern_size: Option<u64>,
+    ) -> Result<Box<dyn PixelSampler>, SamplerError> {
+        self.check_pattern_size(pattern_size)?;
+        let point_count = pattern_size.unwrap_or(samples_per_pixel).max(1);
+        let points_sampler = |points: std::sync::Arc<dyn qmc::PointSet>| {
+            Box::new(PointSetSampler::new(
+                points,
+                self.name(),
+                seed,
+                randomization,
+                pattern_size,
+            ))
+        };
+        Ok(match self {
             SamplerKind::Independent => Box::new(IndependentSampler::new(seed)),
             SamplerKind::Halton => Box::new(HaltonSampler::new(seed, randomization, resolution)),
-            SamplerKind::Sobol => Box::new(SobolSampler::new(seed, randomization)),
+            SamplerKind::Sobol => Box::new(SobolSampler::new(seed, randomization, pattern_size)),
             SamplerKind::Lattice => {
                 const LATTICE_DIMENSIONS: usize = 32;
-                let point_count = samples_per_pixel.clamp(4, 1 << 16).next_power_of_two();
+                // Replications use the pattern size itself; one rotation per
+                // pixel rounds the samples up to a power of two.
+                let point_count = match pattern_size {
+                    Some(size) => size.max(2),
+                    None => samples_per_pixel.clamp(4, 1 << 16).next_power_of_two(),
+                };
                 let lattice = qmc::cbc::cbc(
                     point_count,
                     LATTICE_DIMENSIONS,
                     &qmc::cbc::ProductWeights::lqmc_default(LATTICE_DIMENSIONS),
                 )
-                .expect("fast CBC handles powers of two")
+                .map_err(|_| SamplerError::PatternSize(point_count))?
                 .lattice;
-                Box::new(PointSetSampler::new(
-                    std::sync::Arc::new(lattice),
-                    "lattice",
+                points_sampler(std::sync::Arc::new(lattice))
+            }
+            SamplerKind::GlobalSobol | SamplerKind::GlobalNiederreiter => {
+                let sequence: std::sync::Arc<dyn qmc::digital_scramble::DigitalSequence> =
+                    if self == SamplerKind::GlobalSobol {
+                        std::sync::Arc::new(
+                            qmc::sobol::Sobol::new(
+                                sobol::SOBOL_DIMENSIONS,
+                                qmc::digital_scramble::DigitalOrder::Natural,
+                            )
+                            .expect("1024 Sobol dimensions are supported"),
+                        )
+                    } else {
+                        std::sync::Arc::new(
+                            qmc::niederreiter::Niederreiter::new(
+                                qmc::niederreiter::MAX_DIMENSIONS,
+                                qmc::digital_scramble::DigitalOrder::Natural,
+                            )
+                            .expect("the Niederreiter sequence's own dimension count"),
+                        )
+                    };
+                Box::new(GlobalSequenceSampler::new(
+                    sequence,
+                    self.name(),
+                    resolution.0,
+                    samples_per_pixel,
                     seed,
                     randomization,
                 ))
             }
-        }
+            SamplerKind::Hammersley => {
+                let hammersley = qmc::hammersley::Hammersley::new(
+                    point_count,
+                    halton::HALTON_DIMENSIONS,
+                    qmc::halton::HaltonScramble::Faure,
+                    0,
+                )
+                .map_err(|_| SamplerError::PatternSize(point_count))?;
+                points_sampler(std::sync::Arc::new(hammersley))
+            }
+            SamplerKind::Padded => Box::new(PaddedSampler::new(
+                point_count,
+                Padding::Replications,
+                seed,
+                randomization,
+            )),
+            SamplerKind::LatinSupercube => Box::new(PaddedSampler::new(
+                point_count,
+                Padding::LatinSupercube,
+                seed,
+                randomization,
+            )),
+        })
     }
 }
 

@@ -1,6 +1,8 @@
 //! Any point set of the `qmc` crate as a sampler: the same points in every
 //! pixel, decorrelated between pixels by a per-pixel Cranley–Patterson
-//! rotation (a random shift modulo one per pixel and dimension).
+//! rotation (a random shift modulo one per pixel and dimension), or, with a
+//! pattern size, replications of its first points, one rotation per
+//! replication.
 
 use super::pixel_randomization::PixelRandomization;
 use super::{PixelSampler, Randomization, SampleSource, to_f32};
@@ -21,17 +23,21 @@ pub struct PointSetSampler {
 
 impl PointSetSampler {
     /// A sampler over `points`, named `name` in logs, its per-pixel shifts
-    /// keyed by `seed` (by seed 0 with [`Randomization::None`]).
+    /// keyed by `seed` (by seed 0 with [`Randomization::None`]). With
+    /// `pattern_size` `m`, a pixel's samples are replications of the set's
+    /// first `m` points, each with its own shift (Kollig & Keller's
+    /// Cranley–Patterson replications, Sect. 4.1).
     pub fn new(
         points: Arc<dyn PointSet>,
         name: impl Into<String>,
         seed: u64,
         randomization: Randomization,
+        pattern_size: Option<u64>,
     ) -> Self {
         Self {
             points,
             name: name.into(),
-            randomization: PixelRandomization::new(seed, randomization),
+            randomization: PixelRandomization::new(seed, randomization, pattern_size),
         }
     }
 }

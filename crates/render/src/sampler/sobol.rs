@@ -28,13 +28,15 @@ pub struct SobolSampler {
 }
 
 impl SobolSampler {
-    /// The sampler with randomization chosen by `seed`.
-    pub fn new(seed: u64, randomization: Randomization) -> Self {
+    /// The sampler with randomization chosen by `seed`. With `pattern_size`
+    /// `m`, a pixel's samples are replications of the first `m` Sobol
+    /// points, each Owen-scrambled on its own (Kollig & Keller, Sect. 4.2).
+    pub fn new(seed: u64, randomization: Randomization, pattern_size: Option<u64>) -> Self {
         let sobol = Sobol::new(SOBOL_DIMENSIONS, DigitalOrder::Natural)
             .expect("1024 Sobol dimensions are supported");
         Self {
             sobol: Arc::new(sobol),
-            randomization: PixelRandomization::new(seed, randomization),
+            randomization: PixelRandomization::new(seed, randomization, pattern_size),
         }
     }
 }

@@ -8,7 +8,10 @@ use std::sync::Arc;
 fn all_samplers() -> Vec<Box<dyn PixelSampler>> {
     let mut samplers: Vec<Box<dyn PixelSampler>> = SamplerKind::ALL
         .iter()
-        .map(|(kind, _)| kind.create(7, Randomization::Seeded, (16, 9), 64))
+        .map(|(kind, _)| {
+            kind.create(7, Randomization::Seeded, (16, 9), 64, None)
+                .unwrap()
+        })
         .collect();
     let points: Arc<dyn qmc::PointSet> = Arc::new(Halton::new(8, HaltonScramble::Owen, 3).unwrap());
     samplers.push(Box::new(PointSetSampler::new(
@@ -16,6 +19,7 @@ fn all_samplers() -> Vec<Box<dyn PixelSampler>> {
         "owen-halton",
         7,
         Randomization::Seeded,
+        None,
     )));
     samplers
 }
@@ -82,7 +86,9 @@ fn every_dimension_is_uniform_on_average() {
 fn halton_film_dimensions_stratify_each_pixel() {
     // With 2^a 3^b ≥ resolution, six consecutive samples of a pixel have
     // film positions (dims 0, 1) in distinct cells of a 2×3 grid of the pixel.
-    let mut sampler = SamplerKind::Halton.create(1, Randomization::Seeded, (5, 4), 6);
+    let mut sampler = SamplerKind::Halton
+        .create(1, Randomization::Seeded, (5, 4), 6, None)
+        .unwrap();
     for pixel in [(0u32, 0u32), (4, 3), (2, 1)] {
         let mut cells = [false; 6];
         for sample in 0..6 {
@@ -99,7 +105,9 @@ fn halton_film_dimensions_stratify_each_pixel() {
 fn sobol_first_samples_of_a_pixel_are_a_net() {
     // The first 16 samples of a pixel, dims (0, 1), put one point in every
     // cell of a 4×4 grid: Owen scrambling keeps the (0, 4, 2)-net.
-    let mut sampler = SamplerKind::Sobol.create(9, Randomization::Seeded, (4, 4), 16);
+    let mut sampler = SamplerKind::Sobol
+        .create(9, Randomization::Seeded, (4, 4), 16, None)
+        .unwrap();
     let mut cells = [0u32; 16];
     for sample in 0..16 {
         sampler.start_pixel_sample((2, 3), sample);
@@ -161,7 +169,7 @@ fn numbers_at(
     pixel: (u32, u32),
     sample: u64,
 ) -> [u32; 8] {
-    let mut sampler = kind.create(seed, randomization, (16, 9), 64);
+    let mut sampler = kind.create(seed, randomization, (16, 9), 64, None).unwrap();
     sampler.start_pixel_sample(pixel, sample);
     GOLDEN_DIMENSIONS.map(|dimension| sampler.get(dimension).to_bits())
 }
@@ -250,7 +258,9 @@ fn no_randomization_keeps_halton_points_for_every_seed() {
 #[test]
 fn seeded_halton_film_dimensions_stratify_each_pixel() {
     for seed in [3u64, 4] {
-        let mut sampler = SamplerKind::Halton.create(seed, Randomization::Seeded, (5, 4), 6);
+        let mut sampler = SamplerKind::Halton
+            .create(seed, Randomization::Seeded, (5, 4), 6, None)
+            .unwrap();
         for pixel in [(0u32, 0u32), (4, 3), (2, 1)] {
             let mut cells = [false; 6];
             for sample in 0..6 {
@@ -262,4 +272,159 @@ fn seeded_halton_film_dimensions_stratify_each_pixel() {
             }
         }
     }
+}
+
+/// The first `m` samples of a pixel: dimension `dimension` of each.
+fn replication_values(
+    sampler: &mut dyn PixelSampler,
+    pixel: (u32, u32),
+    replication: u64,
+    m: u64,
+    dimension: usize,
+) -> Vec<f64> {
+    (0..m)
+        .map(|point| {
+            sampler.start_pixel_sample(pixel, replication * m + point);
+            f64::from(sampler.get(dimension))
+        })
+        .collect()
+}
+
+/// Whether `values` put one value in each of `m` equal intervals.
+fn stratified(values: &[f64], m: usize) -> bool {
+    let mut cells = vec![0; m];
+    for value in values {
+        cells[((value * m as f64) as usize).min(m - 1)] += 1;
+    }
+    cells.iter().all(|&count| count == 1)
+}
+
+#[test]
+fn padded_replications_repeat_the_pattern_in_every_pair() {
+    let m = 16u64;
+    let mut sampler = SamplerKind::Padded
+        .create(3, Randomization::Seeded, (8, 8), 64, Some(m))
+        .unwrap();
+    for replication in 0..4 {
+        let first = replication_values(sampler.as_mut(), (2, 5), replication, m, 0);
+        assert!(stratified(&first, m as usize), "{first:?}");
+        // Pair k holds the same pattern point, shifted by its own rotation:
+        // the difference to pair 0 is one constant modulo one.
+        for dimension in [2, 10, 40] {
+            let other = replication_values(sampler.as_mut(), (2, 5), replication, m, dimension);
+            let offsets: Vec<f64> = first
+                .iter()
+                .zip(&other)
+                .map(|(a, b)| (b - a).rem_euclid(1.0))
+                .collect();
+            let spread = offsets
+                .iter()
+                .map(|offset| {
+                    let d = (offset - offsets[0]).abs();
+                    d.min(1.0 - d)
+                })
+                .fold(0.0f64, f64::max);
+            assert!(spread < 1e-5, "dimension {dimension}: {offsets:?}");
+        }
+    }
+    // Replications have their own rotations.
+    let a = replication_values(sampler.as_mut(), (2, 5), 0, m, 0);
+    let b = replication_values(sampler.as_mut(), (2, 5), 1, m, 0);
+    assert_ne!(a, b);
+}
+
+#[test]
+fn latin_supercube_permutes_each_pair_and_deterministic_points_are_unshifted() {
+    let m = 8u64;
+    let mut sampler = SamplerKind::LatinSupercube
+        .create(5, Randomization::None, (4, 4), 8, Some(m))
+        .unwrap();
+    let grid: Vec<f64> = (0..m).map(|i| (i as f64 + 0.5) / m as f64).collect();
+    let mut orders = Vec::new();
+    for dimension in [0, 2, 4, 6, 8, 10] {
+        let mut values = replication_values(sampler.as_mut(), (1, 2), 0, m, dimension);
+        orders.push(values.clone());
+        values.sort_by(f64::total_cmp);
+        // Without randomization the pattern's own first coordinate, centred.
+        for (value, expected) in values.iter().zip(&grid) {
+            assert!((value - expected).abs() < 1e-6, "{dimension}: {values:?}");
+        }
+    }
+    // The pairs are permuted independently: not all in one order.
+    assert!(orders.iter().any(|order| *order != orders[0]));
+    // Randomized: each pair still one point per 1/m interval.
+    let mut sampler = SamplerKind::LatinSupercube
+        .create(5, Randomization::Seeded, (4, 4), 8, Some(m))
+        .unwrap();
+    for dimension in [0, 3, 17] {
+        let values = replication_values(sampler.as_mut(), (1, 2), 3, m, dimension);
+        assert!(stratified(&values, m as usize), "{dimension}: {values:?}");
+    }
+}
+
+#[test]
+fn global_sequences_give_each_pixel_a_consecutive_block() {
+    use qmc::digital_scramble::{DigitalOrder, DigitalSequence};
+    let sobol = qmc::sobol::Sobol::new(8, DigitalOrder::Natural).unwrap();
+    let niederreiter = qmc::niederreiter::Niederreiter::new(8, DigitalOrder::Natural).unwrap();
+    let sequences: [(SamplerKind, &dyn DigitalSequence); 2] = [
+        (SamplerKind::GlobalSobol, &sobol),
+        (SamplerKind::GlobalNiederreiter, &niederreiter),
+    ];
+    for (kind, sequence) in sequences {
+        // 12 samples per pixel: blocks of 16 points; pixel (2, 1) of a
+        // 5-pixel-wide image is pixel number 7.
+        let mut sampler = kind
+            .create(0, Randomization::None, (5, 3), 12, None)
+            .unwrap();
+        for sample in [0u64, 5, 11] {
+            sampler.start_pixel_sample((2, 1), sample);
+            for dimension in [0usize, 3, 7] {
+                let expected = qmc::digital_scramble::bits_to_unit(
+                    sequence.sample_bits(7 * 16 + sample, dimension),
+                );
+                assert!(
+                    (f64::from(sampler.get(dimension)) - expected).abs() < 1e-6,
+                    "{kind:?} sample {sample} dimension {dimension}"
+                );
+            }
+        }
+        // Randomized, a pixel's first 16 points still stratify dimension 0.
+        let mut sampler = kind
+            .create(4, Randomization::Seeded, (5, 3), 16, None)
+            .unwrap();
+        let values = replication_values(sampler.as_mut(), (4, 2), 0, 16, 0);
+        assert!(stratified(&values, 16), "{kind:?}: {values:?}");
+    }
+}
+
+#[test]
+fn replications_of_point_sets_are_independent_rotations() {
+    let m = 8u64;
+    for kind in [
+        SamplerKind::Hammersley,
+        SamplerKind::Lattice,
+        SamplerKind::Sobol,
+    ] {
+        let mut sampler = kind
+            .create(2, Randomization::Seeded, (4, 4), 32, Some(m))
+            .unwrap();
+        let a = replication_values(sampler.as_mut(), (3, 3), 0, m, 0);
+        let b = replication_values(sampler.as_mut(), (3, 3), 1, m, 0);
+        assert!(stratified(&a, m as usize), "{kind:?}: {a:?}");
+        assert!(stratified(&b, m as usize), "{kind:?}: {b:?}");
+        assert_ne!(a, b, "{kind:?}");
+    }
+    assert_eq!(
+        SamplerKind::Halton
+            .create(0, Randomization::Seeded, (2, 2), 8, Some(4))
+            .err(),
+        Some(SamplerError::NoReplications("halton"))
+    );
+    assert_eq!(
+        SamplerKind::Padded
+            .create(0, Randomization::Seeded, (2, 2), 8, Some(0))
+            .err(),
+        Some(SamplerError::PatternSize(0))
+    );
 }
