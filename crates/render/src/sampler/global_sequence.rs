@@ -15,7 +15,8 @@ const SEQUENCE_SCRAMBLE_TAG: u64 = 0x474C_4F42_414C_5351;
 
 /// Sample `j` of pixel `p` (row-major number `p`) is point
 /// `p · N + j` of the sequence, `N` the samples per pixel rounded up to a
-/// power of two: a pixel's samples are a block of `N` consecutive points
+/// power of two (at most the largest power of two with `pixels · N ≤ 2^32`,
+/// the sequences' length, which is also `N` under a time budget): a pixel's samples are a block of `N` consecutive points
 /// starting at a multiple of `N`, so their first `N` points are a
 /// (t, log₂N, s)-net (in dimensions 0 and 1 a (0, log₂N, 2)-net, stratifying
 /// the pixel). Samples past `N` (a time budget) and dimensions past the
@@ -40,13 +41,13 @@ pub struct GlobalSequenceSampler {
 }
 
 impl GlobalSequenceSampler {
-    /// The sampler over `sequence` (named `name`) for an image `width`
-    /// pixels wide and `samples_per_pixel` samples, randomized by `seed` as
-    /// `randomization` says.
+    /// The sampler over `sequence` (named `name`) for an image of
+    /// `width × height` pixels and `samples_per_pixel` samples, randomized
+    /// by `seed` as `randomization` says.
     pub fn new(
         sequence: Arc<dyn DigitalSequence>,
         name: &'static str,
-        width: u32,
+        (width, height): (u32, u32),
         samples_per_pixel: u64,
         seed: u64,
         randomization: Randomization,
@@ -62,11 +63,18 @@ impl GlobalSequenceSampler {
             }
             Randomization::None => None,
         };
+        // Every pixel's block must fit below 2^32 points: a time budget's
+        // unlimited samples per pixel get the largest block that does.
+        let pixel_count = (u64::from(width.max(1)) * u64::from(height.max(1))).next_power_of_two();
+        let largest_block = ((1u64 << 32) / pixel_count).max(1);
         Self {
             sequence,
             name,
             scramble_seeds,
-            block_size: samples_per_pixel.max(1).next_power_of_two(),
+            block_size: samples_per_pixel
+                .clamp(1, largest_block)
+                .next_power_of_two()
+                .min(largest_block),
             width: u64::from(width.max(1)),
             seed,
             index: None,

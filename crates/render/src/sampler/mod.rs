@@ -313,6 +313,16 @@ pub enum SamplerKind {
     LatinSupercube,
 }
 
+/// The largest point set the point-set samplers (`hammersley`, `padded`,
+/// `latin-supercube`) make for the samples per pixel when no pattern size
+/// is given.
+pub const LARGEST_DEFAULT_PATTERN: u64 = 1 << 16;
+
+/// Their pattern size when the samples per pixel are more than
+/// [`LARGEST_DEFAULT_PATTERN`] (a time budget without `--spp`): each pixel's
+/// samples are then replications of this many points.
+pub const TIMED_PATTERN_SIZE: u64 = 16;
+
 /// Why a sampler cannot be built.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum SamplerError {
@@ -385,14 +395,22 @@ impl SamplerKind {
         pattern_size: Option<u64>,
     ) -> Result<Box<dyn PixelSampler>, SamplerError> {
         self.check_pattern_size(pattern_size)?;
-        let point_count = pattern_size.unwrap_or(samples_per_pixel).max(1);
-        let points_sampler = |points: std::sync::Arc<dyn qmc::PointSet>| {
+        // Without a pattern size a point set has the samples per pixel, but
+        // a time budget's unlimited samples get replications of a default
+        // size instead of one vast set.
+        let timed_pattern =
+            (samples_per_pixel > LARGEST_DEFAULT_PATTERN).then_some(TIMED_PATTERN_SIZE);
+        let point_count = pattern_size
+            .or(timed_pattern)
+            .unwrap_or(samples_per_pixel)
+            .max(1);
+        let points_sampler = |points: std::sync::Arc<dyn qmc::PointSet>, pattern: Option<u64>| {
             Box::new(PointSetSampler::new(
                 points,
                 self.name(),
                 seed,
                 randomization,
-                pattern_size,
+                pattern,
             ))
         };
         Ok(match self {
@@ -414,7 +432,7 @@ impl SamplerKind {
                 )
                 .map_err(|_| SamplerError::PatternSize(point_count))?
                 .lattice;
-                points_sampler(std::sync::Arc::new(lattice))
+                points_sampler(std::sync::Arc::new(lattice), pattern_size)
             }
             SamplerKind::GlobalSobol | SamplerKind::GlobalNiederreiter => {
                 let sequence: std::sync::Arc<dyn qmc::digital_scramble::DigitalSequence> =
@@ -438,7 +456,7 @@ impl SamplerKind {
                 Box::new(GlobalSequenceSampler::new(
                     sequence,
                     self.name(),
-                    resolution.0,
+                    resolution,
                     samples_per_pixel,
                     seed,
                     randomization,
@@ -452,7 +470,10 @@ impl SamplerKind {
                     0,
                 )
                 .map_err(|_| SamplerError::PatternSize(point_count))?;
-                points_sampler(std::sync::Arc::new(hammersley))
+                points_sampler(
+                    std::sync::Arc::new(hammersley),
+                    pattern_size.or(timed_pattern),
+                )
             }
             SamplerKind::Padded => Box::new(PaddedSampler::new(
                 point_count,

@@ -428,3 +428,36 @@ fn replications_of_point_sets_are_independent_rotations() {
         Some(SamplerError::PatternSize(0))
     );
 }
+
+#[test]
+fn time_budgets_get_bounded_patterns_and_blocks() {
+    // A time budget's unlimited samples per pixel: the sequences' blocks
+    // still fit 2^32 points, and the point sets replicate a small pattern.
+    let unlimited = u64::MAX / (1 << 32);
+    for kind in [SamplerKind::GlobalSobol, SamplerKind::GlobalNiederreiter] {
+        let mut sampler = kind
+            .create(1, Randomization::Seeded, (64, 48), unlimited, None)
+            .unwrap();
+        // Far pixels and late samples are still served by the sequence:
+        // their first 16 samples stratify dimension 0.
+        let values = replication_values(sampler.as_mut(), (63, 47), 0, 16, 0);
+        assert!(stratified(&values, 16), "{kind:?}: {values:?}");
+    }
+    for kind in [
+        SamplerKind::Hammersley,
+        SamplerKind::Padded,
+        SamplerKind::LatinSupercube,
+    ] {
+        let mut sampler = kind
+            .create(1, Randomization::Seeded, (8, 8), unlimited, None)
+            .unwrap();
+        let m = TIMED_PATTERN_SIZE;
+        for replication in [0, 5, 1000] {
+            let values = replication_values(sampler.as_mut(), (7, 7), replication, m, 0);
+            assert!(
+                stratified(&values, m as usize),
+                "{kind:?} {replication}: {values:?}"
+            );
+        }
+    }
+}
