@@ -359,28 +359,50 @@ impl WalkObserver for CameraSubpathRecorder<'_> {
 }
 
 /// The solid-angle density with which `vertex` scatters from `wo` into
-/// `wi` (its BSDF's or phase function's).
-fn scattering_pdf(vertex: &Vertex, wo: Vec3, wi: Vec3) -> f32 {
+/// `wi` (its BSDF's or phase function's) on a subpath in transport `mode`:
+/// radiance when a camera subpath samples there, importance when a light
+/// subpath does, whichever subpath the vertex was recorded on (the side
+/// check of bump and normal maps depends on it, see
+/// [`crate::material::SurfaceBsdf::pdf_in_mode`]).
+fn scattering_pdf(vertex: &Vertex, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
     match &vertex.scatterer {
-        Scatterer::Surface { bsdf, .. } => bsdf.pdf(wo, wi),
+        Scatterer::Surface { bsdf, .. } => bsdf.pdf_in_mode(wo, wi, mode),
         Scatterer::Medium { phase } => phase.pdf(wo, wi),
     }
 }
 
 /// The area density at `to` (normal `to_normal`, zero in a medium) of
-/// `vertex` scattering towards it after arriving from `wo`.
-fn area_density_from(vertex: &Vertex, wo: Vec3, to: Vec3, to_normal: Vec3) -> f32 {
+/// `vertex` scattering towards it after arriving from `wo`, on a subpath
+/// in transport `mode`.
+fn area_density_from(
+    vertex: &Vertex,
+    wo: Vec3,
+    to: Vec3,
+    to_normal: Vec3,
+    mode: TransportMode,
+) -> f32 {
     let wi = (to - vertex.point).normalize_or_zero();
-    solid_angle_to_area(scattering_pdf(vertex, wo, wi), vertex.point, to, to_normal)
+    solid_angle_to_area(
+        scattering_pdf(vertex, wo, wi, mode),
+        vertex.point,
+        to,
+        to_normal,
+    )
 }
 
-/// The density of `vertex`, arrived at from `wo`, scattering towards the
-/// light subpath's origin `origin`: per unit area there, or per unit solid
-/// angle for an origin at infinity.
+/// The density of a camera subpath at `vertex`, arrived at from `wo`,
+/// scattering towards the light subpath's origin `origin`: per unit area
+/// there, or per unit solid angle for an origin at infinity.
 fn density_towards_origin(vertex: &Vertex, wo: Vec3, origin: &LightOrigin) -> f32 {
     match origin.from_infinity {
-        Some(direction) => scattering_pdf(vertex, wo, -direction),
-        None => area_density_from(vertex, wo, origin.point, origin.normal),
+        Some(direction) => scattering_pdf(vertex, wo, -direction, TransportMode::Radiance),
+        None => area_density_from(
+            vertex,
+            wo,
+            origin.point,
+            origin.normal,
+            TransportMode::Radiance,
+        ),
     }
 }
 
@@ -956,7 +978,7 @@ impl Bidirectional<'_> {
             light_densities.clear();
             light_densities.push(VertexDensities {
                 forward: self.environment_density(sample.wi),
-                reverse: scattering_pdf(end, end.wo, sample.wi),
+                reverse: scattering_pdf(end, end.wo, sample.wi, TransportMode::Radiance),
                 delta: false,
             });
             subpath_densities(VertexDensities::default(), camera, t, camera_densities);
@@ -964,8 +986,13 @@ impl Bidirectional<'_> {
             camera_densities[t - 1].delta = false;
             if t >= 3 {
                 let previous = &camera[t - 3];
-                camera_densities[t - 2].reverse =
-                    area_density_from(end, sample.wi, previous.point, previous.geometric_normal);
+                camera_densities[t - 2].reverse = area_density_from(
+                    end,
+                    sample.wi,
+                    previous.point,
+                    previous.geometric_normal,
+                    TransportMode::Importance,
+                );
             }
             let weight = strategy_weight(camera_densities, light_densities, false, self.strategies);
             return value * weight;
@@ -990,7 +1017,13 @@ impl Bidirectional<'_> {
                 } else {
                     emission_pdf.position
                 },
-            reverse: area_density_from(end, end.wo, sample.point, light_normal),
+            reverse: area_density_from(
+                end,
+                end.wo,
+                sample.point,
+                light_normal,
+                TransportMode::Radiance,
+            ),
             delta: false,
         });
         subpath_densities(VertexDensities::default(), camera, t, camera_densities);
@@ -1003,8 +1036,13 @@ impl Bidirectional<'_> {
         camera_densities[t - 1].delta = false;
         if t >= 3 {
             let previous = &camera[t - 3];
-            camera_densities[t - 2].reverse =
-                area_density_from(end, sample.wi, previous.point, previous.geometric_normal);
+            camera_densities[t - 2].reverse = area_density_from(
+                end,
+                sample.wi,
+                previous.point,
+                previous.geometric_normal,
+                TransportMode::Importance,
+            );
         }
         let weight = strategy_weight(
             camera_densities,
@@ -1075,6 +1113,7 @@ impl Bidirectional<'_> {
             light_end.wo,
             camera_end.point,
             camera_end.geometric_normal,
+            TransportMode::Importance,
         );
         camera_densities[t - 1].delta = false;
         light_densities[s - 1].reverse = area_density_from(
@@ -1082,6 +1121,7 @@ impl Bidirectional<'_> {
             camera_end.wo,
             light_end.point,
             light_end.geometric_normal,
+            TransportMode::Radiance,
         );
         light_densities[s - 1].delta = false;
         if t >= 3 {
@@ -1091,11 +1131,18 @@ impl Bidirectional<'_> {
                 direction,
                 previous.point,
                 previous.geometric_normal,
+                TransportMode::Importance,
             );
         }
         light_densities[s - 2].reverse = if s >= 3 {
             let before = &light[s - 3];
-            area_density_from(light_end, -direction, before.point, before.geometric_normal)
+            area_density_from(
+                light_end,
+                -direction,
+                before.point,
+                before.geometric_normal,
+                TransportMode::Radiance,
+            )
         } else {
             density_towards_origin(light_end, -direction, origin)
         };
@@ -1178,6 +1225,7 @@ impl Bidirectional<'_> {
                 camera_sample.wi,
                 before.point,
                 before.geometric_normal,
+                TransportMode::Radiance,
             )
         } else {
             density_towards_origin(light_end, camera_sample.wi, origin)
