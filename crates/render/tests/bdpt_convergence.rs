@@ -111,6 +111,57 @@ fn bdpt_matches_path_tracing_with_a_normal_map() {
     );
 }
 
+/// `dof-spheres` with a sun: a directional light (irradiance 2, from above
+/// and to the side) added to its sky and area light, or (`sun_only`)
+/// instead of them.
+fn sunlit_spheres(sun_only: bool) -> render::scene::Scene {
+    use render::scene::description::{LightDescription, SpectrumDescription};
+    let mut description =
+        path_comparison::small(render::scene::builtin::builtin_scene("dof-spheres").unwrap());
+    if sun_only {
+        description.lights.clear();
+        for shape in &mut description.shapes {
+            shape.emission = None;
+        }
+    }
+    description.lights.push(LightDescription::Directional {
+        direction: glam::Vec3::new(0.5, -1.0, 0.4).normalize(),
+        irradiance: SpectrumDescription::Rgb([2.0, 1.9, 1.7]),
+    });
+    render::scene::Scene::build(&description).unwrap()
+}
+
+/// A directional light, the only light: its light subpaths start on the
+/// disk that covers the scene, and every strategy but the camera's reaching
+/// it (a delta in direction) shares the paths.
+#[test]
+fn bdpt_matches_path_tracing_under_a_directional_light() {
+    assert_matches_path(
+        "dof-spheres, sun only",
+        &sunlit_spheres(true),
+        BDPT,
+        4096,
+        64,
+        None,
+        true,
+    );
+}
+
+/// A directional light with a sky and an area light: the light subpaths
+/// start at all three kinds of light.
+#[test]
+fn bdpt_matches_path_tracing_with_a_sun_a_sky_and_an_area_light() {
+    assert_matches_path(
+        "dof-spheres with a sun",
+        &sunlit_spheres(false),
+        BDPT,
+        4096,
+        64,
+        None,
+        true,
+    );
+}
+
 /// The path tracer is the noisy one in the caustic (see `light_tracing.rs`):
 /// the image mean is asserted, the per-pixel test reported.
 #[test]

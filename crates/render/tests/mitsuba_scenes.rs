@@ -546,7 +546,7 @@ fn light_tracing_matches_the_references() {
 }
 
 /// Bidirectional path tracing on every test scene it renders (scenes with
-/// media or directional lights are refused and skipped), with the
+/// media are refused and skipped), with the
 /// statistics of [`light_tracing_matches_the_references`]; every pixel
 /// counts (BDPT reaches paths seen through delta lobes).
 #[test]
@@ -609,14 +609,8 @@ fn splatting_integrator_matches_the_references(
         let loaded = load(&path);
         let scene = Scene::build(&loaded.description)
             .unwrap_or_else(|error| panic!("{name} does not build: {error}"));
-        if integrator == IntegratorKind::Bdpt
-            && (scene.has_media()
-                || scene
-                    .lights
-                    .iter()
-                    .any(|light| matches!(light, render::light::Light::Directional { .. })))
-        {
-            eprintln!("{name}: not rendered by bdpt (media or a directional light)");
+        if integrator == IntegratorKind::Bdpt && scene.has_media() {
+            eprintln!("{name}: not rendered by bdpt (media)");
             continue;
         }
         let [width, height] = loaded.description.camera.resolution.map(|v| v as usize);
