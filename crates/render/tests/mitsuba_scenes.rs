@@ -546,7 +546,7 @@ fn light_tracing_matches_the_references() {
 }
 
 /// Bidirectional path tracing on every test scene it renders (scenes with
-/// media or directional lights are refused and skipped), with the
+/// media are refused and skipped), with the
 /// statistics of [`light_tracing_matches_the_references`]; every pixel
 /// counts (BDPT reaches paths seen through delta lobes).
 #[test]
@@ -562,10 +562,21 @@ fn bidirectional_path_tracing_matches_the_references() {
 /// reported, not asserted): the three with shading normals from bump and
 /// normal maps (2026-12-04, 16 × 64 spp: bump map 98.65 % of pixels, image
 /// mean −0.37 % at t = −8.0; normal map 98.52 %, −0.53 %, t = −9.4; normal-
-/// mapped rough conductor 98.39 %, −1.18 %, t = −3.0). Light tracing and the
-/// path tracer match them, so the connections or the MIS weights of BDPT
-/// mishandle shading normals somewhere (pbrt-v4 #385 is the known bug of
-/// this kind); an open item of issue 17.
+/// mapped rough conductor 98.39 %, −1.18 %, t = −3.0).
+///
+/// The error is not BDPT's: the path tracer's image means are as far off
+/// (16 × 128 spp, 2026-12-05: bump map −0.63 % at t = −10.5, normal map
+/// −0.67 % at t = −12.6, normal-mapped rough conductor −0.96 % at
+/// t = −4.8 against the reference), and BDPT agrees with the path tracer
+/// within its noise (bump map +0.18 % at t = 2.3, normal map +0.12 % at
+/// t = 1.6, rough conductor −0.11 % at t = −0.4). The path tracer passes only because
+/// its test asserts no image mean. Per 4 × 4 block of pixels, both are
+/// 5–10 % dark on the sphere's silhouette and about 1 % bright inside it,
+/// in the bump- and in the normal-mapped scene, not in
+/// `test_normalmap_identity_roughconductor`: the perturbed frames at
+/// grazing views differ from Mitsuba's somewhere in the material (the side
+/// check of the perturbed frame is not it: without it the image is the
+/// same), an open item of issue 17.
 const BDPT_KNOWN_FAILURES: &[&str] = &[
     "bsdf_spheres/test_bumpmap_path.xml",
     "bsdf_spheres/test_normalmap_path.xml",
@@ -581,22 +592,25 @@ fn splatting_integrator_matches_the_references(
     mean_not_asserted: &[&str],
 ) {
     let mut failures = Vec::new();
+    // `LQMC_SCENE_FILTER=text` keeps the scenes whose name contains it (to
+    // rerun a few while working on them).
+    let filter = std::env::var("LQMC_SCENE_FILTER").ok();
     for (name, status) in SCENES {
         let Render { samples_per_pixel } = *status else {
             continue;
         };
+        if filter
+            .as_ref()
+            .is_some_and(|filter| !name.contains(filter.as_str()))
+        {
+            continue;
+        }
         let path = test_scene(name);
         let loaded = load(&path);
         let scene = Scene::build(&loaded.description)
             .unwrap_or_else(|error| panic!("{name} does not build: {error}"));
-        if integrator == IntegratorKind::Bdpt
-            && (scene.has_media()
-                || scene
-                    .lights
-                    .iter()
-                    .any(|light| matches!(light, render::light::Light::Directional { .. })))
-        {
-            eprintln!("{name}: not rendered by bdpt (media or a directional light)");
+        if integrator == IntegratorKind::Bdpt && scene.has_media() {
+            eprintln!("{name}: not rendered by bdpt (media)");
             continue;
         }
         let [width, height] = loaded.description.camera.resolution.map(|v| v as usize);

@@ -822,7 +822,11 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                     Scattering {
                         wi: sample.wi,
                         pdf_forward: if delta { 0.0 } else { pdf },
-                        pdf_reverse: if delta { 0.0 } else { bsdf.pdf(sample.wi, wo) },
+                        pdf_reverse: if delta {
+                            0.0
+                        } else {
+                            bsdf.pdf_in_mode(sample.wi, wo, settings.mode.other())
+                        },
                         delta,
                         flags: sample.flags,
                     }

@@ -460,13 +460,37 @@ impl SurfaceBsdf {
         wi_world: Vec3,
         wavelengths: &SampledWavelengths,
     ) -> SampledSpectrum {
+        let wo = self.frame.to_local(wo_world);
         let wi = self.frame.to_local(wi_world);
-        if self.adapter.opacity <= 0.0 || !self.adapter.sides_agree(wi_world, wi) {
+        if self.adapter.opacity <= 0.0
+            || !self.sides_agree(wo_world, wo, wi_world, wi, self.bsdf.transport_mode())
+        {
             return SampledSpectrum::zero();
         }
-        self.bsdf
-            .evaluate(self.frame.to_local(wo_world), wi, wavelengths)
-            * self.adapter.opacity
+        self.bsdf.evaluate(wo, wi, wavelengths) * self.adapter.opacity
+    }
+
+    /// The side check of a perturbed frame ([`SurfaceAdapter::sides_agree`])
+    /// for the pair `wo`, `wi` (world and local) in transport `mode`: it
+    /// applies to the direction light arrives from, `wi` in radiance
+    /// transport and `wo` in importance transport. Mitsuba 3's `bumpmap` and
+    /// `normalmap` check the sampled direction of camera paths, the light
+    /// side; checking the sampled direction of light paths instead (the
+    /// camera side) would give a path a different value on each subpath,
+    /// and bidirectional weights that do not sum to one.
+    #[inline]
+    fn sides_agree(
+        &self,
+        wo_world: Vec3,
+        wo: Vec3,
+        wi_world: Vec3,
+        wi: Vec3,
+        mode: TransportMode,
+    ) -> bool {
+        match mode {
+            TransportMode::Radiance => self.adapter.sides_agree(wi_world, wi),
+            TransportMode::Importance => self.adapter.sides_agree(wo_world, wo),
+        }
     }
 
     /// [`Self::evaluate`] and [`Self::pdf`] of the same pair of directions
@@ -497,11 +521,13 @@ impl SurfaceBsdf {
         wi_world: Vec3,
         wavelengths: &SampledWavelengths,
     ) -> (SampledSpectrum, f32) {
+        let wo = self.frame.to_local(wo_world);
         let wi = self.frame.to_local(wi_world);
-        if self.adapter.opacity <= 0.0 || !self.adapter.sides_agree(wi_world, wi) {
+        if self.adapter.opacity <= 0.0
+            || !self.sides_agree(wo_world, wo, wi_world, wi, self.bsdf.transport_mode())
+        {
             return (SampledSpectrum::zero(), 0.0);
         }
-        let wo = self.frame.to_local(wo_world);
         (
             self.bsdf.evaluate(wo, wi, wavelengths) * self.adapter.opacity,
             self.bsdf.pdf(wo, wi) * self.adapter.opacity,
@@ -548,9 +574,13 @@ impl SurfaceBsdf {
             sample.wi = -wo_world;
             return Some(sample);
         };
+        let mode = self.bsdf.transport_mode();
+        if mode == TransportMode::Importance && !self.adapter.sides_agree(wo_world, wo) {
+            return None;
+        }
         let mut sample = self.bsdf.sample(wo, u_component, u, wavelengths)?;
         let wi_world = self.frame.to_world(sample.wi);
-        if !self.adapter.sides_agree(wi_world, sample.wi) {
+        if mode == TransportMode::Radiance && !self.adapter.sides_agree(wi_world, sample.wi) {
             return None;
         }
         sample.wi = wi_world;
@@ -563,11 +593,21 @@ impl SurfaceBsdf {
 
     /// [`Bsdf::pdf`] for world-space directions.
     pub fn pdf(&self, wo_world: Vec3, wi_world: Vec3) -> f32 {
+        self.pdf_in_mode(wo_world, wi_world, self.bsdf.transport_mode())
+    }
+
+    /// The density with which the BSDF in transport `mode` samples `wi`
+    /// from `wo`: [`Self::pdf`] of the same surface on a subpath of the
+    /// other kind. Bidirectional methods take reverse densities with the
+    /// other mode (`pdf_in_mode(wi, wo, mode.other())`): the side check of
+    /// perturbed frames applies to a different argument in each.
+    pub fn pdf_in_mode(&self, wo_world: Vec3, wi_world: Vec3, mode: TransportMode) -> f32 {
+        let wo = self.frame.to_local(wo_world);
         let wi = self.frame.to_local(wi_world);
-        if self.adapter.opacity <= 0.0 || !self.adapter.sides_agree(wi_world, wi) {
+        if self.adapter.opacity <= 0.0 || !self.sides_agree(wo_world, wo, wi_world, wi, mode) {
             return 0.0;
         }
-        self.bsdf.pdf(self.frame.to_local(wo_world), wi) * self.adapter.opacity
+        self.bsdf.pdf(wo, wi) * self.adapter.opacity
     }
 
     /// [`Bsdf::flags`], with the pass-through lobe of a mask.
@@ -591,5 +631,98 @@ impl SurfaceBsdf {
     /// mask's pass-through does not change it.
     pub fn roughness(&self) -> f32 {
         self.bsdf.roughness()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A one-sided Lambertian surface whose shading normal a normal map
+    /// tilted by about 37° from the unperturbed one (the z axis).
+    fn tilted(mode: TransportMode) -> SurfaceBsdf {
+        let diffuse = DiffuseBsdf::one_sided(SampledSpectrum::splat(0.8)).unwrap();
+        SurfaceBsdf {
+            frame: ShadingFrame::from_normal(Vec3::new(0.6, 0.0, 0.8)).unwrap(),
+            bsdf: Bsdf::new(BsdfModel::Diffuse(diffuse)).with_transport_mode(mode),
+            adapter: SurfaceAdapter {
+                opacity: 1.0,
+                unperturbed_normal: Some(Vec3::Z),
+            },
+        }
+    }
+
+    /// Directions on a grid over the sphere.
+    fn directions() -> Vec<Vec3> {
+        let mut directions = Vec::new();
+        for i in 0..12 {
+            for j in 0..24 {
+                let theta = (i as f32 + 0.5) * std::f32::consts::PI / 12.0;
+                let phi = j as f32 * std::f32::consts::TAU / 24.0;
+                directions.push(Vec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                ));
+            }
+        }
+        directions
+    }
+
+    /// A path through a bump- or normal-mapped vertex has one value whichever
+    /// subpath reaches it: the camera subpath's f(wo, wi) (wo towards the
+    /// camera) equals the light subpath's adjoint f*(wi, wo), also where the
+    /// side check of the perturbed frame passes for one direction and not
+    /// for the other (it applies to the light's side in both modes); and the
+    /// reverse density a camera vertex reports for the light subpath is the
+    /// light subpath's own density. Before, each mode checked its second
+    /// argument, so bidirectional strategies disagreed on such paths.
+    #[test]
+    fn perturbed_frames_give_both_transport_modes_one_path_value() {
+        let wavelengths = SampledWavelengths::sample_visible(0.5);
+        let radiance = tilted(TransportMode::Radiance);
+        let importance = tilted(TransportMode::Importance);
+        let mut one_side_disagrees = 0;
+        for &to_camera in &directions() {
+            for &to_light in &directions() {
+                let camera_value = radiance.evaluate(to_camera, to_light, &wavelengths);
+                let light_value = importance.evaluate(to_light, to_camera, &wavelengths);
+                assert_eq!(camera_value, light_value, "{to_camera} {to_light}");
+                assert_eq!(
+                    radiance.pdf_in_mode(to_light, to_camera, TransportMode::Importance),
+                    importance.pdf(to_light, to_camera)
+                );
+                assert_eq!(
+                    importance.pdf_in_mode(to_camera, to_light, TransportMode::Radiance),
+                    radiance.pdf(to_camera, to_light)
+                );
+                let agrees = |w: Vec3| w.z * w.dot(radiance.frame.normal()) > 0.0;
+                if agrees(to_camera) != agrees(to_light) && !camera_value.is_black() {
+                    one_side_disagrees += 1;
+                }
+            }
+        }
+        // The grid does reach the pairs where only one side agrees.
+        assert!(one_side_disagrees > 0);
+    }
+
+    /// Importance transport samples only from directions of arrival that
+    /// pass the side check, and then never rejects the sampled direction.
+    #[test]
+    fn importance_sampling_checks_the_direction_of_arrival() {
+        let mut wavelengths = SampledWavelengths::sample_visible(0.5);
+        let importance = tilted(TransportMode::Importance);
+        for &to_light in &directions() {
+            let sample = importance.sample(to_light, 0.5, [0.3, 0.7], &mut wavelengths);
+            let passes = to_light.z * to_light.dot(importance.frame.normal()) > 0.0;
+            if !passes {
+                assert!(sample.is_none(), "{to_light}");
+            } else if let Some(sample) = sample {
+                assert!(
+                    (sample.pdf - importance.pdf(to_light, sample.wi)).abs() < 1e-5,
+                    "{to_light}"
+                );
+            }
+        }
     }
 }

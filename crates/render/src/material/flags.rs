@@ -104,6 +104,18 @@ pub enum TransportMode {
     Importance,
 }
 
+impl TransportMode {
+    /// The mode of the subpaths of the other kind: what a bidirectional
+    /// method's reverse densities are taken in.
+    #[inline]
+    pub fn other(self) -> Self {
+        match self {
+            TransportMode::Radiance => TransportMode::Importance,
+            TransportMode::Importance => TransportMode::Radiance,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -47,8 +47,16 @@
 //! environment starts on a disk facing the scene, and its first vertex's
 //! density is the disk's over the cosine there, without a distance.
 //!
-//! Participating media and directional lights are not handled yet: such
-//! scenes are refused with a message.
+//! Directional lights are handled as pbrt-v4 does: a light subpath starts
+//! at a uniform point of the disk covering the scene, facing the light,
+//! and leaves in the light's one direction, so its first vertex's density
+//! is the disk's times the cosine there (as from the sky); next-event
+//! estimation from `z_{t−1}` gives that vertex the same reverse density.
+//! The light is a delta in direction: no camera subpath reaches it, and
+//! the split that would is left out of the weights, as for points and spots.
+//!
+//! Participating media are not handled yet: such scenes are refused with a
+//! message.
 
 pub mod mis;
 
@@ -138,15 +146,6 @@ impl Integrator for BdptIntegrator {
         if scene.has_media() {
             return Err(RenderError::Unsupported(
                 "bdpt does not trace participating media yet; use --integrator volpath".into(),
-            ));
-        }
-        if scene
-            .lights
-            .iter()
-            .any(|light| matches!(light, Light::Directional { .. }))
-        {
-            return Err(RenderError::Unsupported(
-                "bdpt does not handle directional lights yet; use --integrator path".into(),
             ));
         }
         let image_plane = ImagePlane::new(scene);
@@ -244,8 +243,9 @@ struct LightOrigin {
     point: Vec3,
     /// The light's front normal (zero for lights without a surface).
     normal: Vec3,
-    /// The light has a delta position (no camera path can reach it).
-    delta_position: bool,
+    /// The light is a delta in position (points, spots, projectors) or in
+    /// direction (directional lights): no camera path can reach it.
+    delta_light: bool,
     /// For an environment: the direction the subpath leaves it in (`point`
     /// is then on the disk it starts from).
     from_infinity: Option<Vec3>,
@@ -359,28 +359,50 @@ impl WalkObserver for CameraSubpathRecorder<'_> {
 }
 
 /// The solid-angle density with which `vertex` scatters from `wo` into
-/// `wi` (its BSDF's or phase function's).
-fn scattering_pdf(vertex: &Vertex, wo: Vec3, wi: Vec3) -> f32 {
+/// `wi` (its BSDF's or phase function's) on a subpath in transport `mode`:
+/// radiance when a camera subpath samples there, importance when a light
+/// subpath does, whichever subpath the vertex was recorded on (the side
+/// check of bump and normal maps depends on it, see
+/// [`crate::material::SurfaceBsdf::pdf_in_mode`]).
+fn scattering_pdf(vertex: &Vertex, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
     match &vertex.scatterer {
-        Scatterer::Surface { bsdf, .. } => bsdf.pdf(wo, wi),
+        Scatterer::Surface { bsdf, .. } => bsdf.pdf_in_mode(wo, wi, mode),
         Scatterer::Medium { phase } => phase.pdf(wo, wi),
     }
 }
 
 /// The area density at `to` (normal `to_normal`, zero in a medium) of
-/// `vertex` scattering towards it after arriving from `wo`.
-fn area_density_from(vertex: &Vertex, wo: Vec3, to: Vec3, to_normal: Vec3) -> f32 {
+/// `vertex` scattering towards it after arriving from `wo`, on a subpath
+/// in transport `mode`.
+fn area_density_from(
+    vertex: &Vertex,
+    wo: Vec3,
+    to: Vec3,
+    to_normal: Vec3,
+    mode: TransportMode,
+) -> f32 {
     let wi = (to - vertex.point).normalize_or_zero();
-    solid_angle_to_area(scattering_pdf(vertex, wo, wi), vertex.point, to, to_normal)
+    solid_angle_to_area(
+        scattering_pdf(vertex, wo, wi, mode),
+        vertex.point,
+        to,
+        to_normal,
+    )
 }
 
-/// The density of `vertex`, arrived at from `wo`, scattering towards the
-/// light subpath's origin `origin`: per unit area there, or per unit solid
-/// angle for an origin at infinity.
+/// The density of a camera subpath at `vertex`, arrived at from `wo`,
+/// scattering towards the light subpath's origin `origin`: per unit area
+/// there, or per unit solid angle for an origin at infinity.
 fn density_towards_origin(vertex: &Vertex, wo: Vec3, origin: &LightOrigin) -> f32 {
     match origin.from_infinity {
-        Some(direction) => scattering_pdf(vertex, wo, -direction),
-        None => area_density_from(vertex, wo, origin.point, origin.normal),
+        Some(direction) => scattering_pdf(vertex, wo, -direction, TransportMode::Radiance),
+        None => area_density_from(
+            vertex,
+            wo,
+            origin.point,
+            origin.normal,
+            TransportMode::Radiance,
+        ),
     }
 }
 
@@ -770,7 +792,15 @@ impl Bidirectional<'_> {
         let Some(&index) = self.scene.environment_lights.first() else {
             return 0.0;
         };
-        let position = self.scene.lights[index as usize]
+        self.light_disk_density(&self.scene.lights[index as usize], direction, vertex)
+    }
+
+    /// The area density at `vertex` of a light subpath leaving `light` (at
+    /// infinity: an environment or a directional light) seen in
+    /// `direction` from the scene: its disk's density times the cosine at
+    /// the vertex.
+    fn light_disk_density(&self, light: &Light, direction: Vec3, vertex: &Vertex) -> f32 {
+        let position = light
             .pdf_emission(&self.scene.geometry, vertex.point, -direction, Vec3::ZERO)
             .position;
         if vertex.geometric_normal == Vec3::ZERO {
@@ -817,10 +847,15 @@ impl Bidirectional<'_> {
             } else {
                 Vec3::ZERO
             },
-            delta_position: emission.is_delta_position,
+            delta_light: light.is_delta(),
             from_infinity: at_infinity.then_some(emission.direction),
             densities: VertexDensities {
-                forward: if at_infinity {
+                // A directional light's origin counts only towards the
+                // split where the camera subpath reaches it, which is left
+                // out (it is a delta in direction); 0 says so.
+                forward: if emission.is_delta_direction {
+                    0.0
+                } else if at_infinity {
                     self.environment_density(-emission.direction)
                 } else {
                     choice * emission.pdf_position
@@ -952,22 +987,38 @@ impl Bidirectional<'_> {
         }
         let value = end.beta * factor * sample.radiance / (choice * sample.pdf);
         if sample.is_infinite {
-            // The sampled sky direction as the light subpath's origin.
+            // The sampled sky direction, or the directional light, as the
+            // light subpath's origin (the latter's forward density as the
+            // light subpath gives it: 0, see `trace_light_subpath`).
             light_densities.clear();
             light_densities.push(VertexDensities {
-                forward: self.environment_density(sample.wi),
-                reverse: scattering_pdf(end, end.wo, sample.wi),
+                forward: if sample.is_delta {
+                    0.0
+                } else {
+                    self.environment_density(sample.wi)
+                },
+                reverse: scattering_pdf(end, end.wo, sample.wi, TransportMode::Radiance),
                 delta: false,
             });
             subpath_densities(VertexDensities::default(), camera, t, camera_densities);
-            camera_densities[t - 1].reverse = self.disk_density(sample.wi, end);
+            camera_densities[t - 1].reverse = self.light_disk_density(light, sample.wi, end);
             camera_densities[t - 1].delta = false;
             if t >= 3 {
                 let previous = &camera[t - 3];
-                camera_densities[t - 2].reverse =
-                    area_density_from(end, sample.wi, previous.point, previous.geometric_normal);
+                camera_densities[t - 2].reverse = area_density_from(
+                    end,
+                    sample.wi,
+                    previous.point,
+                    previous.geometric_normal,
+                    TransportMode::Importance,
+                );
             }
-            let weight = strategy_weight(camera_densities, light_densities, false, self.strategies);
+            let weight = strategy_weight(
+                camera_densities,
+                light_densities,
+                sample.is_delta,
+                self.strategies,
+            );
             return value * weight;
         }
         // The sampled light point as the light subpath's origin.
@@ -990,7 +1041,13 @@ impl Bidirectional<'_> {
                 } else {
                     emission_pdf.position
                 },
-            reverse: area_density_from(end, end.wo, sample.point, light_normal),
+            reverse: area_density_from(
+                end,
+                end.wo,
+                sample.point,
+                light_normal,
+                TransportMode::Radiance,
+            ),
             delta: false,
         });
         subpath_densities(VertexDensities::default(), camera, t, camera_densities);
@@ -1003,8 +1060,13 @@ impl Bidirectional<'_> {
         camera_densities[t - 1].delta = false;
         if t >= 3 {
             let previous = &camera[t - 3];
-            camera_densities[t - 2].reverse =
-                area_density_from(end, sample.wi, previous.point, previous.geometric_normal);
+            camera_densities[t - 2].reverse = area_density_from(
+                end,
+                sample.wi,
+                previous.point,
+                previous.geometric_normal,
+                TransportMode::Importance,
+            );
         }
         let weight = strategy_weight(
             camera_densities,
@@ -1075,6 +1137,7 @@ impl Bidirectional<'_> {
             light_end.wo,
             camera_end.point,
             camera_end.geometric_normal,
+            TransportMode::Importance,
         );
         camera_densities[t - 1].delta = false;
         light_densities[s - 1].reverse = area_density_from(
@@ -1082,6 +1145,7 @@ impl Bidirectional<'_> {
             camera_end.wo,
             light_end.point,
             light_end.geometric_normal,
+            TransportMode::Radiance,
         );
         light_densities[s - 1].delta = false;
         if t >= 3 {
@@ -1091,18 +1155,25 @@ impl Bidirectional<'_> {
                 direction,
                 previous.point,
                 previous.geometric_normal,
+                TransportMode::Importance,
             );
         }
         light_densities[s - 2].reverse = if s >= 3 {
             let before = &light[s - 3];
-            area_density_from(light_end, -direction, before.point, before.geometric_normal)
+            area_density_from(
+                light_end,
+                -direction,
+                before.point,
+                before.geometric_normal,
+                TransportMode::Radiance,
+            )
         } else {
             density_towards_origin(light_end, -direction, origin)
         };
         let weight = strategy_weight(
             camera_densities,
             light_densities,
-            origin.delta_position,
+            origin.delta_light,
             self.strategies,
         );
         value * weight
@@ -1178,6 +1249,7 @@ impl Bidirectional<'_> {
                 camera_sample.wi,
                 before.point,
                 before.geometric_normal,
+                TransportMode::Radiance,
             )
         } else {
             density_towards_origin(light_end, camera_sample.wi, origin)
@@ -1185,7 +1257,7 @@ impl Bidirectional<'_> {
         let weight = strategy_weight(
             camera_densities,
             light_densities,
-            origin.delta_position,
+            origin.delta_light,
             self.strategies,
         );
         Some((
