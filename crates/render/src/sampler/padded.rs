@@ -151,16 +151,10 @@ impl SampleSource for PaddedSampler {
 
 impl PixelSampler for PaddedSampler {
     fn start_pixel_sample(&mut self, pixel: (u32, u32), sample_index: u64) {
-        let previous = (
-            self.randomization.pixel_seed(),
-            self.randomization.replication(),
-        );
+        // The pixel seed is keyed by the pixel and the replication.
+        let previous = self.randomization.pixel_seed();
         self.randomization.start(pixel, sample_index);
-        let current = (
-            self.randomization.pixel_seed(),
-            self.randomization.replication(),
-        );
-        if previous != current {
+        if self.randomization.pixel_seed() != previous {
             self.drawn.iter_mut().for_each(|drawn| *drawn = false);
         }
     }

@@ -26,7 +26,6 @@ pub(crate) struct PixelRandomization {
     pattern_size: Option<u64>,
     pixel_seed: u64,
     index: u64,
-    replication: u64,
     fallback: SeekablePcg,
 }
 
@@ -48,7 +47,6 @@ impl PixelRandomization {
             pattern_size: pattern_size.map(|size| size.max(1)),
             pixel_seed: 0,
             index: 0,
-            replication: 0,
             fallback: SeekablePcg::new(seed, 0),
         }
     }
@@ -59,11 +57,9 @@ impl PixelRandomization {
         // replication's, with replications).
         self.pixel_seed = pixel_part_of_key(self.scramble_seed, pixel);
         self.index = sample_index;
-        self.replication = 0;
         if let Some(size) = self.pattern_size {
             self.index = sample_index % size;
-            self.replication = sample_index / size;
-            self.pixel_seed = hash3(self.pixel_seed, REPLICATION_TAG, self.replication);
+            self.pixel_seed = hash3(self.pixel_seed, REPLICATION_TAG, sample_index / size);
         }
         let stream_pixel_part = if self.scramble_seed == self.seed {
             self.pixel_seed
@@ -88,12 +84,6 @@ impl PixelRandomization {
     #[inline]
     pub(crate) fn pixel_seed(&self) -> u64 {
         self.pixel_seed
-    }
-
-    /// The current sample's replication (0 without replications).
-    #[inline]
-    pub(crate) fn replication(&self) -> u64 {
-        self.replication
     }
 
     /// 64 random bits for `dimension` in the current pixel, the same for

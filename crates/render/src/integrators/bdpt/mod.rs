@@ -986,12 +986,13 @@ impl Bidirectional<'_> {
             return SampledSpectrum::zero();
         }
         let value = end.beta * factor * sample.radiance / (choice * sample.pdf);
-        if sample.is_infinite {
-            // The sampled sky direction, or the directional light, as the
-            // light subpath's origin (the latter's forward density as the
-            // light subpath gives it: 0, see `trace_light_subpath`).
-            light_densities.clear();
-            light_densities.push(VertexDensities {
+        // The light subpath's origin and the density with which it would
+        // have reached the camera subpath's end.
+        let (origin, end_reverse) = if sample.is_infinite {
+            // The sampled sky direction, or the directional light (its
+            // forward density as the light subpath gives it: 0, see
+            // `trace_light_subpath`).
+            let origin = VertexDensities {
                 forward: if sample.is_delta {
                     0.0
                 } else {
@@ -999,64 +1000,49 @@ impl Bidirectional<'_> {
                 },
                 reverse: scattering_pdf(end, end.wo, sample.wi, TransportMode::Radiance),
                 delta: false,
-            });
-            subpath_densities(VertexDensities::default(), camera, t, camera_densities);
-            camera_densities[t - 1].reverse = self.light_disk_density(light, sample.wi, end);
-            camera_densities[t - 1].delta = false;
-            if t >= 3 {
-                let previous = &camera[t - 3];
-                camera_densities[t - 2].reverse = area_density_from(
-                    end,
-                    sample.wi,
-                    previous.point,
-                    previous.geometric_normal,
-                    TransportMode::Importance,
-                );
-            }
-            let weight = strategy_weight(
-                camera_densities,
-                light_densities,
-                sample.is_delta,
-                self.strategies,
-            );
-            return value * weight;
-        }
-        // The sampled light point as the light subpath's origin.
-        let light_normal = if sample.is_delta {
-            Vec3::ZERO
+            };
+            (origin, self.light_disk_density(light, sample.wi, end))
         } else {
-            sample.normal
-        };
-        let emission_pdf = light.pdf_emission(
-            &scene.geometry,
-            sample.point,
-            -sample.wi,
-            stored_normal(light, sample.normal),
-        );
-        light_densities.clear();
-        light_densities.push(VertexDensities {
-            forward: choice
-                * if sample.is_delta {
-                    1.0
-                } else {
-                    emission_pdf.position
-                },
-            reverse: area_density_from(
-                end,
-                end.wo,
+            // The sampled light point.
+            let light_normal = if sample.is_delta {
+                Vec3::ZERO
+            } else {
+                sample.normal
+            };
+            let emission_pdf = light.pdf_emission(
+                &scene.geometry,
                 sample.point,
-                light_normal,
-                TransportMode::Radiance,
-            ),
-            delta: false,
-        });
+                -sample.wi,
+                stored_normal(light, sample.normal),
+            );
+            let origin = VertexDensities {
+                forward: choice
+                    * if sample.is_delta {
+                        1.0
+                    } else {
+                        emission_pdf.position
+                    },
+                reverse: area_density_from(
+                    end,
+                    end.wo,
+                    sample.point,
+                    light_normal,
+                    TransportMode::Radiance,
+                ),
+                delta: false,
+            };
+            let end_reverse = solid_angle_to_area(
+                emission_pdf.direction,
+                sample.point,
+                end.point,
+                end.geometric_normal,
+            );
+            (origin, end_reverse)
+        };
+        light_densities.clear();
+        light_densities.push(origin);
         subpath_densities(VertexDensities::default(), camera, t, camera_densities);
-        camera_densities[t - 1].reverse = solid_angle_to_area(
-            emission_pdf.direction,
-            sample.point,
-            end.point,
-            end.geometric_normal,
-        );
+        camera_densities[t - 1].reverse = end_reverse;
         camera_densities[t - 1].delta = false;
         if t >= 3 {
             let previous = &camera[t - 3];
