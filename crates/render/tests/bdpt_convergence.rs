@@ -346,23 +346,6 @@ fn strategy_images_sum_to_the_image() {
     }
 }
 
-/// Scenes with participating media are refused with a message that names
-/// the integrator to use, not rendered wrongly.
-#[test]
-fn scenes_with_media_are_refused() {
-    let scene = builtin("translucent-spheres");
-    let settings = RenderSettings {
-        integrator: IntegratorKind::Bdpt.into(),
-        samples_per_pixel: 1,
-        ..RenderSettings::default()
-    };
-    let error = match render(&scene, &settings, &AtomicBool::new(false), &|_, _| {}) {
-        Ok(_) => panic!("a scene with media was rendered"),
-        Err(error) => error.to_string(),
-    };
-    assert!(error.contains("volpath"), "{error}");
-}
-
 /// Every image is finite and not black in a scene BDPT handles, at every
 /// depth from emitters only (1) to six segments.
 #[test]

@@ -565,16 +565,19 @@ fn light_tracing_matches_the_references() {
     );
 }
 
-/// Bidirectional path tracing on every test scene it renders (scenes with
-/// media are refused and skipped), with the
-/// statistics of [`light_tracing_matches_the_references`]; every pixel
-/// counts (BDPT reaches paths seen through delta lobes).
+/// Bidirectional path tracing on every test scene, those with media
+/// included (volumetric BDPT), with the statistics of
+/// [`light_tracing_matches_the_references`]; every pixel counts (BDPT
+/// reaches paths seen through delta lobes). The image mean of the scene of
+/// [`MEAN_SHARED_WITH_VOLPATH`] is reported, not asserted: BDPT misses it
+/// as `volpath` does (2026-12-04, 16 × 64 spp: −2.36 % at t = −17.1,
+/// 99.96 % of pixels passing).
 #[test]
 fn bidirectional_path_tracing_matches_the_references() {
     splatting_integrator_matches_the_references(
         IntegratorKind::Bdpt,
         BDPT_KNOWN_FAILURES,
-        BDPT_KNOWN_FAILURES,
+        &[BDPT_KNOWN_FAILURES, MEAN_SHARED_WITH_VOLPATH].concat(),
     );
 }
 
@@ -629,10 +632,6 @@ fn splatting_integrator_matches_the_references(
         let loaded = load(&path);
         let scene = Scene::build(&loaded.description)
             .unwrap_or_else(|error| panic!("{name} does not build: {error}"));
-        if integrator == IntegratorKind::Bdpt && scene.has_media() {
-            eprintln!("{name}: not rendered by bdpt (media)");
-            continue;
-        }
         let [width, height] = loaded.description.camera.resolution.map(|v| v as usize);
         let pixels = (width * height) as u64;
         let spp = samples_per_pixel

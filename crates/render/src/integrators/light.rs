@@ -37,7 +37,10 @@
 //!   the emitting side of its area light's medium interface, or else in
 //!   the medium around its point, found from the camera as `volpath`'s
 //!   camera paths find it; environment and directional lights in a
-//!   scene-filling medium are refused.
+//!   scene-filling medium are refused. Free flights are sampled at the
+//!   hero wavelength, and each connection divides by the mean over the
+//!   wavelengths of the walk's spectral density ratio (the one-sample MIS
+//!   over the choice of hero of `volpath`).
 //!
 //! Numbers: the camera dimensions of [`crate::sampler::layout`] (time,
 //! wavelength, the lens point of the light vertex's connection, the film
@@ -99,6 +102,7 @@ impl Integrator for LightIntegrator {
             scene,
             settings: &self.settings,
             light_media,
+            media: scene.has_media(),
         };
         render_splat_paths(&estimator, scene, run).map(IntegratorRender::from_driver)
     }
@@ -111,6 +115,8 @@ struct LightTracer<'a> {
     /// Per light, the medium around it where that is one medium for all
     /// its points ([`medium_around_light`]; `None` without media).
     light_media: Vec<Option<Option<u32>>>,
+    /// The scene has participating media (volumetric walks).
+    media: bool,
 }
 
 impl SplatEstimator for LightTracer<'_> {
@@ -285,8 +291,23 @@ impl SplatEstimator for LightTracer<'_> {
             if factor.is_black() {
                 continue;
             }
-            let value =
-                vertex.beta * factor * (beta_scale * camera_sample.value / camera_sample.pdf);
+            // In media, the one-sample MIS over the choice of hero
+            // wavelength (as `volpath`'s): the throughput's `f / p_hero`
+            // becomes `f / mean_j p_j`. Without it, `T_j σ_j / (T_0 σ_0)` has
+            // infinite variance wherever the hero's extinction exceeds twice
+            // another wavelength's.
+            let spectral_mis = if self.media {
+                let mean_ratio = vertex.spectral_density_ratio.average();
+                if mean_ratio <= 0.0 {
+                    continue;
+                }
+                1.0 / mean_ratio
+            } else {
+                1.0
+            };
+            let value = vertex.beta
+                * factor
+                * (beta_scale * spectral_mis * camera_sample.value / camera_sample.pdf);
             splat_if_visible(
                 scene,
                 vertex.origin_towards(camera_sample.wi),
@@ -366,7 +387,7 @@ fn splat_if_visible(
 /// in `direction` enters: for an area light on a shape with a medium
 /// interface, the medium on that side; otherwise `around`, the medium the
 /// light sits in ([`medium_around_light`]).
-fn emission_medium(
+pub(super) fn emission_medium(
     scene: &Scene,
     light: &Light,
     around: Option<u32>,
@@ -390,7 +411,7 @@ fn emission_medium(
 /// the medium at its position for points, spots and projectors, the
 /// camera's for lights at infinity; `None` for area lights, whose points
 /// are looked up one by one ([`medium_at`]).
-fn medium_around_light(scene: &Scene, light_index: usize) -> Option<Option<u32>> {
+pub(super) fn medium_around_light(scene: &Scene, light_index: usize) -> Option<Option<u32>> {
     let light = &scene.lights[light_index];
     if light.is_infinite() {
         return Some(scene.camera_medium);
@@ -407,7 +428,7 @@ fn medium_around_light(scene: &Scene, light_index: usize) -> Option<Option<u32>>
 /// as the camera paths of `volpath` find it: from the camera (in its
 /// medium) along a segment to the point, the medium changed at every
 /// surface with a medium interface crossed on the way.
-fn medium_at(scene: &Scene, point: Vec3, normal: Vec3) -> Option<u32> {
+pub(super) fn medium_at(scene: &Scene, point: Vec3, normal: Vec3) -> Option<u32> {
     let camera_ray = scene.camera.generate_ray(
         Vec2::from(scene.camera.resolution().map(|size| size as f32 * 0.5)),
         [0.5; 2],

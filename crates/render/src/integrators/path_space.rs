@@ -263,6 +263,16 @@ pub struct VertexAt<'a> {
     /// free flight's factor) of sampling this vertex from the previous one;
     /// 0 unless the observer records densities.
     pub pdf_forward: f32,
+    /// Per wavelength, the probability of passing the segment that arrived
+    /// here were that wavelength the hero: the transmittance of the media
+    /// on it times the null crossings' probabilities (1 without media). The
+    /// same either way along the segment, so the reverse densities use it
+    /// too.
+    pub arrival_transmittance: SampledSpectrum,
+    /// Per wavelength, the extinction coefficient σt at a medium vertex
+    /// (the free flight's density of stopping here over its
+    /// transmittance); 1 at surfaces.
+    pub extinction: SampledSpectrum,
 }
 
 /// One recorded scattering vertex of a subpath ([`random_walk`]).
@@ -285,11 +295,21 @@ pub struct Vertex {
     /// The BSDF or the phase function.
     pub scatterer: Scatterer,
     /// Density per unit area of sampling this vertex from the previous one
-    /// (per unit volume in a medium, without the free flight's factor).
+    /// (per unit volume in a medium, without the free flight's factor:
+    /// [`Self::arrival_transmittance`] times [`Self::extinction`] per
+    /// wavelength).
     pub pdf_forward: f32,
     /// Density per unit area of sampling this vertex from the next one
     /// (0 until the next vertex is sampled; 0 for a delta scattering).
     pub pdf_reverse: f32,
+    /// [`VertexAt::arrival_transmittance`].
+    pub arrival_transmittance: SampledSpectrum,
+    /// [`VertexAt::extinction`].
+    pub extinction: SampledSpectrum,
+    /// The walk's [`WalkState::spectral_density_ratio`] on arrival: per
+    /// wavelength, the density of the subpath's free flights up to here
+    /// over the hero wavelength's.
+    pub spectral_density_ratio: SampledSpectrum,
     /// The next vertex was sampled by a delta lobe.
     pub delta: bool,
     /// The shape hit (`u32::MAX` in a medium).
@@ -297,8 +317,9 @@ pub struct Vertex {
 }
 
 impl Vertex {
-    /// The vertex the walk showed, with the throughput `beta` up to it.
-    pub fn record(vertex: &VertexAt<'_>, beta: SampledSpectrum) -> Self {
+    /// The vertex the walk showed, with the walk's throughput and spectral
+    /// density ratio up to it.
+    pub fn record(vertex: &VertexAt<'_>, walk: &WalkState) -> Self {
         let (geometric_normal, shading_normal, shape_index) = match vertex.scatterer {
             ScattererRef::Surface { hit, bsdf, .. } => {
                 (hit.geometric_normal, bsdf.frame.normal(), hit.shape_index)
@@ -311,11 +332,14 @@ impl Vertex {
             shading_normal,
             wo: vertex.wo,
             time: vertex.time,
-            beta,
+            beta: walk.beta,
             medium: vertex.medium,
             scatterer: vertex.scatterer.to_owned(),
             pdf_forward: vertex.pdf_forward,
             pdf_reverse: 0.0,
+            arrival_transmittance: vertex.arrival_transmittance,
+            extinction: vertex.extinction,
+            spectral_density_ratio: walk.spectral_density_ratio,
             delta: false,
             shape_index,
         }
@@ -491,6 +515,11 @@ pub struct WalkState {
     pub previous: PreviousScattering,
     /// The medium the walk is in.
     pub medium: Option<u32>,
+    /// Per wavelength, the probability of passing the current segment so
+    /// far were that wavelength the hero (transmittance times null
+    /// crossings; 1 without media): the free flight's factor of the
+    /// densities of what the segment reaches.
+    pub segment_transmittance: SampledSpectrum,
     /// The index of the next vertex (Mitsuba's depth: scatterings so far).
     pub vertex_index: u32,
     /// The dimension block of the next vertex (null crossings take one each).
@@ -573,8 +602,12 @@ pub trait WalkObserver {
 
 /// What a segment ended at.
 enum SegmentEnd {
-    /// A scattering event in a medium at `point`.
-    Medium { point: Vec3 },
+    /// A scattering event in a medium at `point`, where the extinction
+    /// coefficients are `extinction`.
+    Medium {
+        point: Vec3,
+        extinction: SampledSpectrum,
+    },
     /// A surface that is not an index-matched boundary: the hit (as
     /// stored) is in the segment's hit slot.
     Surface,
@@ -607,6 +640,7 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
             delta: start.pdf_direction == 0.0,
         },
         medium: if settings.media { start.medium } else { None },
+        segment_transmittance: SampledSpectrum::splat(1.0),
         vertex_index: 0,
         block: 0,
     };
@@ -638,7 +672,7 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                 observer.escaped(&state, ray.direction, wavelengths);
                 break;
             }
-            SegmentEnd::Medium { point } => {
+            SegmentEnd::Medium { point, extinction } => {
                 if state.vertex_index as usize >= settings.max_vertices {
                     break;
                 }
@@ -651,6 +685,8 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                     medium: state.medium,
                     scatterer: ScattererRef::Medium { phase },
                     pdf_forward: 0.0,
+                    arrival_transmittance: state.segment_transmittance,
+                    extinction,
                 };
                 if O::RECORDS_DENSITIES {
                     // A direction density times the inverse square distance:
@@ -698,6 +734,7 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                     pdf: sample.pdf,
                     delta: false,
                 };
+                state.segment_transmittance = SampledSpectrum::splat(1.0);
                 previous_vertex_point = point;
                 pdf_direction = sample.pdf;
                 ray = Ray::with_time(point, sample.wi, ray.time);
@@ -735,7 +772,12 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                         .layout
                         .dimension(state.block as usize, layout::SCATTER_COMPONENT),
                 );
-                if settings.null_crossings && null_transmission(&bsdf, wo) > 0.0 {
+                let null_probability = if settings.null_crossings {
+                    null_transmission(&bsdf, wo)
+                } else {
+                    0.0
+                };
+                if null_probability > 0.0 {
                     // A surface with a null lobe (a thin sheet's straight
                     // transmission, a mask's pass-through): choose it with
                     // its probability first; it is no vertex and no depth.
@@ -755,6 +797,7 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                             state.medium,
                         );
                         ray = spawn_ray(hit, -wo);
+                        state.segment_transmittance *= null_probability;
                         state.block += 1;
                         continue;
                     }
@@ -774,6 +817,8 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                         offset: &offset,
                     },
                     pdf_forward: 0.0,
+                    arrival_transmittance: state.segment_transmittance,
+                    extinction: SampledSpectrum::splat(1.0),
                 };
                 if O::RECORDS_DENSITIES {
                     vertex.pdf_forward = solid_angle_to_area(
@@ -848,6 +893,7 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                     pdf,
                     delta,
                 };
+                state.segment_transmittance = SampledSpectrum::splat(1.0);
                 previous_vertex_point = hit.point;
                 if settings.mode == TransportMode::Radiance && sample.is_transmission() {
                     eta_scale *= sample.eta * sample.eta;
@@ -943,10 +989,14 @@ fn trace_segment<S: SampleSource + ?Sized, O: WalkObserver>(
                 }
                 state.beta *= piece * coefficients.sigma_s / hero_pdf;
                 state.spectral_density_ratio *= piece * sigma_t / hero_pdf;
+                state.segment_transmittance *= piece;
                 if state.beta.is_black() {
                     return SegmentEnd::Dead;
                 }
-                return SegmentEnd::Medium { point: ray.at(t) };
+                return SegmentEnd::Medium {
+                    point: ray.at(t),
+                    extinction: sigma_t,
+                };
             }
             // Passing through the whole piece: probability T₀(distance).
             optical_depth = Some(tau - hero_sigma_t * distance);
@@ -957,6 +1007,7 @@ fn trace_segment<S: SampleSource + ?Sized, O: WalkObserver>(
             let ratio = piece / piece[0];
             state.beta *= ratio;
             state.spectral_density_ratio *= ratio;
+            state.segment_transmittance *= piece;
         }
         let Some(hit) = hit else {
             return SegmentEnd::Escaped;
@@ -1008,7 +1059,7 @@ impl WalkObserver for VertexRecorder<'_> {
         _sampler: &mut S,
         _counters: &mut TraceCounters,
     ) -> ControlFlow<()> {
-        self.vertices.push(Vertex::record(vertex, walk.beta));
+        self.vertices.push(Vertex::record(vertex, walk));
         ControlFlow::Continue(())
     }
 
@@ -1021,7 +1072,8 @@ impl WalkObserver for VertexRecorder<'_> {
 
 /// Records in a subpath's `vertices` how its last vertex (`vertex`)
 /// scattered: whether by a delta lobe, and the area density of sampling the
-/// vertex before it from it (its `pdf_reverse`).
+/// vertex before it from it (its `pdf_reverse`, without the free flight's
+/// factor).
 #[inline]
 pub fn record_scattering(vertices: &mut [Vertex], vertex: &VertexAt<'_>, scattering: &Scattering) {
     let count = vertices.len();

@@ -19,7 +19,8 @@
 //!    distributions (rare bright light paths) give somewhat more, so the
 //!    fraction above 3 must stay under 2.5 % (the bound of the LQMC
 //!    variance test, `lqmc_variance.rs`), and every pixel's mean must be
-//!    finite.
+//!    finite. With the environment variable `DEBUG_Z` set, the pixel
+//!    channels above 3 are printed.
 #![allow(dead_code)]
 
 use render::image::Image;
@@ -227,6 +228,14 @@ pub fn assert_matches_path(
         tests += 1;
         if (mean - reference).abs() > 3.0 * total.sqrt() {
             above_three += 1;
+            if std::env::var("DEBUG_Z").is_ok() {
+                eprintln!(
+                    "pixel {} channel {}: {mean:.5} vs {reference:.5}, z = {:.2}",
+                    index / 3,
+                    index % 3,
+                    (mean - reference) / total.sqrt()
+                );
+            }
         }
     }
     let fraction = above_three as f64 / tests.max(1) as f64;

@@ -55,21 +55,40 @@
 //! The light is a delta in direction: no camera subpath reaches it, and
 //! the split that would is left out of the weights, as for points and spots.
 //!
-//! Participating media are not handled yet: such scenes are refused with a
-//! message.
+//! # Participating media
+//!
+//! In scenes with media both subpaths are volumetric walks (the camera's
+//! from the camera's medium, the light's from the medium around the point
+//! it leaves), with null crossings as `volpath` and the light tracer make
+//! them, and every connection, next-event estimation and light-tracing
+//! splat is weighted by the transmittance of its segment through media and
+//! null surfaces ([`super::volpath::shadow_transmittance`]). The densities
+//! include the free flights at the hero wavelength: a medium vertex's the
+//! extinction times the transmittance, a surface vertex's the transmittance
+//! of the segment that reached it; a connection's reverse densities take
+//! its segment's transmittance (Veach 1997 §10.2's densities over media,
+//! as in Pauly et al. 2000). The throughputs divide by the hero wavelength's
+//! densities only (no spectral MIS, unlike `volpath`): unbiased where every
+//! wavelength's extinction is positive wherever another's is, noisier than
+//! `volpath` in strongly chromatic media. Environment and directional
+//! lights in a medium that fills the scene are refused, as by the light
+//! tracer.
 
 pub mod mis;
 
 use super::driver::{PixelSampleIndex, SplatEstimator, render_splat_paths};
-use super::light::lens_numbers;
+use super::light::{emission_medium, lens_numbers, medium_around_light, medium_at};
 use super::path::PathSettings;
 use super::path_space::{
     Scatterer, Scattering, SubpathLayout, Vertex, VertexAt, WalkObserver, WalkSettings, WalkStart,
     WalkState, random_walk, record_scattering, solid_angle_to_area, walk,
 };
+use super::volpath::shadow_transmittance;
 use super::{AuxiliaryImage, Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
 use crate::film::{Film, ImagePlane, SplatBuffer};
-use crate::geometry::{OffsetPoint, Ray, SurfaceHit, occlusion_segment_to_point};
+use crate::geometry::{
+    OffsetPoint, Ray, SurfaceHit, occlusion_segment_to_point, spawn_segment_to_point,
+};
 use crate::light::Light;
 use crate::material::TransportMode;
 use crate::sampler::{PixelSampler, SampleSource, layout};
@@ -143,11 +162,21 @@ impl BdptIntegrator {
 
 impl Integrator for BdptIntegrator {
     fn render(&self, scene: &Scene, run: &RunControl<'_>) -> Result<IntegratorRender, RenderError> {
-        if scene.has_media() {
+        if scene.camera_medium.is_some() && scene.lights.iter().any(|light| light.is_infinite()) {
             return Err(RenderError::Unsupported(
-                "bdpt does not trace participating media yet; use --integrator volpath".into(),
+                "bdpt cannot start light subpaths of environment or directional lights in a \
+                 medium that fills the scene; use --integrator volpath"
+                    .into(),
             ));
         }
+        let media = scene.has_media();
+        let light_media = if media {
+            (0..scene.lights.len())
+                .map(|index| medium_around_light(scene, index))
+                .collect()
+        } else {
+            vec![Some(None); scene.lights.len()]
+        };
         let image_plane = ImagePlane::new(scene);
         let estimator = Bidirectional {
             scene,
@@ -159,6 +188,8 @@ impl Integrator for BdptIntegrator {
             strategy_images: self.bdpt.strategy_images,
             image_plane,
             margin: -image_plane.origin,
+            media,
+            light_media,
         };
         let output = render_splat_paths(&estimator, scene, run)?;
         let auxiliary_images = output
@@ -220,8 +251,13 @@ struct EmitterHit {
     wo: Vec3,
     /// The subpath's throughput on arrival.
     beta: SampledSpectrum,
-    /// Area density of the point sampled from the previous vertex.
+    /// Area density of the point sampled from the previous vertex
+    /// (without the free flight).
     pdf_forward: f32,
+    /// Per wavelength, the probability of passing the segment to it.
+    arrival_transmittance: SampledSpectrum,
+    /// The walk's spectral density ratio on arrival.
+    spectral_density_ratio: SampledSpectrum,
 }
 
 /// An escape of the camera subpath to the environments (s = 0).
@@ -235,6 +271,10 @@ struct EnvironmentEscape {
     beta: SampledSpectrum,
     /// The solid-angle density of the direction (0 after a delta).
     pdf_forward: f32,
+    /// Per wavelength, the probability of passing the segment.
+    arrival_transmittance: SampledSpectrum,
+    /// The walk's spectral density ratio on escape.
+    spectral_density_ratio: SampledSpectrum,
 }
 
 /// The light subpath's first vertex: the point on the light.
@@ -279,6 +319,12 @@ struct Bidirectional<'a> {
     image_plane: ImagePlane,
     /// The grown plane's margin in pixels per side.
     margin: Vec2,
+    /// The scene has participating media: volumetric walks, null
+    /// crossings and transmittance along connections.
+    media: bool,
+    /// Per light, the medium around it where that is one medium for all its
+    /// points (`None`: looked up per point; `Some(None)` without media).
+    light_media: Vec<Option<Option<u32>>>,
 }
 
 /// The camera subpath's observer: records the vertices with their
@@ -322,6 +368,8 @@ impl WalkObserver for CameraSubpathRecorder<'_> {
             wo,
             beta: walk.beta,
             pdf_forward,
+            arrival_transmittance: walk.segment_transmittance,
+            spectral_density_ratio: walk.spectral_density_ratio,
         });
     }
 
@@ -335,6 +383,8 @@ impl WalkObserver for CameraSubpathRecorder<'_> {
             } else {
                 walk.previous.pdf
             },
+            arrival_transmittance: walk.segment_transmittance,
+            spectral_density_ratio: walk.spectral_density_ratio,
         });
     }
 
@@ -347,7 +397,7 @@ impl WalkObserver for CameraSubpathRecorder<'_> {
         _sampler: &mut S,
         _counters: &mut TraceCounters,
     ) -> ControlFlow<()> {
-        self.vertices.push(Vertex::record(vertex, walk.beta));
+        self.vertices.push(Vertex::record(vertex, walk));
         ControlFlow::Continue(())
     }
 
@@ -417,41 +467,105 @@ fn stored_normal(light: &Light, front: Vec3) -> Vec3 {
     if flipped { -front } else { front }
 }
 
-/// Whether `point` (unit normal `normal`, zero for a point without a
-/// surface) is seen from `origin` at `time`: one shadow ray, counted.
-fn point_visible(
-    scene: &Scene,
-    origin: Vec3,
-    time: f32,
-    point: Vec3,
-    normal: Vec3,
-    counters: &mut TraceCounters,
-) -> bool {
-    counters.shadow_rays += 1;
-    match occlusion_segment_to_point(origin, time, point, normal) {
-        Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
-        None => false,
-    }
-}
-
-/// The densities of a subpath's vertex at its origin (`origin`) and its
-/// first `count − 1` recorded vertices, into `densities`.
-fn subpath_densities(
-    origin: VertexDensities,
-    vertices: &[Vertex],
-    count: usize,
-    densities: &mut Vec<VertexDensities>,
-) {
-    densities.clear();
-    densities.push(origin);
-    densities.extend(vertices[..count - 1].iter().map(|vertex| VertexDensities {
-        forward: vertex.pdf_forward,
-        reverse: vertex.pdf_reverse,
-        delta: vertex.delta,
-    }));
+/// Where a connection's segment ends.
+#[derive(Debug, Clone, Copy)]
+enum ConnectionEnd {
+    /// At a point with its unit normal (zero for a point without a surface).
+    Point(Vec3, Vec3),
+    /// At infinity, in a unit direction.
+    Infinity(Vec3),
 }
 
 impl Bidirectional<'_> {
+    /// The densities of a subpath's vertex at its origin (`origin`) and its
+    /// first `count − 1` recorded vertices, into `densities`; with media,
+    /// with their free flights per wavelength.
+    fn subpath_densities(
+        &self,
+        origin: VertexDensities,
+        vertices: &[Vertex],
+        count: usize,
+        densities: &mut Vec<VertexDensities>,
+    ) {
+        densities.clear();
+        densities.push(origin);
+        let vertices_used = &vertices[..count - 1];
+        if !self.media {
+            densities.extend(vertices_used.iter().map(|vertex| {
+                VertexDensities::geometric(vertex.pdf_forward, vertex.pdf_reverse, vertex.delta)
+            }));
+            return;
+        }
+        densities.extend(
+            vertices_used
+                .iter()
+                .enumerate()
+                .map(|(index, vertex)| VertexDensities {
+                    forward: vertex.pdf_forward,
+                    reverse: vertex.pdf_reverse,
+                    forward_free_flight: vertex.arrival_transmittance * vertex.extinction,
+                    // Sampled back from the next vertex along the segment
+                    // that reached it (the last one's is set by the
+                    // strategy).
+                    reverse_free_flight: match vertices.get(index + 1) {
+                        Some(next) => next.arrival_transmittance * vertex.extinction,
+                        None => vertex.extinction,
+                    },
+                    delta: vertex.delta,
+                }),
+        );
+    }
+
+    /// The transmittance of a connection's segment from `origin` (offset
+    /// off its surface, in `medium`) at `time` to `end`: 1 or 0 by one
+    /// shadow ray without media; with them, the media's transmittance and
+    /// the null surfaces' weights along it (zero where it is blocked).
+    fn transmittance(
+        &self,
+        origin: Vec3,
+        medium: Option<u32>,
+        time: f32,
+        end: ConnectionEnd,
+        wavelengths: &SampledWavelengths,
+        counters: &mut TraceCounters,
+    ) -> SampledSpectrum {
+        let scene = self.scene;
+        if self.media {
+            let segment = match end {
+                ConnectionEnd::Point(point, normal) => {
+                    spawn_segment_to_point(origin, time, point, normal)
+                }
+                ConnectionEnd::Infinity(direction) => {
+                    Some((Ray::with_time(origin, direction, time), f32::INFINITY))
+                }
+            };
+            return match segment {
+                Some((ray, t_max)) => {
+                    shadow_transmittance(scene, ray, t_max, medium, wavelengths, counters)
+                }
+                None => SampledSpectrum::zero(),
+            };
+        }
+        counters.shadow_rays += 1;
+        let visible = match end {
+            ConnectionEnd::Point(point, normal) => {
+                match occlusion_segment_to_point(origin, time, point, normal) {
+                    Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
+                    None => false,
+                }
+            }
+            ConnectionEnd::Infinity(direction) => {
+                let ray = Ray::with_time(origin, direction, time);
+                !scene.geometry.occluded(&ray, f32::INFINITY)
+            }
+        };
+        if visible {
+            SampledSpectrum::splat(1.0)
+        } else {
+            SampledSpectrum::zero()
+        }
+    }
+
     /// The density of a light subpath starting at infinity in the unit
     /// direction `-direction` (`direction` points from the scene to the
     /// sky), over all environments, each chosen with its probability: what
@@ -577,15 +691,15 @@ impl SplatEstimator for Bidirectional<'_> {
                 ray: Ray::with_time(camera_ray.origin, camera_ray.direction, time),
                 beta: SampledSpectrum::splat(1.0),
                 pdf_direction: camera_density.direction,
-                medium: None,
+                medium: scene.camera_medium,
             },
             &WalkSettings {
                 mode: TransportMode::Radiance,
                 max_vertices: WalkSettings::camera_vertices(self.settings.max_depth),
                 russian_roulette_depth: self.settings.russian_roulette_depth,
                 layout: SubpathLayout::BIDIRECTIONAL_CAMERA,
-                media: false,
-                null_crossings: false,
+                media: self.media,
+                null_crossings: self.media,
             },
             &mut wavelengths,
             sampler,
@@ -615,7 +729,7 @@ impl SplatEstimator for Bidirectional<'_> {
                 continue;
             }
             let t = hit.vertices_before + 2;
-            subpath_densities(
+            self.subpath_densities(
                 VertexDensities::default(),
                 camera_vertices,
                 t - 1,
@@ -627,18 +741,29 @@ impl SplatEstimator for Bidirectional<'_> {
             camera_densities.push(VertexDensities {
                 forward: hit.pdf_forward,
                 reverse: choice * emission_pdf.position,
+                forward_free_flight: hit.arrival_transmittance,
+                reverse_free_flight: SampledSpectrum::splat(1.0),
                 delta: false,
             });
             if t >= 3 {
                 let previous = &camera_vertices[t - 3];
-                camera_densities[t - 2].reverse = solid_angle_to_area(
-                    emission_pdf.direction,
-                    hit.point,
-                    previous.point,
-                    previous.geometric_normal,
+                camera_densities[t - 2].set_reverse(
+                    solid_angle_to_area(
+                        emission_pdf.direction,
+                        hit.point,
+                        previous.point,
+                        previous.geometric_normal,
+                    ),
+                    hit.arrival_transmittance * previous.extinction,
                 );
             }
-            let weight = strategy_weight(camera_densities, &[], false, self.strategies);
+            let weight = strategy_weight(
+                camera_densities,
+                &[],
+                false,
+                self.strategies,
+                self.media.then_some(&hit.spectral_density_ratio),
+            );
             let value = hit.beta * emitted * weight;
             self.record(strategy_splats, 0, t, raster, &value, &wavelengths);
             camera_side += value;
@@ -655,7 +780,7 @@ impl SplatEstimator for Bidirectional<'_> {
                 continue;
             }
             let t = escape.vertices_before + 2;
-            subpath_densities(
+            self.subpath_densities(
                 VertexDensities::default(),
                 camera_vertices,
                 t - 1,
@@ -664,15 +789,26 @@ impl SplatEstimator for Bidirectional<'_> {
             camera_densities.push(VertexDensities {
                 forward: escape.pdf_forward,
                 reverse: self.environment_density(escape.direction),
+                forward_free_flight: escape.arrival_transmittance,
+                reverse_free_flight: SampledSpectrum::splat(1.0),
                 delta: false,
             });
             if t >= 3 {
                 // The density of z_{t−2} as the first vertex of a light
                 // subpath from the sky: the disk's, times the cosine there.
                 let previous = &camera_vertices[t - 3];
-                camera_densities[t - 2].reverse = self.disk_density(escape.direction, previous);
+                camera_densities[t - 2].set_reverse(
+                    self.disk_density(escape.direction, previous),
+                    escape.arrival_transmittance * previous.extinction,
+                );
             }
-            let weight = strategy_weight(camera_densities, &[], false, self.strategies);
+            let weight = strategy_weight(
+                camera_densities,
+                &[],
+                false,
+                self.strategies,
+                self.media.then_some(&escape.spectral_density_ratio),
+            );
             let value = escape.beta * emitted * weight;
             self.record(strategy_splats, 0, t, raster, &value, &wavelengths);
             camera_side += value;
@@ -849,20 +985,20 @@ impl Bidirectional<'_> {
             },
             delta_light: light.is_delta(),
             from_infinity: at_infinity.then_some(emission.direction),
-            densities: VertexDensities {
-                // A directional light's origin counts only towards the
-                // split where the camera subpath reaches it, which is left
-                // out (it is a delta in direction); 0 says so.
-                forward: if emission.is_delta_direction {
+            // A directional light's origin counts only towards the split
+            // where the camera subpath reaches it, which is left out (it is
+            // a delta in direction); 0 says so.
+            densities: VertexDensities::geometric(
+                if emission.is_delta_direction {
                     0.0
                 } else if at_infinity {
                     self.environment_density(-emission.direction)
                 } else {
                     choice * emission.pdf_position
                 },
-                reverse: 0.0,
-                delta: false,
-            },
+                0.0,
+                false,
+            ),
             beta_scale: 1.0,
         };
         let max_vertices = self.settings.max_depth.saturating_sub(1) as usize;
@@ -893,15 +1029,21 @@ impl Bidirectional<'_> {
                 ray: Ray::with_time(ray_origin, emission.direction, time),
                 beta: beta / beta_scale,
                 pdf_direction: emission.pdf_direction,
-                medium: None,
+                medium: if self.media {
+                    let around = self.light_media[light_index]
+                        .unwrap_or_else(|| medium_at(scene, emission.origin, emission.normal));
+                    emission_medium(scene, light, around, emission.normal, emission.direction)
+                } else {
+                    None
+                },
             },
             &WalkSettings {
                 mode: TransportMode::Importance,
                 max_vertices,
                 russian_roulette_depth: self.settings.russian_roulette_depth,
                 layout: SubpathLayout::BIDIRECTIONAL_LIGHT,
-                media: false,
-                null_crossings: false,
+                media: self.media,
+                null_crossings: self.media,
             },
             wavelengths,
             sampler,
@@ -922,7 +1064,10 @@ impl Bidirectional<'_> {
         // from y₂ (used by the strategies with s ≥ 3).
         if vertices.len() >= 2 {
             let (first, second) = (&vertices[0], &vertices[1]);
-            origin.densities.reverse = density_towards_origin(first, -second.wo, &origin);
+            origin.densities.set_reverse(
+                density_towards_origin(first, -second.wo, &origin),
+                first.arrival_transmittance,
+            );
         }
         Some(origin)
     }
@@ -968,39 +1113,41 @@ impl Bidirectional<'_> {
         if factor.is_black() {
             return SampledSpectrum::zero();
         }
-        let visible = if sample.is_infinite {
-            counters.shadow_rays += 1;
-            let ray = Ray::with_time(end.origin_towards(sample.wi), sample.wi, end.time);
-            !scene.geometry.occluded(&ray, f32::INFINITY)
-        } else {
-            point_visible(
-                scene,
-                end.origin_towards(sample.wi),
-                end.time,
-                sample.point,
-                sample.normal,
-                counters,
-            )
-        };
-        if !visible {
+        let transmittance = self.transmittance(
+            end.origin_towards(sample.wi),
+            end.medium_towards(scene, sample.wi),
+            end.time,
+            if sample.is_infinite {
+                ConnectionEnd::Infinity(sample.wi)
+            } else {
+                ConnectionEnd::Point(sample.point, sample.normal)
+            },
+            wavelengths,
+            counters,
+        );
+        if transmittance.is_black() {
             return SampledSpectrum::zero();
         }
-        let value = end.beta * factor * sample.radiance / (choice * sample.pdf);
+        let value = end.beta * factor * sample.radiance * transmittance / (choice * sample.pdf);
         // The light subpath's origin and the density with which it would
         // have reached the camera subpath's end.
         let (origin, end_reverse) = if sample.is_infinite {
             // The sampled sky direction, or the directional light (its
             // forward density as the light subpath gives it: 0, see
             // `trace_light_subpath`).
-            let origin = VertexDensities {
-                forward: if sample.is_delta {
+            let mut origin = VertexDensities::geometric(
+                if sample.is_delta {
                     0.0
                 } else {
                     self.environment_density(sample.wi)
                 },
-                reverse: scattering_pdf(end, end.wo, sample.wi, TransportMode::Radiance),
-                delta: false,
-            };
+                0.0,
+                false,
+            );
+            origin.set_reverse(
+                scattering_pdf(end, end.wo, sample.wi, TransportMode::Radiance),
+                transmittance,
+            );
             (origin, self.light_disk_density(light, sample.wi, end))
         } else {
             // The sampled light point.
@@ -1015,22 +1162,26 @@ impl Bidirectional<'_> {
                 -sample.wi,
                 stored_normal(light, sample.normal),
             );
-            let origin = VertexDensities {
-                forward: choice
+            let mut origin = VertexDensities::geometric(
+                choice
                     * if sample.is_delta {
                         1.0
                     } else {
                         emission_pdf.position
                     },
-                reverse: area_density_from(
+                0.0,
+                false,
+            );
+            origin.set_reverse(
+                area_density_from(
                     end,
                     end.wo,
                     sample.point,
                     light_normal,
                     TransportMode::Radiance,
                 ),
-                delta: false,
-            };
+                transmittance,
+            );
             let end_reverse = solid_angle_to_area(
                 emission_pdf.direction,
                 sample.point,
@@ -1041,17 +1192,20 @@ impl Bidirectional<'_> {
         };
         light_densities.clear();
         light_densities.push(origin);
-        subpath_densities(VertexDensities::default(), camera, t, camera_densities);
-        camera_densities[t - 1].reverse = end_reverse;
+        self.subpath_densities(VertexDensities::default(), camera, t, camera_densities);
+        camera_densities[t - 1].set_reverse(end_reverse, transmittance * end.extinction);
         camera_densities[t - 1].delta = false;
         if t >= 3 {
             let previous = &camera[t - 3];
-            camera_densities[t - 2].reverse = area_density_from(
-                end,
-                sample.wi,
-                previous.point,
-                previous.geometric_normal,
-                TransportMode::Importance,
+            camera_densities[t - 2].set_reverse(
+                area_density_from(
+                    end,
+                    sample.wi,
+                    previous.point,
+                    previous.geometric_normal,
+                    TransportMode::Importance,
+                ),
+                end.arrival_transmittance * previous.extinction,
             );
         }
         let weight = strategy_weight(
@@ -1059,6 +1213,7 @@ impl Bidirectional<'_> {
             light_densities,
             sample.is_delta,
             self.strategies,
+            self.media.then_some(&end.spectral_density_ratio),
         );
         value * weight
     }
@@ -1106,61 +1261,81 @@ impl Bidirectional<'_> {
         if value.is_black() {
             return SampledSpectrum::zero();
         }
-        if !point_visible(
-            self.scene,
+        let transmittance = self.transmittance(
             camera_end.origin_towards(direction),
+            camera_end.medium_towards(self.scene, direction),
             camera_end.time,
-            light_end.point,
-            light_end.geometric_normal,
+            ConnectionEnd::Point(light_end.point, light_end.geometric_normal),
+            wavelengths,
             counters,
-        ) {
+        );
+        if transmittance.is_black() {
             return SampledSpectrum::zero();
         }
-        subpath_densities(VertexDensities::default(), camera, t, camera_densities);
-        subpath_densities(origin.densities, light, s, light_densities);
-        camera_densities[t - 1].reverse = area_density_from(
-            light_end,
-            light_end.wo,
-            camera_end.point,
-            camera_end.geometric_normal,
-            TransportMode::Importance,
+        let value = value * transmittance;
+        self.subpath_densities(VertexDensities::default(), camera, t, camera_densities);
+        self.subpath_densities(origin.densities, light, s, light_densities);
+        camera_densities[t - 1].set_reverse(
+            area_density_from(
+                light_end,
+                light_end.wo,
+                camera_end.point,
+                camera_end.geometric_normal,
+                TransportMode::Importance,
+            ),
+            transmittance * camera_end.extinction,
         );
         camera_densities[t - 1].delta = false;
-        light_densities[s - 1].reverse = area_density_from(
-            camera_end,
-            camera_end.wo,
-            light_end.point,
-            light_end.geometric_normal,
-            TransportMode::Radiance,
+        light_densities[s - 1].set_reverse(
+            area_density_from(
+                camera_end,
+                camera_end.wo,
+                light_end.point,
+                light_end.geometric_normal,
+                TransportMode::Radiance,
+            ),
+            transmittance * light_end.extinction,
         );
         light_densities[s - 1].delta = false;
         if t >= 3 {
             let previous = &camera[t - 3];
-            camera_densities[t - 2].reverse = area_density_from(
-                camera_end,
-                direction,
-                previous.point,
-                previous.geometric_normal,
-                TransportMode::Importance,
+            camera_densities[t - 2].set_reverse(
+                area_density_from(
+                    camera_end,
+                    direction,
+                    previous.point,
+                    previous.geometric_normal,
+                    TransportMode::Importance,
+                ),
+                camera_end.arrival_transmittance * previous.extinction,
             );
         }
-        light_densities[s - 2].reverse = if s >= 3 {
+        if s >= 3 {
             let before = &light[s - 3];
-            area_density_from(
-                light_end,
-                -direction,
-                before.point,
-                before.geometric_normal,
-                TransportMode::Radiance,
-            )
+            light_densities[s - 2].set_reverse(
+                area_density_from(
+                    light_end,
+                    -direction,
+                    before.point,
+                    before.geometric_normal,
+                    TransportMode::Radiance,
+                ),
+                light_end.arrival_transmittance * before.extinction,
+            );
         } else {
-            density_towards_origin(light_end, -direction, origin)
-        };
+            light_densities[s - 2].set_reverse(
+                density_towards_origin(light_end, -direction, origin),
+                light_end.arrival_transmittance,
+            );
+        }
+        let spectral_density_ratio =
+            camera_end.spectral_density_ratio * light_end.spectral_density_ratio;
         let weight = strategy_weight(
             camera_densities,
             light_densities,
             origin.delta_light,
             self.strategies,
+            self.media.then_some(&spectral_density_ratio),
         );
         value * weight
     }
@@ -1202,49 +1377,61 @@ impl Bidirectional<'_> {
         if value.is_black() {
             return None;
         }
-        if !point_visible(
-            scene,
+        let transmittance = self.transmittance(
             light_end.origin_towards(camera_sample.wi),
+            light_end.medium_towards(scene, camera_sample.wi),
             light_end.time,
-            camera_sample.lens_point,
-            Vec3::ZERO,
+            ConnectionEnd::Point(camera_sample.lens_point, Vec3::ZERO),
+            wavelengths,
             counters,
-        ) {
+        );
+        if transmittance.is_black() {
             return None;
         }
+        let value = value * transmittance;
         camera_densities.clear();
         camera_densities.push(VertexDensities::default());
-        subpath_densities(origin.densities, light, s, light_densities);
+        self.subpath_densities(origin.densities, light, s, light_densities);
         let camera_direction = scene.camera.pdf_importance_with_margin(
             camera_sample.lens_point,
             -camera_sample.wi,
             light_end.time,
             self.margin,
         );
-        light_densities[s - 1].reverse = solid_angle_to_area(
-            camera_direction.direction,
-            camera_sample.lens_point,
-            light_end.point,
-            light_end.geometric_normal,
+        light_densities[s - 1].set_reverse(
+            solid_angle_to_area(
+                camera_direction.direction,
+                camera_sample.lens_point,
+                light_end.point,
+                light_end.geometric_normal,
+            ),
+            transmittance * light_end.extinction,
         );
         light_densities[s - 1].delta = false;
-        light_densities[s - 2].reverse = if s >= 3 {
+        if s >= 3 {
             let before = &light[s - 3];
-            area_density_from(
-                light_end,
-                camera_sample.wi,
-                before.point,
-                before.geometric_normal,
-                TransportMode::Radiance,
-            )
+            light_densities[s - 2].set_reverse(
+                area_density_from(
+                    light_end,
+                    camera_sample.wi,
+                    before.point,
+                    before.geometric_normal,
+                    TransportMode::Radiance,
+                ),
+                light_end.arrival_transmittance * before.extinction,
+            );
         } else {
-            density_towards_origin(light_end, camera_sample.wi, origin)
-        };
+            light_densities[s - 2].set_reverse(
+                density_towards_origin(light_end, camera_sample.wi, origin),
+                light_end.arrival_transmittance,
+            );
+        }
         let weight = strategy_weight(
             camera_densities,
             light_densities,
             origin.delta_light,
             self.strategies,
+            self.media.then_some(&light_end.spectral_density_ratio),
         );
         Some((
             camera_sample.raster,
