@@ -249,6 +249,7 @@ fn light_tracing_matches_path_tracing_under_bump_maps() {
                 height: height.clone(),
                 scale: 1.0,
                 nested: Box::new(shape.material.clone()),
+                options: Default::default(),
             };
             bumped += 1;
         }

@@ -582,29 +582,17 @@ fn bidirectional_path_tracing_matches_the_references() {
 }
 
 /// Scenes BDPT does not match yet (their pixel fraction and image mean are
-/// reported, not asserted): the three with shading normals from bump and
-/// normal maps (2026-12-04, 16 × 64 spp: bump map 98.65 % of pixels, image
-/// mean −0.37 % at t = −8.0; normal map 98.52 %, −0.53 %, t = −9.4; normal-
-/// mapped rough conductor 98.39 %, −1.18 %, t = −3.0).
-///
-/// The error is not BDPT's: the path tracer's image means are as far off
-/// (16 × 128 spp, 2026-12-05: bump map −0.63 % at t = −10.5, normal map
-/// −0.67 % at t = −12.6, normal-mapped rough conductor −0.96 % at
-/// t = −4.8 against the reference), and BDPT agrees with the path tracer
-/// within its noise (bump map +0.18 % at t = 2.3, normal map +0.12 % at
-/// t = 1.6, rough conductor −0.11 % at t = −0.4). The path tracer passes only because
-/// its test asserts no image mean. Per 4 × 4 block of pixels, both are
-/// 5–10 % dark on the sphere's silhouette and about 1 % bright inside it,
-/// in the bump- and in the normal-mapped scene, not in
-/// `test_normalmap_identity_roughconductor`: the perturbed frames at
-/// grazing views differ from Mitsuba's somewhere in the material (the side
-/// check of the perturbed frame is not it: without it the image is the
-/// same), an open item of issue 17.
-const BDPT_KNOWN_FAILURES: &[&str] = &[
-    "bsdf_spheres/test_bumpmap_path.xml",
-    "bsdf_spheres/test_normalmap_path.xml",
-    "bsdf_spheres/test_normalmap_roughconductor_path.xml",
-];
+/// reported, not asserted): none. Until 2026-12-04 the three scenes with
+/// bump and normal maps were here (16 × 64 spp: bump map 98.65 % of pixels,
+/// image mean −0.37 % at t = −8.0; normal map 98.52 %, −0.53 %, t = −9.4;
+/// normal-mapped rough conductor 98.39 %, −1.18 %, t = −3.0), as far off
+/// as the path tracer: Mitsuba 3.7.1 added `flip_invalid_normals` and
+/// `use_shadowing_function` to `bumpmap` and `normalmap`, on by default,
+/// and its references have them (Mitsuba 3.9.1 with both off renders what
+/// we rendered, −0.12 %). With them (`material::surface_adapter`): −0.02 %
+/// (t = −0.29), −0.04 % (t = −0.51) and −0.39 % (t = −1.72), every pixel
+/// passing but one of the rough conductor's.
+const BDPT_KNOWN_FAILURES: &[&str] = &[];
 
 /// The per-pixel z-test and image-mean t-test of a splatting integrator
 /// against Mitsuba's references; light tracing leaves out the pixels seen

@@ -489,6 +489,7 @@ fn bump_map_of_constant_and_linear_heights() {
         lookup(TextureFilter::Bilinear, TextureWrap::Clamp),
     ));
     let material = Material::BumpMap {
+        options: Default::default(),
         height,
         scale: 2.0,
         nested: Box::new(
@@ -528,6 +529,7 @@ fn normal_map_identity_and_tilt() {
     assert_close(tilted.normal(), frame.tangent(), 1e-6);
     // Through the material with a constant RGB texture.
     let material = Material::NormalMap {
+        options: Default::default(),
         normals: render::texture::RgbTexture::Constant(Vec3::new(0.5, 0.5, 1.0)),
         nested: Box::new(Material::Mirror),
     };

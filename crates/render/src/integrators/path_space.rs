@@ -237,7 +237,7 @@ impl ScattererRef<'_> {
                         wo,
                         wi,
                         hit.geometric_normal,
-                        bsdf.frame.normal(),
+                        bsdf.shading_normal_for(wo, wi, mode),
                         mode,
                     )
             }
@@ -766,6 +766,10 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                 let mut bsdf = material.surface_bsdf_at(hit, wavelengths);
                 if settings.mode == TransportMode::Importance {
                     bsdf.bsdf = bsdf.bsdf.with_transport_mode(settings.mode);
+                } else {
+                    // The frame Mitsuba's flip of perturbed normals picks
+                    // for the camera-side direction (itself for others).
+                    bsdf.face_camera(wo);
                 }
                 let u_component = sampler.get(
                     settings
@@ -850,7 +854,7 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
                     wo,
                     sample.wi,
                     hit.geometric_normal,
-                    bsdf.frame.normal(),
+                    bsdf.shading_normal_for(wo, sample.wi, settings.mode),
                     settings.mode,
                 );
                 state.beta *= sample.value * (factor / sample.pdf);

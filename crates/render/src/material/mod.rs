@@ -77,6 +77,8 @@ pub use sampling::{
     sample_uniform_disk_concentric, sample_uniform_sphere,
 };
 pub use shading_frame::{ShadingFrame, abs_cos_theta, cos_theta, same_hemisphere};
-pub use surface_adapter::{SurfaceAdapter, bump_mapped_frame, normal_mapped_frame};
+pub use surface_adapter::{
+    PerturbationOptions, SurfaceAdapter, bump_mapped_frame, normal_mapped_frame,
+};
 pub use surface_material::{Material, Roughness};
 pub use thin_dielectric::ThinDielectricBsdf;

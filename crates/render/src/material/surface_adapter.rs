@@ -19,6 +19,26 @@
 //! only scattered into if it lies on the same side of the perturbed and of
 //! the unperturbed shading normal (Mitsuba 3's check), which keeps light
 //! from leaking through the surface where the tilted normal leans past it.
+//!
+//! Since Mitsuba 3.7.1 (commit `e32d718`, "Improve bump and normal
+//! mapping") both adapters also have, on by default:
+//! - `flip_invalid_normals`: where the direction towards the camera lies on
+//!   different sides of the unperturbed and the perturbed normal, the
+//!   perturbed normal is turned by 180° about the unperturbed one (its
+//!   tangential components negated, after Schüssler et al. 2017), so that
+//!   the camera sees the side it lights;
+//! - `use_shadowing_function`: the value is multiplied by the microfacet
+//!   shadowing term of Conty Estevez, Lecocq and Stein (Ray Tracing Gems
+//!   2019, ch. 12), `G = 2 / (1 + √(1 + α² tan²θ_l))` with `α² = min(tan²θ_n
+//!   / 8, 1)`, θ_n the perturbed normal's angle to the unperturbed one and
+//!   θ_l the light-side direction's, which softens the terminator.
+//!
+//! Mitsuba's test references are rendered with both; scenes from Mitsuba
+//! files take them from the file (`flip_invalid_normals`,
+//! `use_shadowing_function`), pbrt files and built-in scenes go without.
+//! The flip makes the frame depend on the camera-side direction, so a
+//! light subpath, which samples that direction, samples from the two frames
+//! with probability ½ each ([`super::SurfaceBsdf`]).
 
 use glam::{Vec2, Vec3};
 
@@ -26,6 +46,25 @@ use super::bsdf_sample::BsdfSample;
 use super::flags::BsdfFlags;
 use super::shading_frame::ShadingFrame;
 use crate::spectrum::SampledSpectrum;
+
+/// Mitsuba 3.7.1's two options of `bumpmap` and `normalmap` (module
+/// docs): on for scenes from Mitsuba files unless the file says otherwise,
+/// off elsewhere ([`Default`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct PerturbationOptions {
+    /// `flip_invalid_normals`.
+    pub flip_invalid_normals: bool,
+    /// `use_shadowing_function`.
+    pub shadowing_function: bool,
+}
+
+impl PerturbationOptions {
+    /// Mitsuba 3's defaults (both on).
+    pub const MITSUBA: Self = Self {
+        flip_invalid_normals: true,
+        shadowing_function: true,
+    };
+}
 
 /// Mask opacity and the unperturbed normal of a [`super::SurfaceBsdf`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -35,6 +74,15 @@ pub struct SurfaceAdapter {
     /// The shading normal before bump or normal mapping (world space), if the
     /// frame was perturbed.
     pub unperturbed_normal: Option<Vec3>,
+    /// The unperturbed frame's tangent (world space): the perturbed frames'
+    /// tangents are it made orthogonal to their normals.
+    pub unperturbed_tangent: Vec3,
+    /// The perturbed normal before Mitsuba's flip (world space).
+    pub perturbed_normal: Vec3,
+    /// Mitsuba's `flip_invalid_normals` (module docs).
+    pub flip_invalid_normals: bool,
+    /// Mitsuba's `use_shadowing_function` (module docs).
+    pub shadowing_function: bool,
 }
 
 impl Default for SurfaceAdapter {
@@ -48,7 +96,98 @@ impl SurfaceAdapter {
     pub const NONE: SurfaceAdapter = SurfaceAdapter {
         opacity: 1.0,
         unperturbed_normal: None,
+        unperturbed_tangent: Vec3::ZERO,
+        perturbed_normal: Vec3::ZERO,
+        flip_invalid_normals: false,
+        shadowing_function: false,
     };
+
+    /// Records that `unperturbed` was replaced by `perturbed` (a bump or
+    /// normal map) with `options`; an enclosing perturbation's unperturbed
+    /// frame is kept.
+    pub fn perturb(
+        &mut self,
+        unperturbed: &ShadingFrame,
+        perturbed: &ShadingFrame,
+        options: PerturbationOptions,
+    ) {
+        if self.unperturbed_normal.is_none() {
+            self.unperturbed_normal = Some(unperturbed.normal());
+            self.unperturbed_tangent = unperturbed.tangent();
+        }
+        self.perturbed_normal = perturbed.normal();
+        self.flip_invalid_normals |= options.flip_invalid_normals;
+        self.shadowing_function |= options.shadowing_function;
+    }
+
+    /// Opaque and unperturbed: the BSDF as it is (what [`Self::NONE`] says;
+    /// the other fields matter only for perturbed frames).
+    #[inline]
+    pub fn is_none(&self) -> bool {
+        self.opacity == 1.0 && self.unperturbed_normal.is_none()
+    }
+
+    /// Whether a perturbed frame has either of Mitsuba 3.7.1's options
+    /// (otherwise the BSDF takes its frame as it is).
+    #[inline]
+    pub fn has_mitsuba_options(&self) -> bool {
+        self.flip_invalid_normals || self.shadowing_function
+    }
+
+    /// Whether the frame depends on the camera-side direction (a perturbed
+    /// frame with `flip_invalid_normals`).
+    #[inline]
+    pub fn flips(&self) -> bool {
+        self.flip_invalid_normals && self.unperturbed_normal.is_some()
+    }
+
+    /// Whether Mitsuba's flip applies for the camera-side direction
+    /// `to_camera`: it lies on different sides of the unperturbed and the
+    /// perturbed normal (or in the plane of either).
+    #[inline]
+    pub fn flipped_for(&self, to_camera: Vec3) -> bool {
+        match self.unperturbed_normal {
+            Some(normal) if self.flip_invalid_normals => {
+                to_camera.dot(normal) * to_camera.dot(self.perturbed_normal) <= 0.0
+            }
+            _ => false,
+        }
+    }
+
+    /// The perturbed frame, turned by 180° about the unperturbed normal if
+    /// `flipped`, with the unperturbed tangent made orthogonal to its
+    /// normal (Mitsuba's construction); `fallback` where that degenerates
+    /// or the frame is not perturbed.
+    pub fn perturbed_frame(&self, flipped: bool, fallback: ShadingFrame) -> ShadingFrame {
+        let Some(unperturbed) = self.unperturbed_normal else {
+            return fallback;
+        };
+        let normal = if flipped {
+            2.0 * self.perturbed_normal.dot(unperturbed) * unperturbed - self.perturbed_normal
+        } else {
+            self.perturbed_normal
+        };
+        ShadingFrame::from_normal_and_tangent(normal, self.unperturbed_tangent).unwrap_or(fallback)
+    }
+
+    /// The shadowing term of `use_shadowing_function` for the light-side
+    /// direction `to_light` (1 without it).
+    #[inline]
+    pub fn shadowing(&self, to_light: Vec3) -> f32 {
+        let Some(unperturbed) = self.unperturbed_normal else {
+            return 1.0;
+        };
+        if !self.shadowing_function {
+            return 1.0;
+        }
+        let tan2 = |cosine: f32| {
+            let cos2 = cosine * cosine;
+            (1.0 - cos2).max(0.0) / cos2
+        };
+        let alpha2 = (0.125 * tan2(self.perturbed_normal.dot(unperturbed))).min(1.0);
+        let value = 2.0 / (1.0 + (1.0 + alpha2 * tan2(to_light.dot(unperturbed))).sqrt());
+        if value.is_finite() { value } else { 0.0 }
+    }
 
     /// Whether world direction `wi` (local `wi_local`) is on the same side of
     /// the unperturbed and the perturbed normal.
@@ -114,7 +253,8 @@ impl SurfaceAdapter {
 /// = scale · (∂h/∂u, ∂h/∂v) of the height field and `frame`'s normal n, the
 /// displaced surface's derivatives are ∂p/∂u' = ∂p/∂u + n (∂h/∂u − n·∂p/∂u)
 /// and likewise for v, its normal n' = ∂p/∂u' × ∂p/∂v' turned to the side of
-/// `geometric_normal`, and the tangent ∂p/∂u made orthogonal to n'. Returns
+/// `geometric_normal`, and `frame`'s tangent made orthogonal to n' (as for
+/// a normal map, and as Mitsuba 3.7.1 builds the flipped frames). Returns
 /// `frame` where the construction degenerates.
 pub fn bump_mapped_frame(
     frame: &ShadingFrame,
@@ -130,7 +270,7 @@ pub fn bump_mapped_frame(
     if bumped.dot(geometric_normal) < 0.0 {
         bumped = -bumped;
     }
-    ShadingFrame::from_normal_and_tangent(bumped, dpdu).unwrap_or(*frame)
+    ShadingFrame::from_normal_and_tangent(bumped, frame.tangent()).unwrap_or(*frame)
 }
 
 /// The shading frame of a normal map (Mitsuba 3's `normalmap`): `rgb` in

@@ -17,7 +17,9 @@ use super::rough_conductor::RoughConductorBsdf;
 use super::rough_dielectric::RoughDielectricBsdf;
 use super::rough_plastic::{RoughPlasticBsdf, RoughPlasticTables};
 use super::shading_frame::ShadingFrame;
-use super::surface_adapter::{SurfaceAdapter, bump_mapped_frame, normal_mapped_frame};
+use super::surface_adapter::{
+    PerturbationOptions, SurfaceAdapter, bump_mapped_frame, normal_mapped_frame,
+};
 use super::thin_dielectric::ThinDielectricBsdf;
 use crate::geometry::SurfaceHit;
 use crate::spectrum::{
@@ -204,6 +206,8 @@ pub enum Material {
         height: FloatTexture,
         scale: f32,
         nested: Box<Material>,
+        /// Mitsuba's flip and shadowing term.
+        options: PerturbationOptions,
     },
     /// `nested` with the shading normal read from `normals`, a tangent-space
     /// normal encoded as RGB in [0, 1] (Mitsuba `normalmap`; see
@@ -211,6 +215,8 @@ pub enum Material {
     NormalMap {
         normals: RgbTexture,
         nested: Box<Material>,
+        /// Mitsuba's flip and shadowing term.
+        options: PerturbationOptions,
     },
     /// `nested` with probability `opacity` (clamped to [0, 1]), otherwise
     /// light passes straight through (Mitsuba `mask`; see [`SurfaceAdapter`]).
@@ -577,23 +583,27 @@ impl Material {
         mut adapter: SurfaceAdapter,
         wavelengths: &SampledWavelengths,
     ) -> SurfaceBsdf {
-        let unperturbed = adapter.unperturbed_normal.or(Some(frame.normal()));
         match self {
             Material::BumpMap {
                 height,
                 scale,
                 nested,
+                options,
             } => {
                 let gradient = height.gradient(context) * *scale;
-                let frame =
+                let perturbed =
                     bump_mapped_frame(&frame, hit.geometric_normal, hit.dpdu, hit.dpdv, gradient);
-                adapter.unperturbed_normal = unperturbed;
-                nested.surface_bsdf_in_frame(hit, context, frame, adapter, wavelengths)
+                adapter.perturb(&frame, &perturbed, *options);
+                nested.surface_bsdf_in_frame(hit, context, perturbed, adapter, wavelengths)
             }
-            Material::NormalMap { normals, nested } => {
-                let frame = normal_mapped_frame(&frame, normals.evaluate(context));
-                adapter.unperturbed_normal = unperturbed;
-                nested.surface_bsdf_in_frame(hit, context, frame, adapter, wavelengths)
+            Material::NormalMap {
+                normals,
+                nested,
+                options,
+            } => {
+                let perturbed = normal_mapped_frame(&frame, normals.evaluate(context));
+                adapter.perturb(&frame, &perturbed, *options);
+                nested.surface_bsdf_in_frame(hit, context, perturbed, adapter, wavelengths)
             }
             Material::TwoSided { front, back } => {
                 let mut surface =

@@ -311,11 +311,15 @@ pub enum MaterialDescription {
         height: TextureDescription,
         scale: f32,
         nested: Box<MaterialDescription>,
+        /// Mitsuba 3.7.1's flip and shadowing term (on in Mitsuba files).
+        options: crate::material::PerturbationOptions,
     },
     /// Normal mapping: the shading normal read from an RGB image (tangent space).
     NormalMap {
         normals: TextureDescription,
         nested: Box<MaterialDescription>,
+        /// Mitsuba 3.7.1's flip and shadowing term (on in Mitsuba files).
+        options: crate::material::PerturbationOptions,
     },
     /// Partly transparent: `opacity` of the time the nested material, else
     /// pass straight through (Mitsuba `mask`).

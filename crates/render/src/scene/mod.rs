@@ -339,14 +339,21 @@ fn material(description: &MaterialDescription) -> Result<Option<Material>, Scene
             height,
             scale,
             nested,
+            options,
         } => Ok(Material::BumpMap {
             height: crate::texture::build_float_texture(height, "bump map height")?,
             scale: *scale,
             nested: Box::new(nested_material(nested)?),
+            options: *options,
         }),
-        MaterialDescription::NormalMap { normals, nested } => Ok(Material::NormalMap {
+        MaterialDescription::NormalMap {
+            normals,
+            nested,
+            options,
+        } => Ok(Material::NormalMap {
             normals: crate::texture::build_rgb_texture(normals, "normal map")?,
             nested: Box::new(nested_material(nested)?),
+            options: *options,
         }),
         MaterialDescription::Mask { opacity, nested } => Ok(Material::Mask {
             opacity: crate::texture::build_float_texture(opacity, "mask opacity")?,

@@ -215,7 +215,8 @@ pub fn walk(
         let Some(material) = &scene.shapes[vertex.hit.shape_index as usize].material else {
             return Err(FailureReason::Evaluation);
         };
-        let bsdf = material.surface_bsdf_at(&vertex.hit, &wavelengths);
+        let mut bsdf = material.surface_bsdf_at(&vertex.hit, &wavelengths);
+        bsdf.face_camera(wo);
         if let SegmentReuse::Record(cache) = segments {
             let shading_normal = bsdf.frame.normal();
             cache

@@ -250,7 +250,9 @@ pub fn walk_volumetric(
                 .material
                 .as_ref()
                 .ok_or(FailureReason::Evaluation)?;
-            Some(material.surface_bsdf_at(&vertex.hit, &wavelengths))
+            let mut bsdf = material.surface_bsdf_at(&vertex.hit, &wavelengths);
+            bsdf.face_camera(wo);
+            Some(bsdf)
         };
         let phase = vertex
             .medium

@@ -19,6 +19,17 @@ use super::values::Properties;
 use super::xml::Element;
 use super::{Loader, NamedObject};
 
+/// `bumpmap` and `normalmap`'s `flip_invalid_normals` and
+/// `use_shadowing_function` (Mitsuba 3.7.1; both default to true).
+fn perturbation_options(
+    properties: &Properties,
+) -> Result<crate::material::PerturbationOptions, SceneFileError> {
+    Ok(crate::material::PerturbationOptions {
+        flip_invalid_normals: properties.boolean("flip_invalid_normals", true)?,
+        shadowing_function: properties.boolean("use_shadowing_function", true)?,
+    })
+}
+
 /// `material` wrapped so that both sides scatter (Mitsuba `twosided` with
 /// one child).
 fn two_sided(material: MaterialDescription) -> MaterialDescription {
@@ -60,14 +71,21 @@ fn two_sided(material: MaterialDescription) -> MaterialDescription {
             height,
             scale,
             nested,
+            options,
         } => M::BumpMap {
             height,
             scale,
             nested: Box::new(two_sided(*nested)),
+            options,
         },
-        M::NormalMap { normals, nested } => M::NormalMap {
+        M::NormalMap {
+            normals,
+            nested,
+            options,
+        } => M::NormalMap {
             normals,
             nested: Box::new(two_sided(*nested)),
+            options,
         },
         M::Mask { opacity, nested } => M::Mask {
             opacity,
@@ -344,10 +362,12 @@ impl Loader {
                         .error("bsdf 'bumpmap' needs a nested height <texture>")
                 })?;
                 let nested = self.one_nested_ignoring_textures(&properties)?;
+                let options = perturbation_options(&properties)?;
                 MaterialDescription::BumpMap {
                     height,
                     scale,
                     nested: Box::new(nested),
+                    options,
                 }
             }
             "normalmap" => {
@@ -359,9 +379,11 @@ impl Loader {
                             .error("bsdf 'normalmap' needs a <texture name=\"normalmap\">")
                     })?;
                 let nested = self.one_nested(&properties)?;
+                let options = perturbation_options(&properties)?;
                 MaterialDescription::NormalMap {
                     normals,
                     nested: Box::new(nested),
+                    options,
                 }
             }
             "mask" => {

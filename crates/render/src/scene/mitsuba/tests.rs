@@ -942,3 +942,46 @@ fn textured_area_emitters_and_projectors() {
     );
     assert!(message.contains("fov_axis 'sideways'"), "{message}");
 }
+
+/// `normalmap` and `bumpmap` take Mitsuba 3.7.1's `flip_invalid_normals`
+/// and `use_shadowing_function`, both on unless the file turns them off.
+#[test]
+fn normal_and_bump_maps_take_mitsubas_flip_and_shadowing_options() {
+    use crate::material::PerturbationOptions;
+    let options_of = |bsdf: &str| {
+        let scene = loaded(&format!(r#"<shape type="sphere">{bsdf}</shape>"#));
+        match &scene.description.shapes[0].material {
+            MaterialDescription::NormalMap { options, .. }
+            | MaterialDescription::BumpMap { options, .. } => *options,
+            other => panic!("not a perturbed material: {other:?}"),
+        }
+    };
+    let normal_map = |extra: &str| {
+        format!(
+            r#"<bsdf type="normalmap">{extra}
+                <texture name="normalmap" type="rawconstant"><vector name="value" value="0.5, 0.5, 1"/></texture>
+                <bsdf type="diffuse"/>
+            </bsdf>"#
+        )
+    };
+    assert_eq!(options_of(&normal_map("")), PerturbationOptions::MITSUBA);
+    assert_eq!(
+        options_of(&normal_map(
+            r#"<boolean name="flip_invalid_normals" value="false"/>
+               <boolean name="use_shadowing_function" value="false"/>"#
+        )),
+        PerturbationOptions::default()
+    );
+    let bump_map = r#"<bsdf type="bumpmap">
+            <boolean name="use_shadowing_function" value="false"/>
+            <texture type="checkerboard"/>
+            <bsdf type="diffuse"/>
+        </bsdf>"#;
+    assert_eq!(
+        options_of(bump_map),
+        PerturbationOptions {
+            flip_invalid_normals: true,
+            shadowing_function: false,
+        }
+    );
+}

@@ -357,6 +357,7 @@ impl Loader {
                 height,
                 scale: 1.0,
                 nested: Box::new(material),
+                options: crate::material::PerturbationOptions::default(),
             };
         }
         if let Some(filename) = parameters.string("normalmap")? {
@@ -379,6 +380,7 @@ impl Loader {
                     invert: false,
                 },
                 nested: Box::new(material),
+                options: crate::material::PerturbationOptions::default(),
             };
         }
         Ok(material)
