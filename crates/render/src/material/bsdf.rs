@@ -460,14 +460,27 @@ impl SurfaceBsdf {
         wavelengths: &SampledWavelengths,
     ) -> SampledSpectrum {
         let mode = self.bsdf.transport_mode();
-        if !self.adapter.has_mitsuba_options() {
-            let wo = self.frame.to_local(wo_world);
-            let wi = self.frame.to_local(wi_world);
-            if self.adapter.opacity <= 0.0 || !self.sides_agree(wo_world, wo, wi_world, wi, mode) {
-                return SampledSpectrum::zero();
-            }
-            return self.bsdf.evaluate(wo, wi, wavelengths) * self.adapter.opacity;
+        if self.adapter.has_mitsuba_options() {
+            return self.evaluate_with_mitsuba_options(wo_world, wi_world, wavelengths);
         }
+        let wo = self.frame.to_local(wo_world);
+        let wi = self.frame.to_local(wi_world);
+        if self.adapter.opacity <= 0.0 || !self.sides_agree(wo_world, wo, wi_world, wi, mode) {
+            return SampledSpectrum::zero();
+        }
+        self.bsdf.evaluate(wo, wi, wavelengths) * self.adapter.opacity
+    }
+
+    /// [`Self::evaluate`] of a perturbed frame with Mitsuba 3.7.1's flip or
+    /// shadowing term (out of line: the common case stays small).
+    #[inline(never)]
+    fn evaluate_with_mitsuba_options(
+        &self,
+        wo_world: Vec3,
+        wi_world: Vec3,
+        wavelengths: &SampledWavelengths,
+    ) -> SampledSpectrum {
+        let mode = self.bsdf.transport_mode();
         let frame = self.frame_for(wo_world, wi_world, mode);
         let wo = frame.to_local(wo_world);
         let wi = frame.to_local(wi_world);
@@ -747,14 +760,21 @@ impl SurfaceBsdf {
     /// camera-side `wo` picks, importance transport from the two frames
     /// with probability ½ each (its density is their mixture's).
     pub fn pdf_in_mode(&self, wo_world: Vec3, wi_world: Vec3, mode: TransportMode) -> f32 {
-        if !self.adapter.has_mitsuba_options() {
-            let wo = self.frame.to_local(wo_world);
-            let wi = self.frame.to_local(wi_world);
-            if self.adapter.opacity <= 0.0 || !self.sides_agree(wo_world, wo, wi_world, wi, mode) {
-                return 0.0;
-            }
-            return self.bsdf.pdf(wo, wi) * self.adapter.opacity;
+        if self.adapter.has_mitsuba_options() {
+            return self.pdf_with_mitsuba_options(wo_world, wi_world, mode);
         }
+        let wo = self.frame.to_local(wo_world);
+        let wi = self.frame.to_local(wi_world);
+        if self.adapter.opacity <= 0.0 || !self.sides_agree(wo_world, wo, wi_world, wi, mode) {
+            return 0.0;
+        }
+        self.bsdf.pdf(wo, wi) * self.adapter.opacity
+    }
+
+    /// [`Self::pdf_in_mode`] of a perturbed frame with Mitsuba 3.7.1's flip
+    /// or shadowing term (out of line).
+    #[inline(never)]
+    fn pdf_with_mitsuba_options(&self, wo_world: Vec3, wi_world: Vec3, mode: TransportMode) -> f32 {
         if self.adapter.opacity <= 0.0 {
             return 0.0;
         }
