@@ -11,7 +11,7 @@ use crate::camera::{FovAxis, PerspectiveSettings, look_at};
 use glam::{Affine3A, Quat, Vec3};
 
 /// The built-in scenes: name and a one-line description.
-pub const BUILTIN_SCENES: [(&str, &str); 7] = [
+pub const BUILTIN_SCENES: [(&str, &str); 8] = [
     (
         "cornell-box",
         "Mitsuba 3's RGB Cornell box (cbox-rgb.xml): diffuse walls and boxes, one area light",
@@ -40,6 +40,10 @@ pub const BUILTIN_SCENES: [(&str, &str); 7] = [
         "volumetric-caustic",
         "a coloured beam refracted by a glass sphere in a foggy room: a volumetric caustic (LQMC Fig. 12 kind; volpath)",
     ),
+    (
+        "heinrich-keller",
+        "a furnished diffuse room of 276 triangles with two rectangular ceiling lights (Heinrich & Keller's test scene kind)",
+    ),
 ];
 
 /// The scene used when none is named.
@@ -55,6 +59,7 @@ pub fn builtin_scene(name: &str) -> Option<SceneDescription> {
         "furnace" => Some(furnace()),
         "translucent-spheres" => Some(translucent_spheres()),
         "volumetric-caustic" => Some(volumetric_caustic()),
+        "heinrich-keller" => Some(heinrich_keller_room()),
         _ => None,
     }
 }
@@ -688,6 +693,223 @@ fn volumetric_caustic() -> SceneDescription {
     }
 }
 
+/// An axis-aligned box from `min` to `max` as a mesh of 6 quads (12
+/// triangles), wound outwards.
+fn cuboid(min: [f32; 3], max: [f32; 3]) -> ShapeGeometry {
+    let [x0, y0, z0] = min;
+    let [x1, y1, z1] = max;
+    polygon_mesh(&[
+        &[[x0, y0, z0], [x1, y0, z0], [x1, y0, z1], [x0, y0, z1]], // bottom (−y)
+        &[[x0, y1, z0], [x0, y1, z1], [x1, y1, z1], [x1, y1, z0]], // top (+y)
+        &[[x0, y0, z0], [x0, y1, z0], [x1, y1, z0], [x1, y0, z0]], // front (−z)
+        &[[x0, y0, z1], [x1, y0, z1], [x1, y1, z1], [x0, y1, z1]], // back (+z)
+        &[[x0, y0, z0], [x0, y0, z1], [x0, y1, z1], [x0, y1, z0]], // left (−x)
+        &[[x1, y0, z0], [x1, y1, z0], [x1, y1, z1], [x1, y0, z1]], // right (+x)
+    ])
+}
+
+/// One planar quad (2 triangles) from its corners in order.
+fn quad(corners: [[f32; 3]; 4]) -> ShapeGeometry {
+    polygon_mesh(&[&corners])
+}
+
+/// A table or chair: a top box and four legs of square section `leg`
+/// under its corners, down to the floor (5 boxes, 60 triangles).
+fn four_legged(top_min: [f32; 3], top_max: [f32; 3], leg: f32) -> Vec<ShapeGeometry> {
+    let [x0, y0, z0] = top_min;
+    let [x1, _, z1] = top_max;
+    let mut parts = vec![cuboid(top_min, top_max)];
+    for (x, z) in [
+        (x0, z0),
+        (x1 - leg, z0),
+        (x0, z1 - leg),
+        (x1 - leg, z1 - leg),
+    ] {
+        parts.push(cuboid([x, 0.0, z], [x + leg, y0, z + leg]));
+    }
+    parts
+}
+
+/// The kind of scene Heinrich & Keller (1994) measure radiance per triangle
+/// in (their Table 1: a furnished room of 276 triangles, untextured):
+/// a closed room 6 × 3 × 5 with two rectangular ceiling lights facing down,
+/// a table and two chairs, a cabinet, a shelf, a sofa, a rug, a door, a
+/// window and a picture, all diffuse with RGB reflectances. Every surface
+/// is a triangle mesh (276 triangles: the room 12, the lights 4, the
+/// table 60, the chairs 144, the four boxes 48, the four flat quads 8), so
+/// that the particle study can report each triangle's radiance.
+fn heinrich_keller_room() -> SceneDescription {
+    let (width, height, depth) = (6.0f32, 3.0f32, 5.0f32);
+    let mut shapes = vec![
+        // The room's shell: floor, ceiling and four walls.
+        ShapeDescription::new(
+            quad([
+                [0.0, 0.0, 0.0],
+                [0.0, 0.0, depth],
+                [width, 0.0, depth],
+                [width, 0.0, 0.0],
+            ]),
+            diffuse(0.55, 0.45, 0.35),
+        ),
+        ShapeDescription::new(
+            quad([
+                [0.0, height, 0.0],
+                [width, height, 0.0],
+                [width, height, depth],
+                [0.0, height, depth],
+            ]),
+            diffuse(0.8, 0.8, 0.8),
+        ),
+        ShapeDescription::new(
+            quad([
+                [0.0, 0.0, depth],
+                [0.0, height, depth],
+                [width, height, depth],
+                [width, 0.0, depth],
+            ]),
+            diffuse(0.7, 0.65, 0.55),
+        ),
+        ShapeDescription::new(
+            quad([
+                [0.0, 0.0, 0.0],
+                [width, 0.0, 0.0],
+                [width, height, 0.0],
+                [0.0, height, 0.0],
+            ]),
+            diffuse(0.7, 0.65, 0.55),
+        ),
+        ShapeDescription::new(
+            quad([
+                [0.0, 0.0, 0.0],
+                [0.0, height, 0.0],
+                [0.0, height, depth],
+                [0.0, 0.0, depth],
+            ]),
+            diffuse(0.45, 0.55, 0.7),
+        ),
+        ShapeDescription::new(
+            quad([
+                [width, 0.0, 0.0],
+                [width, 0.0, depth],
+                [width, height, depth],
+                [width, height, 0.0],
+            ]),
+            diffuse(0.7, 0.65, 0.55),
+        ),
+    ];
+    // Two ceiling lights just below the ceiling, wound to face down.
+    let light_y = height - 0.01;
+    for (x0, z0) in [(1.5f32, 1.6f32), (3.5, 2.8)] {
+        let (x1, z1) = (x0 + 1.0, z0 + 0.6);
+        shapes.push(
+            ShapeDescription::new(
+                quad([
+                    [x0, light_y, z0],
+                    [x1, light_y, z0],
+                    [x1, light_y, z1],
+                    [x0, light_y, z1],
+                ]),
+                MaterialDescription::Black,
+            )
+            .emitting([8.0, 7.5, 6.5]),
+        );
+    }
+    let wood = diffuse(0.5, 0.32, 0.18);
+    for part in four_legged([2.2, 0.72, 2.0], [3.8, 0.77, 3.0], 0.07) {
+        shapes.push(ShapeDescription::new(part, wood.clone()));
+    }
+    for (x, colour) in [(1.4f32, [0.7, 0.2, 0.15]), (4.1, [0.2, 0.35, 0.6])] {
+        let seat = four_legged([x, 0.43, 2.25], [x + 0.45, 0.47, 2.7], 0.05);
+        for part in seat {
+            shapes.push(ShapeDescription::new(
+                part,
+                diffuse(colour[0], colour[1], colour[2]),
+            ));
+        }
+        let back_x = if x < 3.0 { x } else { x + 0.41 };
+        shapes.push(ShapeDescription::new(
+            cuboid([back_x, 0.47, 2.25], [back_x + 0.04, 0.95, 2.7]),
+            diffuse(colour[0], colour[1], colour[2]),
+        ));
+    }
+    for (min, max, colour) in [
+        ([0.1, 0.0, 4.3], [1.3, 1.9, 4.9], [0.6, 0.55, 0.45]), // cabinet
+        ([4.6, 0.0, 4.6], [5.9, 2.1, 4.95], [0.35, 0.25, 0.15]), // shelf
+        ([4.3, 0.0, 0.3], [5.8, 0.45, 1.2], [0.25, 0.5, 0.3]), // sofa seat
+        ([4.3, 0.45, 0.3], [5.8, 0.9, 0.5], [0.25, 0.5, 0.3]), // sofa back
+    ] {
+        shapes.push(ShapeDescription::new(
+            cuboid(min, max),
+            diffuse(colour[0], colour[1], colour[2]),
+        ));
+    }
+    for (corners, colour) in [
+        // A rug just above the floor.
+        (
+            [
+                [1.8, 0.005, 1.7],
+                [1.8, 0.005, 3.3],
+                [4.2, 0.005, 3.3],
+                [4.2, 0.005, 1.7],
+            ],
+            [0.6, 0.15, 0.2],
+        ),
+        // A door on the left wall, a window on the back wall, a picture on
+        // the right wall, each just off its wall.
+        (
+            [
+                [0.005, 0.0, 1.0],
+                [0.005, 2.1, 1.0],
+                [0.005, 2.1, 2.0],
+                [0.005, 0.0, 2.0],
+            ],
+            [0.4, 0.3, 0.2],
+        ),
+        (
+            [
+                [2.0, 1.0, 4.995],
+                [2.0, 2.2, 4.995],
+                [4.0, 2.2, 4.995],
+                [4.0, 1.0, 4.995],
+            ],
+            [0.85, 0.9, 0.95],
+        ),
+        (
+            [
+                [5.995, 1.2, 2.0],
+                [5.995, 1.2, 3.2],
+                [5.995, 2.0, 3.2],
+                [5.995, 2.0, 2.0],
+            ],
+            [0.8, 0.65, 0.2],
+        ),
+    ] {
+        shapes.push(ShapeDescription::new(
+            quad(corners),
+            diffuse(colour[0], colour[1], colour[2]),
+        ));
+    }
+    SceneDescription {
+        name: "heinrich-keller".into(),
+        camera: camera(
+            [3.0, 1.7, 0.25],
+            [3.0, 1.0, 4.0],
+            75.0,
+            FovAxis::X,
+            [128, 96],
+        ),
+        filter: FilterDescription::Box { radius: 0.5 },
+        shapes,
+        lights: Vec::new(),
+        media: Vec::new(),
+        camera_medium: None,
+        max_depth: Some(5),
+        samples_per_pixel: Some(16),
+        russian_roulette_depth: None,
+        integrator: None,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -723,6 +945,91 @@ mod tests {
             );
             let normal = (b - a).cross(c - a);
             assert!(normal.dot(a - centre) > 0.0, "inward face {a} {b} {c}");
+        }
+    }
+
+    #[test]
+    fn cuboid_faces_point_outwards() {
+        let ShapeGeometry::Mesh {
+            positions,
+            triangles,
+            ..
+        } = cuboid([0.0, 1.0, 2.0], [1.0, 3.0, 2.5])
+        else {
+            unreachable!()
+        };
+        assert_eq!(triangles.len(), 12);
+        let centre = Vec3::new(0.5, 2.0, 2.25);
+        for [a, b, c] in triangles {
+            let (a, b, c) = (
+                positions[a as usize],
+                positions[b as usize],
+                positions[c as usize],
+            );
+            let normal = (b - a).cross(c - a);
+            assert!(
+                normal.dot((a + b + c) / 3.0 - centre) > 0.0,
+                "inward face {a} {b} {c}"
+            );
+        }
+    }
+
+    /// Heinrich & Keller's kind of room: 276 triangles, all in meshes, two
+    /// rectangular lights (2 triangles each) facing down into the room, every
+    /// other surface diffuse; closed: rays from inside in every direction of
+    /// a grid hit a surface.
+    #[test]
+    fn heinrich_keller_room_has_276_triangles_and_two_rectangular_lights() {
+        let description = heinrich_keller_room();
+        let mut triangles = 0;
+        let mut lights = 0;
+        for shape in &description.shapes {
+            let ShapeGeometry::Mesh {
+                positions,
+                triangles: faces,
+                ..
+            } = &shape.geometry
+            else {
+                panic!("not a mesh: {:?}", shape.geometry);
+            };
+            triangles += faces.len();
+            if shape.emission.is_some() {
+                lights += 1;
+                assert_eq!(faces.len(), 2);
+                for [a, b, c] in faces {
+                    let (a, b, c) = (
+                        positions[*a as usize],
+                        positions[*b as usize],
+                        positions[*c as usize],
+                    );
+                    assert!((b - a).cross(c - a).y < 0.0, "a light faces up");
+                }
+            } else {
+                assert!(
+                    matches!(shape.material, MaterialDescription::Diffuse { .. }),
+                    "{:?}",
+                    shape.material
+                );
+            }
+        }
+        assert_eq!(triangles, 276);
+        assert_eq!(lights, 2);
+        let scene = crate::scene::Scene::build(&description).unwrap();
+        for i in 0..16 {
+            for j in 0..32 {
+                let theta = (i as f32 + 0.5) * std::f32::consts::PI / 16.0;
+                let phi = j as f32 * std::f32::consts::TAU / 32.0;
+                let direction = Vec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.cos(),
+                    theta.sin() * phi.sin(),
+                );
+                let ray = crate::geometry::Ray::with_time(Vec3::new(3.0, 1.5, 1.0), direction, 0.0);
+                assert!(
+                    scene.geometry.intersect(&ray, f32::INFINITY).is_some(),
+                    "escaped along {direction}"
+                );
+            }
         }
     }
 }
