@@ -21,6 +21,7 @@ pub mod bdpt;
 pub mod driver;
 pub mod light;
 pub mod lqmc;
+pub mod particle_radiance;
 pub mod path;
 pub mod path_space;
 pub mod progression_variance;
