@@ -1,10 +1,11 @@
 //! `lqmc study`: experiments that render a scene many times in this process
 //! and report error measures, plots and crops (see [`crate::study`]). Each
-//! study is a subcommand: `equal-time` and `kollig-keller`; the
-//! Heinrich–Keller comparison will join them.
+//! study is a subcommand: `equal-time`, `kollig-keller` and
+//! `heinrich-keller`.
 
 use crate::error::CliError;
 use crate::study::equal_time::{self, EqualTimeArgs};
+use crate::study::heinrich_keller::{self, HeinrichKellerArgs};
 use crate::study::kollig_keller::{self, KolligKellerArgs};
 use clap::{Args, Subcommand};
 
@@ -27,6 +28,11 @@ pub enum StudyName {
     /// sequences and randomized QMC point sets; convergence plots (Figs. 7,
     /// 8), samples relative to MC (Fig. 9), fitted rates.
     KolligKeller(Box<KolligKellerArgs>),
+    /// Heinrich & Keller's §5: radiance per triangle by particle simulation
+    /// with random, Halton, scrambled Halton, Hammersley and Sobol points;
+    /// mutual deviations of sampling rates (Tables 2–5) and of the
+    /// patterns' masters (Table 6), convergence plot, fitted rates.
+    HeinrichKeller(Box<HeinrichKellerArgs>),
 }
 
 /// Runs `lqmc study`.
@@ -34,5 +40,6 @@ pub fn run(args: &StudyArgs) -> Result<(), CliError> {
     match &args.study {
         StudyName::EqualTime(arguments) => equal_time::run(arguments),
         StudyName::KolligKeller(arguments) => kollig_keller::run(arguments),
+        StudyName::HeinrichKeller(arguments) => heinrich_keller::run(arguments),
     }
 }

@@ -608,3 +608,111 @@ fn bad_kollig_keller_input_is_a_usage_error() {
         assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
     }
 }
+
+/// A triangle's area and RGB radiance, as the per-triangle CSV has them.
+type Triangle = (f64, [f64; 3]);
+
+/// `lqmc study heinrich-keller` on the built-in room (small counts): the
+/// mutual deviations per pattern, the deviations from each master and
+/// between the masters in table.json are recomputed from the per-triangle
+/// CSV it wrote (areas and RGB radiances), by the paper's area-weighted
+/// RGB distance; the plot and the markdown are written; a bad pattern is a
+/// usage error.
+#[test]
+fn heinrich_keller_tables_match_the_triangles_it_wrote() {
+    let directory = ScratchDirectory::new("heinrich-keller-study");
+    let csv = directory.join("triangles.csv");
+    let output = lqmc(&[
+        "study",
+        "heinrich-keller",
+        "--counts",
+        "1000,4e3,16000",
+        "--bounces",
+        "2",
+        "--patterns",
+        "random,halton,hammersley",
+        "--threads",
+        "2",
+        "--quiet",
+        "--per-triangle",
+        csv.to_str().unwrap(),
+        "-o",
+        directory.to_str().unwrap(),
+    ]);
+    assert_success(&output);
+    for name in ["table.md", "convergence.svg", "convergence.png"] {
+        assert!(directory.join(name).is_file(), "{name} missing");
+    }
+    let table = read_table(&directory);
+    let counts: Vec<u64> = table["counts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|value| value.as_u64().unwrap())
+        .collect();
+    assert_eq!(counts, [1000, 4000, 16000]);
+    // pattern -> count -> triangle -> (area, rgb)
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut radiances: std::collections::BTreeMap<(String, u64), Vec<Triangle>> =
+        Default::default();
+    for line in text.lines().skip(1) {
+        let fields: Vec<&str> = line.split(',').collect();
+        let parse = |index: usize| fields[index].parse::<f64>().unwrap();
+        radiances
+            .entry((fields[0].to_string(), fields[1].parse().unwrap()))
+            .or_default()
+            .push((parse(3), [parse(4), parse(5), parse(6)]));
+    }
+    let deviation = |a: &[Triangle], b: &[Triangle]| {
+        let (mut weighted, mut total) = (0.0, 0.0);
+        for ((area, x), (_, y)) in a.iter().zip(b) {
+            let squared: f64 = (0..3).map(|c| (x[c] - y[c]).powi(2)).sum();
+            weighted += area * squared;
+            total += area;
+        }
+        (weighted / total).sqrt()
+    };
+    let patterns = table["patterns"].as_array().unwrap();
+    assert_eq!(patterns.len(), 3);
+    for pattern in patterns {
+        let name = pattern["name"].as_str().unwrap().to_string();
+        let of = |count: u64| &radiances[&(name.clone(), count)];
+        assert_eq!(of(1000).len(), 276);
+        let matrix = pattern["mutual_deviations"].as_array().unwrap();
+        for (row, values) in matrix.iter().enumerate() {
+            for (column, value) in values.as_array().unwrap().iter().enumerate() {
+                assert_close(
+                    number(value),
+                    deviation(of(counts[row + 1]), of(counts[column])),
+                    &format!("{name} {} vs {}", counts[row + 1], counts[column]),
+                );
+            }
+        }
+        let from_master = pattern["deviation_from_master"].as_array().unwrap();
+        for (index, value) in from_master.iter().enumerate() {
+            assert_close(
+                number(value),
+                deviation(of(counts[index]), of(16000)),
+                &format!("{name} {} vs master", counts[index]),
+            );
+        }
+    }
+    for entry in table["between_masters"].as_array().unwrap() {
+        let first = entry["first"].as_str().unwrap().to_string();
+        let second = entry["second"].as_str().unwrap().to_string();
+        assert_close(
+            number(&entry["deviation"]),
+            deviation(&radiances[&(first, 16000)], &radiances[&(second, 16000)]),
+            "between masters",
+        );
+    }
+    let bad = lqmc(&[
+        "study",
+        "heinrich-keller",
+        "--patterns",
+        "faure",
+        "-o",
+        directory.to_str().unwrap(),
+    ]);
+    assert_eq!(bad.status.code(), Some(2));
+}

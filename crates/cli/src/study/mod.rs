@@ -7,6 +7,7 @@ pub mod crops;
 pub mod equal_time;
 pub mod error_plot;
 pub mod formatting;
+pub mod heinrich_keller;
 pub mod kollig_keller;
 pub mod measures;
 
