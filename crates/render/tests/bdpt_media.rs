@@ -8,20 +8,17 @@
 //! spectral MIS of `bdpt::mis` the throughput's ratio of the wavelengths'
 //! free-flight densities has infinite variance.
 
-use glam::Vec3;
 use render::image::Image;
 use render::integrators::IntegratorKind;
 use render::renderer::{RenderSettings, render};
 use render::sampler::SamplerKind;
 use render::scene::Scene;
-use render::scene::builtin::builtin_scene;
-use render::scene::description::{
-    MaterialDescription, MediumCoefficients, MediumDescription, PhaseDescription, SceneDescription,
-    ShapeDescription, ShapeGeometry, SpectrumDescription,
-};
+use render::scene::description::SceneDescription;
 use std::sync::atomic::AtomicBool;
 
+mod media_scenes;
 mod path_comparison;
+use media_scenes::{add_chromatic_spheres, medium_furnace};
 use path_comparison::{Tested, assert_matches_path, builtin, small};
 
 const BDPT: Tested = Tested {
@@ -68,14 +65,7 @@ fn bdpt_with_randomized_qmc_matches_volpath_in_translucent_spheres() {
 /// `volpath`, BDPT and light tracing all give at 65536 samples).
 #[test]
 fn bdpt_matches_volpath_in_media_behind_interfaces() {
-    let mut description = small(builtin_scene("translucent-spheres").unwrap());
-    for shape in &mut description.shapes {
-        if shape.interior_medium.is_some() {
-            shape.material = MaterialDescription::Interface;
-        }
-    }
-    description.lights.clear();
-    let scene = Scene::build(&description).unwrap();
+    let scene = Scene::build(&media_scenes::media_behind_interfaces(small)).unwrap();
     assert_matches_path(
         "translucent-spheres with interfaces",
         &scene,
@@ -96,40 +86,8 @@ fn bdpt_matches_volpath_in_media_behind_interfaces() {
 /// from fog next to the light and the lens (4.3 % of channels above 3).
 #[test]
 fn bdpt_matches_volpath_in_a_foggy_room() {
-    let mut description = small(builtin_scene("volumetric-caustic").unwrap());
-    // The room, the tube, its emitter, the sphere, the ceiling light.
-    assert_eq!(description.shapes.len(), 5);
-    description.shapes = vec![description.shapes[0].clone(), description.shapes[4].clone()];
-    let scene = Scene::build(&description).unwrap();
+    let scene = Scene::build(&media_scenes::foggy_room(small)).unwrap();
     assert_matches_path("foggy room", &scene, BDPT, 4096, 256, None, true);
-}
-
-fn medium(
-    albedo: SpectrumDescription,
-    sigma_t: SpectrumDescription,
-    phase: PhaseDescription,
-) -> MediumDescription {
-    MediumDescription {
-        coefficients: MediumCoefficients::AlbedoExtinction { albedo, sigma_t },
-        scale: 1.0,
-        phase,
-    }
-}
-
-/// The closed furnace sphere (diffuse albedo 0.5, emitting 0.5) with the
-/// camera at its centre inside a white non-absorbing medium: every pixel
-/// is 1.
-fn medium_furnace(resolution: u32) -> SceneDescription {
-    let mut description = builtin_scene("furnace").unwrap();
-    description.camera.resolution = [resolution, resolution];
-    description.media = vec![medium(
-        SpectrumDescription::Constant(1.0),
-        SpectrumDescription::Constant(1.5),
-        PhaseDescription::HenyeyGreenstein { g: 0.6 },
-    )];
-    description.camera_medium = Some(0);
-    description.max_depth = Some(1000);
-    description
 }
 
 /// Renders `description` with BDPT and returns the image mean over pixels
@@ -195,32 +153,7 @@ fn bdpt_in_a_medium_furnace_gives_one() {
 #[test]
 fn chromatic_media_in_the_furnace_are_invisible_to_bdpt() {
     let mut description = medium_furnace(8);
-    description.media.push(medium(
-        SpectrumDescription::Constant(1.0),
-        SpectrumDescription::Sampled {
-            wavelengths: vec![360.0, 500.0, 600.0, 830.0],
-            values: vec![0.5, 4.0, 12.0, 30.0],
-        },
-        PhaseDescription::Isotropic,
-    ));
-    for (center, material) in [
-        (Vec3::new(-0.35, 0.0, 0.55), MaterialDescription::Interface),
-        (
-            Vec3::new(0.35, 0.0, 0.55),
-            MaterialDescription::smooth_dielectric(1.5),
-        ),
-    ] {
-        let mut sphere = ShapeDescription::new(
-            ShapeGeometry::Sphere {
-                center,
-                radius: 0.3,
-            },
-            material,
-        );
-        sphere.interior_medium = Some(1);
-        sphere.exterior_medium = Some(0);
-        description.shapes.push(sphere);
-    }
+    add_chromatic_spheres(&mut description);
     assert_one(
         &image_means(&description, SamplerKind::Independent, 16),
         "chromatic spheres in the medium furnace",

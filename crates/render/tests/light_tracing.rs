@@ -29,6 +29,7 @@ use render::scene::description::{
     TextureWrap,
 };
 
+mod media_scenes;
 mod path_comparison;
 use path_comparison::{
     LIGHT, SEEDS, assert_matches_path, builtin, render_once, small, specular_first_hits, values,
@@ -110,14 +111,7 @@ fn light_tracing_in_the_furnace_gives_one() {
 /// transmittance.
 #[test]
 fn volumetric_light_tracing_matches_volpath_in_media_behind_interfaces() {
-    let mut description = small(builtin_scene("translucent-spheres").unwrap());
-    for shape in &mut description.shapes {
-        if shape.interior_medium.is_some() {
-            shape.material = MaterialDescription::Interface;
-        }
-    }
-    description.lights.clear();
-    let scene = Scene::build(&description).unwrap();
+    let scene = Scene::build(&media_scenes::media_behind_interfaces(small)).unwrap();
     assert_matches_path(
         "translucent-spheres with interfaces",
         &scene,
@@ -137,11 +131,7 @@ fn volumetric_light_tracing_matches_volpath_in_media_behind_interfaces() {
 /// found from the camera.
 #[test]
 fn volumetric_light_tracing_matches_volpath_in_a_foggy_room() {
-    let mut description = small(builtin_scene("volumetric-caustic").unwrap());
-    // The room, the tube, its emitter, the sphere, the ceiling light.
-    assert_eq!(description.shapes.len(), 5);
-    description.shapes = vec![description.shapes[0].clone(), description.shapes[4].clone()];
-    let scene = Scene::build(&description).unwrap();
+    let scene = Scene::build(&media_scenes::foggy_room(small)).unwrap();
     assert_matches_path("foggy room", &scene, LIGHT, 1024, 64, None, true);
 }
 

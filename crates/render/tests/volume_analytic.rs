@@ -11,6 +11,9 @@
 //! and the image mean must be within 5 standard errors.
 
 use glam::Vec3;
+
+mod media_scenes;
+use media_scenes::{add_chromatic_spheres, medium, medium_furnace};
 use render::camera::{FovAxis, PerspectiveSettings, look_at};
 use render::geometry::Ray;
 use render::image::Image;
@@ -74,33 +77,6 @@ fn assert_matches(
     }
 }
 
-fn medium(
-    albedo: SpectrumDescription,
-    sigma_t: SpectrumDescription,
-    phase: PhaseDescription,
-) -> MediumDescription {
-    MediumDescription {
-        coefficients: MediumCoefficients::AlbedoExtinction { albedo, sigma_t },
-        scale: 1.0,
-        phase,
-    }
-}
-
-/// The closed furnace sphere (diffuse albedo 0.5, emitting 0.5) with the
-/// camera at its centre inside medium 0, a white non-absorbing medium.
-fn medium_furnace(resolution: u32) -> SceneDescription {
-    let mut description = builtin_scene("furnace").unwrap();
-    description.camera.resolution = [resolution, resolution];
-    description.media = vec![medium(
-        SpectrumDescription::Constant(1.0),
-        SpectrumDescription::Constant(1.5),
-        PhaseDescription::HenyeyGreenstein { g: 0.6 },
-    )];
-    description.camera_medium = Some(0);
-    description.max_depth = Some(1000);
-    description
-}
-
 fn volpath_settings(sampler: SamplerKind, samples_per_pixel: u64) -> RenderSettings {
     RenderSettings {
         integrator: IntegratorKind::VolPath.into(),
@@ -139,32 +115,7 @@ fn camera_inside_an_infinite_albedo_one_medium_sees_the_furnace_value() {
 #[test]
 fn spheres_of_chromatic_media_inside_the_furnace_are_invisible() {
     let mut description = medium_furnace(16);
-    description.media.push(medium(
-        SpectrumDescription::Constant(1.0),
-        SpectrumDescription::Sampled {
-            wavelengths: vec![360.0, 500.0, 600.0, 830.0],
-            values: vec![0.5, 4.0, 12.0, 30.0],
-        },
-        PhaseDescription::Isotropic,
-    ));
-    for (center, material) in [
-        (Vec3::new(-0.35, 0.0, 0.55), MaterialDescription::Interface),
-        (
-            Vec3::new(0.35, 0.0, 0.55),
-            MaterialDescription::smooth_dielectric(1.5),
-        ),
-    ] {
-        let mut sphere = ShapeDescription::new(
-            ShapeGeometry::Sphere {
-                center,
-                radius: 0.3,
-            },
-            material,
-        );
-        sphere.interior_medium = Some(1);
-        sphere.exterior_medium = Some(0);
-        description.shapes.push(sphere);
-    }
+    add_chromatic_spheres(&mut description);
     let (image, variance) = render_images(
         &description,
         &volpath_settings(SamplerKind::Independent, 32),

@@ -84,20 +84,7 @@ impl LightIntegrator {
 
 impl Integrator for LightIntegrator {
     fn render(&self, scene: &Scene, run: &RunControl<'_>) -> Result<IntegratorRender, RenderError> {
-        if scene.camera_medium.is_some() && scene.lights.iter().any(|light| light.is_infinite()) {
-            return Err(RenderError::Unsupported(
-                "the light tracer cannot start particles of environment or directional lights \
-                 in a medium that fills the scene; use --integrator volpath"
-                    .into(),
-            ));
-        }
-        let light_media = if scene.has_media() {
-            (0..scene.lights.len())
-                .map(|index| medium_around_light(scene, index))
-                .collect()
-        } else {
-            vec![Some(None); scene.lights.len()]
-        };
+        let light_media = LightMedia::new(scene, "the light tracer")?;
         let estimator = LightTracer {
             scene,
             settings: &self.settings,
@@ -112,9 +99,8 @@ impl Integrator for LightIntegrator {
 struct LightTracer<'a> {
     scene: &'a Scene,
     settings: &'a PathSettings,
-    /// Per light, the medium around it where that is one medium for all
-    /// its points ([`medium_around_light`]; `None` without media).
-    light_media: Vec<Option<Option<u32>>>,
+    /// The media the particles start in.
+    light_media: LightMedia,
     /// The scene has participating media (volumetric walks).
     media: bool,
 }
@@ -179,8 +165,9 @@ impl SplatEstimator for LightTracer<'_> {
             return;
         }
         // The medium around the particle's origin.
-        let around = self.light_media[light_index]
-            .unwrap_or_else(|| medium_at(scene, emission.origin, emission.normal));
+        let around = self
+            .light_media
+            .around(scene, light_index, emission.origin, emission.normal);
         // The emitter's own vertex seen by the camera (area lights only).
         let on_surface =
             !emission.is_delta_position && !light.is_infinite() && emission.normal != Vec3::ZERO;
@@ -383,11 +370,67 @@ fn splat_if_visible(
     }
 }
 
+/// The media light paths start in (light tracing, BDPT): per light, the
+/// medium around it where that is one medium for all its points
+/// ([`medium_around_light`]; found per point for area lights), `None` in
+/// every case without media.
+pub(super) struct LightMedia {
+    around: Vec<Option<Option<u32>>>,
+}
+
+impl LightMedia {
+    /// The lights' media of `scene`; environment and directional lights in
+    /// a medium that fills the scene are refused (their paths would start
+    /// outside it), with `integrator` named in the message.
+    pub(super) fn new(scene: &Scene, integrator: &str) -> Result<Self, RenderError> {
+        if scene.camera_medium.is_some() && scene.lights.iter().any(|light| light.is_infinite()) {
+            return Err(RenderError::Unsupported(format!(
+                "{integrator} cannot start light paths of environment or directional lights in \
+                 a medium that fills the scene; use --integrator volpath"
+            )));
+        }
+        let around = if scene.has_media() {
+            (0..scene.lights.len())
+                .map(|index| medium_around_light(scene, index))
+                .collect()
+        } else {
+            vec![Some(None); scene.lights.len()]
+        };
+        Ok(Self { around })
+    }
+
+    /// The medium around light `light_index`'s point `point` (normal
+    /// `normal`).
+    pub(super) fn around(
+        &self,
+        scene: &Scene,
+        light_index: usize,
+        point: Vec3,
+        normal: Vec3,
+    ) -> Option<u32> {
+        self.around[light_index].unwrap_or_else(|| medium_at(scene, point, normal))
+    }
+
+    /// The medium a path leaving light `light_index`'s point `point`
+    /// (emitting normal `normal`) in `direction` starts in.
+    pub(super) fn leaving(
+        &self,
+        scene: &Scene,
+        light_index: usize,
+        point: Vec3,
+        normal: Vec3,
+        direction: Vec3,
+    ) -> Option<u32> {
+        let around = self.around(scene, light_index, point, normal);
+        emission_medium(scene, &scene.lights[light_index], around, normal, direction)
+    }
+}
+
 /// The medium a particle leaving light `light` (emitting normal `normal`)
 /// in `direction` enters: for an area light on a shape with a medium
 /// interface, the medium on that side; otherwise `around`, the medium the
 /// light sits in ([`medium_around_light`]).
-pub(super) fn emission_medium(
+fn emission_medium(
     scene: &Scene,
     light: &Light,
     around: Option<u32>,
@@ -411,7 +454,7 @@ pub(super) fn emission_medium(
 /// the medium at its position for points, spots and projectors, the
 /// camera's for lights at infinity; `None` for area lights, whose points
 /// are looked up one by one ([`medium_at`]).
-pub(super) fn medium_around_light(scene: &Scene, light_index: usize) -> Option<Option<u32>> {
+fn medium_around_light(scene: &Scene, light_index: usize) -> Option<Option<u32>> {
     let light = &scene.lights[light_index];
     if light.is_infinite() {
         return Some(scene.camera_medium);

@@ -459,16 +459,30 @@ impl SurfaceBsdf {
         wi_world: Vec3,
         wavelengths: &SampledWavelengths,
     ) -> SampledSpectrum {
-        let mode = self.bsdf.transport_mode();
         if self.adapter.has_mitsuba_options() {
             return self.evaluate_with_mitsuba_options(wo_world, wi_world, wavelengths);
         }
-        let wo = self.frame.to_local(wo_world);
-        let wi = self.frame.to_local(wi_world);
-        if self.adapter.opacity <= 0.0 || !self.sides_agree(wo_world, wo, wi_world, wi, mode) {
-            return SampledSpectrum::zero();
+        match self.local_pair(&self.frame, wo_world, wi_world, self.bsdf.transport_mode()) {
+            Some((wo, wi)) => self.bsdf.evaluate(wo, wi, wavelengths) * self.adapter.opacity,
+            None => SampledSpectrum::zero(),
         }
-        self.bsdf.evaluate(wo, wi, wavelengths) * self.adapter.opacity
+    }
+
+    /// The pair `wo`, `wi` in `frame`'s local coordinates, if the surface
+    /// scatters between them in transport `mode`: it is not fully
+    /// transparent and the pair passes the side check of a perturbed frame.
+    #[inline]
+    fn local_pair(
+        &self,
+        frame: &ShadingFrame,
+        wo_world: Vec3,
+        wi_world: Vec3,
+        mode: TransportMode,
+    ) -> Option<(Vec3, Vec3)> {
+        let wo = frame.to_local(wo_world);
+        let wi = frame.to_local(wi_world);
+        (self.adapter.opacity > 0.0 && self.sides_agree(wo_world, wo, wi_world, wi, mode))
+            .then_some((wo, wi))
     }
 
     /// [`Self::evaluate`] of a perturbed frame with Mitsuba 3.7.1's flip or
@@ -482,13 +496,13 @@ impl SurfaceBsdf {
     ) -> SampledSpectrum {
         let mode = self.bsdf.transport_mode();
         let frame = self.frame_for(wo_world, wi_world, mode);
-        let wo = frame.to_local(wo_world);
-        let wi = frame.to_local(wi_world);
-        if self.adapter.opacity <= 0.0 || !self.sides_agree(wo_world, wo, wi_world, wi, mode) {
-            return SampledSpectrum::zero();
+        match self.local_pair(&frame, wo_world, wi_world, mode) {
+            Some((wo, wi)) => {
+                self.bsdf.evaluate(wo, wi, wavelengths)
+                    * (self.adapter.opacity * self.shadowing(wo_world, wi_world, mode))
+            }
+            None => SampledSpectrum::zero(),
         }
-        self.bsdf.evaluate(wo, wi, wavelengths)
-            * (self.adapter.opacity * self.shadowing(wo_world, wi_world, mode))
     }
 
     /// The camera-side and the light-side direction of the pair `wo`, `wi`
@@ -601,17 +615,6 @@ impl SurfaceBsdf {
         wavelengths: &SampledWavelengths,
     ) -> (SampledSpectrum, f32) {
         let mode = self.bsdf.transport_mode();
-        if !self.adapter.has_mitsuba_options() {
-            let wo = self.frame.to_local(wo_world);
-            let wi = self.frame.to_local(wi_world);
-            if self.adapter.opacity <= 0.0 || !self.sides_agree(wo_world, wo, wi_world, wi, mode) {
-                return (SampledSpectrum::zero(), 0.0);
-            }
-            return (
-                self.bsdf.evaluate(wo, wi, wavelengths) * self.adapter.opacity,
-                self.bsdf.pdf(wo, wi) * self.adapter.opacity,
-            );
-        }
         if self.adapter.flips() && mode == TransportMode::Importance {
             // Sampled from both frames: the density is their mixture's.
             return (
@@ -619,17 +622,17 @@ impl SurfaceBsdf {
                 self.pdf_in_mode(wo_world, wi_world, mode),
             );
         }
+        // The frame and shadowing term are the plain ones without Mitsuba's
+        // options.
         let frame = self.frame_for(wo_world, wi_world, mode);
-        let wo = frame.to_local(wo_world);
-        let wi = frame.to_local(wi_world);
-        if self.adapter.opacity <= 0.0 || !self.sides_agree(wo_world, wo, wi_world, wi, mode) {
-            return (SampledSpectrum::zero(), 0.0);
+        match self.local_pair(&frame, wo_world, wi_world, mode) {
+            Some((wo, wi)) => (
+                self.bsdf.evaluate(wo, wi, wavelengths)
+                    * (self.adapter.opacity * self.shadowing(wo_world, wi_world, mode)),
+                self.bsdf.pdf(wo, wi) * self.adapter.opacity,
+            ),
+            None => (SampledSpectrum::zero(), 0.0),
         }
-        (
-            self.bsdf.evaluate(wo, wi, wavelengths)
-                * (self.adapter.opacity * self.shadowing(wo_world, wi_world, mode)),
-            self.bsdf.pdf(wo, wi) * self.adapter.opacity,
-        )
     }
 
     /// [`Bsdf::sample`] for a world-space `wo`; the sample's `wi` is in world
@@ -763,12 +766,8 @@ impl SurfaceBsdf {
         if self.adapter.has_mitsuba_options() {
             return self.pdf_with_mitsuba_options(wo_world, wi_world, mode);
         }
-        let wo = self.frame.to_local(wo_world);
-        let wi = self.frame.to_local(wi_world);
-        if self.adapter.opacity <= 0.0 || !self.sides_agree(wo_world, wo, wi_world, wi, mode) {
-            return 0.0;
-        }
-        self.bsdf.pdf(wo, wi) * self.adapter.opacity
+        self.local_pair(&self.frame, wo_world, wi_world, mode)
+            .map_or(0.0, |(wo, wi)| self.bsdf.pdf(wo, wi) * self.adapter.opacity)
     }
 
     /// [`Self::pdf_in_mode`] of a perturbed frame with Mitsuba 3.7.1's flip
@@ -790,12 +789,8 @@ impl SurfaceBsdf {
             return 0.5 * (density(false) + density(true)) * self.adapter.opacity;
         }
         let frame = self.frame_for(wo_world, wi_world, mode);
-        let wo = frame.to_local(wo_world);
-        let wi = frame.to_local(wi_world);
-        if !self.sides_agree(wo_world, wo, wi_world, wi, mode) {
-            return 0.0;
-        }
-        self.bsdf.pdf(wo, wi) * self.adapter.opacity
+        self.local_pair(&frame, wo_world, wi_world, mode)
+            .map_or(0.0, |(wo, wi)| self.bsdf.pdf(wo, wi) * self.adapter.opacity)
     }
 
     /// [`Bsdf::flags`], with the pass-through lobe of a mask.

@@ -77,7 +77,7 @@
 pub mod mis;
 
 use super::driver::{PixelSampleIndex, SplatEstimator, render_splat_paths};
-use super::light::{emission_medium, lens_numbers, medium_around_light, medium_at};
+use super::light::{LightMedia, lens_numbers};
 use super::path::PathSettings;
 use super::path_space::{
     Scatterer, Scattering, SubpathLayout, Vertex, VertexAt, WalkObserver, WalkSettings, WalkStart,
@@ -162,21 +162,8 @@ impl BdptIntegrator {
 
 impl Integrator for BdptIntegrator {
     fn render(&self, scene: &Scene, run: &RunControl<'_>) -> Result<IntegratorRender, RenderError> {
-        if scene.camera_medium.is_some() && scene.lights.iter().any(|light| light.is_infinite()) {
-            return Err(RenderError::Unsupported(
-                "bdpt cannot start light subpaths of environment or directional lights in a \
-                 medium that fills the scene; use --integrator volpath"
-                    .into(),
-            ));
-        }
         let media = scene.has_media();
-        let light_media = if media {
-            (0..scene.lights.len())
-                .map(|index| medium_around_light(scene, index))
-                .collect()
-        } else {
-            vec![Some(None); scene.lights.len()]
-        };
+        let light_media = LightMedia::new(scene, "bdpt")?;
         let image_plane = ImagePlane::new(scene);
         let estimator = Bidirectional {
             scene,
@@ -322,9 +309,8 @@ struct Bidirectional<'a> {
     /// The scene has participating media: volumetric walks, null
     /// crossings and transmittance along connections.
     media: bool,
-    /// Per light, the medium around it where that is one medium for all its
-    /// points (`None`: looked up per point; `Some(None)` without media).
-    light_media: Vec<Option<Option<u32>>>,
+    /// The media light subpaths start in.
+    light_media: LightMedia,
 }
 
 /// The camera subpath's observer: records the vertices with their
@@ -1029,13 +1015,13 @@ impl Bidirectional<'_> {
                 ray: Ray::with_time(ray_origin, emission.direction, time),
                 beta: beta / beta_scale,
                 pdf_direction: emission.pdf_direction,
-                medium: if self.media {
-                    let around = self.light_media[light_index]
-                        .unwrap_or_else(|| medium_at(scene, emission.origin, emission.normal));
-                    emission_medium(scene, light, around, emission.normal, emission.direction)
-                } else {
-                    None
-                },
+                medium: self.light_media.leaving(
+                    scene,
+                    light_index,
+                    emission.origin,
+                    emission.normal,
+                    emission.direction,
+                ),
             },
             &WalkSettings {
                 mode: TransportMode::Importance,
