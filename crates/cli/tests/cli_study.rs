@@ -381,8 +381,8 @@ fn bad_study_input_is_one_line_and_status_two_before_rendering() {
     let output_directory = directory.join("never-written");
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (
-            vec!["--integrators", "path,mmlt", "--reference-spp", "4"],
-            "unknown integrator `mmlt` (known: path, volpath, lqmc, light, bdpt)",
+            vec!["--integrators", "path,vcm", "--reference-spp", "4"],
+            "unknown integrator `vcm` (known: path, volpath, lqmc, light, bdpt, pssmlt,",
         ),
         (
             vec!["--integrators", "path:owen", "--reference-spp", "4"],
@@ -651,6 +651,7 @@ fn heinrich_keller_tables_match_the_triangles_it_wrote() {
         .map(|value| value.as_u64().unwrap())
         .collect();
     assert_eq!(counts, [1000, 4000, 16000]);
+    assert_eq!(table["measure"].as_str(), Some("integral"));
     // pattern -> count -> triangle -> (area, rgb)
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut radiances: std::collections::BTreeMap<(String, u64), Vec<Triangle>> =
@@ -658,10 +659,16 @@ fn heinrich_keller_tables_match_the_triangles_it_wrote() {
     for line in text.lines().skip(1) {
         let fields: Vec<&str> = line.split(',').collect();
         let parse = |index: usize| fields[index].parse::<f64>().unwrap();
+        let (area, integral) = (parse(3), [parse(7), parse(8), parse(9)]);
+        // The per-area radiance is the integral over the area.
+        for (channel, value) in integral.iter().enumerate() {
+            assert_close(parse(4 + channel) * area, *value, line);
+        }
+        // The default measure is the integral (Eq. 14 over the triangle).
         radiances
             .entry((fields[0].to_string(), fields[1].parse().unwrap()))
             .or_default()
-            .push((parse(3), [parse(4), parse(5), parse(6)]));
+            .push((area, integral));
     }
     let deviation = |a: &[Triangle], b: &[Triangle]| {
         let (mut weighted, mut total) = (0.0, 0.0);

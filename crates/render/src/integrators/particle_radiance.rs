@@ -278,9 +278,9 @@ pub struct FluxTable {
 
 impl FluxTable {
     /// Triangle `triangle`'s flux summed over m = 0 … M (the truncated
-    /// Neumann series of Eq. 4), over its area: the radiance arriving at it
-    /// in the paper's sense (RGB).
-    pub fn radiance(&self, triangle: usize, areas: &[f64]) -> [f64; 3] {
+    /// Neumann series of Eq. 4): the paper's Eq. (14) with Ψ = G χ_A, "the
+    /// total radiance that reaches A", integrated over the triangle (RGB).
+    pub fn total_flux(&self, triangle: usize) -> [f64; 3] {
         let mut sum = [0.0f64; 3];
         for m in 0..=self.bounces {
             let cell = self.flux[m * self.triangles + triangle];
@@ -288,8 +288,22 @@ impl FluxTable {
                 sum[channel] += cell[channel];
             }
         }
+        sum
+    }
+
+    /// Every triangle's [`Self::total_flux`].
+    pub fn total_fluxes(&self) -> Vec<[f64; 3]> {
+        (0..self.triangles)
+            .map(|triangle| self.total_flux(triangle))
+            .collect()
+    }
+
+    /// [`Self::total_flux`] over the triangle's area: the radiance arriving
+    /// at it, averaged over the triangle (RGB).
+    pub fn radiance(&self, triangle: usize, areas: &[f64]) -> [f64; 3] {
         let area = areas[triangle];
-        sum.map(|value| if area > 0.0 { value / area } else { 0.0 })
+        self.total_flux(triangle)
+            .map(|value| if area > 0.0 { value / area } else { 0.0 })
     }
 
     /// Every triangle's [`Self::radiance`].
