@@ -39,6 +39,15 @@ pub enum IntegratorName {
     /// Bidirectional path tracing (every connection of a camera and a light
     /// subpath, balance heuristic by default).
     Bdpt,
+    /// Primary-sample-space Metropolis light transport (Kelemen et al.
+    /// 2002) over path tracing or BDPT (--mlt-base).
+    Pssmlt,
+    /// Energy redistribution path tracing (Cline et al. 2005): path-traced
+    /// seeds, short Metropolis chains from each.
+    Erpt,
+    /// Multiplexed Metropolis light transport (Hachisuka et al. 2014):
+    /// chains per path depth, one BDPT strategy per sample.
+    Mmlt,
 }
 
 impl IntegratorName {
@@ -50,6 +59,9 @@ impl IntegratorName {
             IntegratorName::Lqmc => IntegratorKind::Lqmc,
             IntegratorName::Light => IntegratorKind::Light,
             IntegratorName::Bdpt => IntegratorKind::Bdpt,
+            IntegratorName::Pssmlt => IntegratorKind::Pssmlt,
+            IntegratorName::Erpt => IntegratorKind::Erpt,
+            IntegratorName::Mmlt => IntegratorKind::Mmlt,
         }
     }
 }
@@ -211,6 +223,218 @@ pub struct RenderArgs {
     pub define: Vec<(String, String)>,
     #[command(flatten)]
     pub lqmc: LqmcArgs,
+    #[command(flatten)]
+    pub mlt: MltArgs,
+}
+
+/// Options of the Metropolis integrators (defaults: Kelemen et al. 2002,
+/// pbrt-v4 and Mitsuba; see `render::integrators::pssmlt`).
+#[derive(Args, Debug, Default)]
+pub struct MltArgs {
+    /// pssmlt: the path sampler the chains drive, `path` (the path tracer,
+    /// volumetric in scenes with media; default) or `bdpt` (every BDPT
+    /// strategy).
+    #[arg(long, value_name = "path|bdpt")]
+    pub mlt_base: Option<String>,
+    /// Metropolis: the probability of a large step (default 0.3).
+    #[arg(long, value_name = "P")]
+    pub mlt_large_step: Option<f32>,
+    /// Metropolis: the small-step kernel, `kelemen` (exponential, s1 =
+    /// 1/1024, s2 = 1/64; default) or `gaussian` (pbrt-v4's, --mlt-sigma).
+    #[arg(long, value_name = "kelemen|gaussian")]
+    pub mlt_kernel: Option<String>,
+    /// Metropolis: the Gaussian kernel's standard deviation (default 0.01).
+    #[arg(long, value_name = "SIGMA")]
+    pub mlt_sigma: Option<f32>,
+    /// Metropolis: bootstrap samples for the normalisation and the chains'
+    /// starts (default 100000).
+    #[arg(long, value_name = "N")]
+    pub mlt_bootstrap: Option<u64>,
+    /// pssmlt: the number of chains (default 1000).
+    #[arg(long, value_name = "N")]
+    pub mlt_chains: Option<u64>,
+    /// Metropolis: per-dimension factors on the small steps, `D=S` pairs
+    /// (dimension of the layout, factor), comma-separated, e.g. `0=4,1=4`
+    /// for steps four times larger on the image plane (ERPT's steps per
+    /// dimension, as the LQMC paper matches them to its tiles).
+    #[arg(long, value_name = "D=S,...")]
+    pub mlt_step_scale: Option<String>,
+    /// erpt: mutations per chain (default 100, Mitsuba's).
+    #[arg(long, value_name = "L")]
+    pub erpt_chain_length: Option<u64>,
+    /// erpt: chains per seed on average (default 1, Mitsuba's).
+    #[arg(long, value_name = "C")]
+    pub erpt_chains_per_sample: Option<f64>,
+}
+
+impl MltArgs {
+    /// Whether any option is given.
+    pub fn any(&self) -> bool {
+        self.mlt_base.is_some()
+            || self.mlt_large_step.is_some()
+            || self.mlt_kernel.is_some()
+            || self.mlt_sigma.is_some()
+            || self.mlt_bootstrap.is_some()
+            || self.mlt_chains.is_some()
+            || self.mlt_step_scale.is_some()
+            || self.erpt_chain_length.is_some()
+            || self.erpt_chains_per_sample.is_some()
+    }
+}
+
+/// The mutation settings from the options, over `defaults`.
+fn mutation_settings(
+    args: &MltArgs,
+    defaults: render::sampler::MutationSettings,
+) -> Result<render::sampler::MutationSettings, CliError> {
+    use render::sampler::SmallStep;
+    let mut mutation = defaults;
+    if let Some(probability) = args.mlt_large_step {
+        if !(0.0..=1.0).contains(&probability) {
+            return Err(usage(format!(
+                "--mlt-large-step must be a probability in [0, 1], got {probability}"
+            )));
+        }
+        mutation.large_step_probability = probability;
+    }
+    match args.mlt_kernel.as_deref() {
+        None | Some("kelemen") => {
+            if args.mlt_sigma.is_some() {
+                return Err(usage("--mlt-sigma is for --mlt-kernel gaussian"));
+            }
+        }
+        Some("gaussian") => {
+            let sigma = args.mlt_sigma.unwrap_or(0.01);
+            if !(sigma > 0.0 && sigma.is_finite()) {
+                return Err(usage(format!("--mlt-sigma must be positive, got {sigma}")));
+            }
+            mutation.small_step = SmallStep::Gaussian { sigma };
+        }
+        Some(other) => {
+            return Err(usage(format!(
+                "--mlt-kernel: `{other}` is not kelemen or gaussian"
+            )));
+        }
+    }
+    if let Some(list) = &args.mlt_step_scale {
+        for entry in list.split(',') {
+            let parsed = entry.split_once('=').and_then(|(dimension, scale)| {
+                Some((
+                    dimension.trim().parse::<usize>().ok()?,
+                    scale.trim().parse::<f32>().ok()?,
+                ))
+            });
+            match parsed {
+                Some((dimension, scale))
+                    if dimension < 4096 && scale > 0.0 && scale.is_finite() =>
+                {
+                    if mutation.step_scales.len() <= dimension {
+                        mutation.step_scales.resize(dimension + 1, 1.0);
+                    }
+                    mutation.step_scales[dimension] = scale;
+                }
+                _ => {
+                    return Err(usage(format!(
+                        "--mlt-step-scale: `{entry}` is not DIMENSION=FACTOR (a dimension below 4096, a positive factor)"
+                    )));
+                }
+            }
+        }
+    }
+    Ok(mutation)
+}
+
+/// MMLT's settings from the options.
+pub fn mmlt_settings(args: &MltArgs) -> Result<render::integrators::mmlt::MmltSettings, CliError> {
+    if args.mlt_base.is_some() {
+        return Err(usage(
+            "--mlt-base is for pssmlt (MMLT always runs over BDPT)",
+        ));
+    }
+    if args.erpt_chain_length.is_some() || args.erpt_chains_per_sample.is_some() {
+        return Err(usage("the --erpt-* options are for --integrator erpt"));
+    }
+    let mut settings = render::integrators::mmlt::MmltSettings::default();
+    let chains = &mut settings.chains;
+    chains.mutation = mutation_settings(args, chains.mutation.clone())?;
+    if let Some(count) = args.mlt_bootstrap {
+        if count == 0 {
+            return Err(usage("--mlt-bootstrap must be at least 1"));
+        }
+        chains.bootstrap_samples = count;
+    }
+    if let Some(count) = args.mlt_chains {
+        if count == 0 {
+            return Err(usage("--mlt-chains must be at least 1"));
+        }
+        chains.chains = count;
+    }
+    Ok(settings)
+}
+
+/// ERPT's settings from the options.
+pub fn erpt_settings(args: &MltArgs) -> Result<render::integrators::erpt::ErptSettings, CliError> {
+    let mut settings = render::integrators::erpt::ErptSettings::default();
+    if args.mlt_base.is_some() || args.mlt_chains.is_some() {
+        return Err(usage(
+            "--mlt-base and --mlt-chains are for pssmlt (ERPT's seeds are path-traced; --erpt-chains-per-sample sets its chains)",
+        ));
+    }
+    settings.mutation = mutation_settings(args, settings.mutation)?;
+    if let Some(count) = args.mlt_bootstrap {
+        if count == 0 {
+            return Err(usage("--mlt-bootstrap must be at least 1"));
+        }
+        settings.bootstrap_samples = count;
+    }
+    if let Some(length) = args.erpt_chain_length {
+        if length == 0 {
+            return Err(usage("--erpt-chain-length must be at least 1"));
+        }
+        settings.chain_length = length;
+    }
+    if let Some(chains) = args.erpt_chains_per_sample {
+        if !(chains > 0.0 && chains.is_finite()) {
+            return Err(usage(format!(
+                "--erpt-chains-per-sample must be positive, got {chains}"
+            )));
+        }
+        settings.chains_per_sample = chains;
+    }
+    Ok(settings)
+}
+
+/// PSSMLT's settings from the options.
+pub fn pssmlt_settings(
+    args: &MltArgs,
+) -> Result<render::integrators::pssmlt::PssmltSettings, CliError> {
+    use render::integrators::pssmlt::{MltBase, PssmltSettings};
+    let mut settings = PssmltSettings::default();
+    if let Some(name) = &args.mlt_base {
+        settings.base = MltBase::ALL
+            .iter()
+            .find(|(_, known)| known == name)
+            .map(|(base, _)| *base)
+            .ok_or_else(|| usage(format!("--mlt-base: `{name}` is not path or bdpt")))?;
+    }
+    if args.erpt_chain_length.is_some() || args.erpt_chains_per_sample.is_some() {
+        return Err(usage("the --erpt-* options are for --integrator erpt"));
+    }
+    let chains = &mut settings.chains;
+    chains.mutation = mutation_settings(args, chains.mutation.clone())?;
+    if let Some(count) = args.mlt_bootstrap {
+        if count == 0 {
+            return Err(usage("--mlt-bootstrap must be at least 1"));
+        }
+        chains.bootstrap_samples = count;
+    }
+    if let Some(count) = args.mlt_chains {
+        if count == 0 {
+            return Err(usage("--mlt-chains must be at least 1"));
+        }
+        chains.chains = count;
+    }
+    Ok(settings)
 }
 
 /// Options of `--integrator lqmc` (defaults: the paper's and the authors'
@@ -469,13 +693,18 @@ pub fn default_path_tracer(scene: &Scene) -> IntegratorKind {
     }
 }
 
-/// The integrator `kind` with its settings; LQMC's come from `lqmc`.
+/// The integrator `kind` with its settings; LQMC's come from `lqmc`, the
+/// Metropolis integrators' from `mlt`.
 pub fn integrator_settings(
     kind: IntegratorKind,
     lqmc: &LqmcArgs,
+    mlt: &MltArgs,
 ) -> Result<IntegratorSettings, CliError> {
     Ok(match kind {
         IntegratorKind::Lqmc => IntegratorSettings::Lqmc(lqmc_settings(lqmc)?),
+        IntegratorKind::Pssmlt => IntegratorSettings::Pssmlt(pssmlt_settings(mlt)?),
+        IntegratorKind::Erpt => IntegratorSettings::Erpt(erpt_settings(mlt)?),
+        IntegratorKind::Mmlt => IntegratorSettings::Mmlt(mmlt_settings(mlt)?),
         other => other.into(),
     })
 }
@@ -676,7 +905,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         Some(name) => name.kind(),
         None => default_integrator(&description, &scene),
     };
-    let mut integrator = integrator_settings(integrator_kind, &args.lqmc)?;
+    if args.mlt.any() && !integrator_kind.is_metropolis() {
+        return Err(usage(format!(
+            "the --mlt-* and --erpt-* options are for --integrator pssmlt or erpt, not {}",
+            integrator_kind.name()
+        )));
+    }
+    let mut integrator = integrator_settings(integrator_kind, &args.lqmc, &args.mlt)?;
     for (given, option) in [
         (
             args.bdpt_skip_eye_connections,
@@ -811,21 +1046,34 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     } else {
         ""
     };
-    say!(
-        "rendered {scene_name} {}x{} with {} / {}: {:.1} samples per pixel{stopped}",
-        scene.camera.resolution()[0],
-        scene.camera.resolution()[1],
-        settings.integrator.name(),
-        settings.sampler.name(),
-        spp,
-    );
+    let markov_chains = settings.integrator.kind().runs_markov_chains();
+    if markov_chains {
+        // The chains draw their own numbers: no sampler to name.
+        say!(
+            "rendered {scene_name} {}x{} with {}: {} mutations per pixel{stopped}",
+            scene.camera.resolution()[0],
+            scene.camera.resolution()[1],
+            settings.integrator.name(),
+            statistics.completed_samples_per_pixel,
+        );
+    } else {
+        say!(
+            "rendered {scene_name} {}x{} with {} / {}: {:.1} samples per pixel{stopped}",
+            scene.camera.resolution()[0],
+            scene.camera.resolution()[1],
+            settings.integrator.name(),
+            settings.sampler.name(),
+            spp,
+        );
+    }
     say!(
         "time {seconds:.3} s, {:.3} M samples/s, {:.3} M rays/s, {} NaN/Inf samples dropped",
         statistics.samples as f64 / seconds / 1e6,
         statistics.rays as f64 / seconds / 1e6,
         statistics.nonfinite_samples,
     );
-    if let (true, Some(details)) = (args.lqmc.stats, &output.details) {
+    let metropolis = settings.integrator.kind().is_metropolis();
+    if let (true, Some(details)) = (args.lqmc.stats || metropolis, &output.details) {
         let threads = if settings.threads == 0 {
             std::thread::available_parallelism().map_or(1, |count| count.get())
         } else {

@@ -143,6 +143,97 @@ fn bdpt_renders_media() {
     assert!(image.pixels().iter().flatten().any(|&value| value > 0.0));
 }
 
+/// PSSMLT from the CLI, over path tracing and BDPT (media included), and
+/// MMLT: mutations per pixel, the chains' report and no NaN/Inf.
+#[test]
+fn pssmlt_and_mmlt_render_and_report_their_chains() {
+    let directory = temporary_directory("pssmlt");
+    for (scene, integrator, base) in [
+        ("builtin:cornell-box", "pssmlt", Some("path")),
+        ("builtin:translucent-spheres", "pssmlt", Some("bdpt")),
+        ("builtin:cornell-box", "mmlt", None),
+    ] {
+        let pfm = directory.join(format!("{integrator}-{}.pfm", base.unwrap_or("")));
+        let mut args = vec!["render", scene, "--integrator", integrator];
+        if let Some(base) = base {
+            args.extend(["--mlt-base", base]);
+        }
+        args.extend([
+            "--mlt-kernel",
+            "gaussian",
+            "--mlt-sigma",
+            "0.02",
+            "--mlt-bootstrap",
+            "5000",
+            "--mlt-chains",
+            "64",
+            "--spp",
+            "4",
+            "--resolution",
+            "16x12",
+            "--quiet",
+            "-o",
+            pfm.to_str().unwrap(),
+        ]);
+        let output = lqmc(&args);
+        assert!(output.status.success(), "{output:?}");
+        let text = String::from_utf8(output.stdout).unwrap();
+        assert!(
+            text.contains(&format!("with {integrator}: 4 mutations per pixel")),
+            "{text}"
+        );
+        assert!(text.contains("0 NaN/Inf samples dropped"), "{text}");
+        assert!(text.contains(" chains, normalisation b = "), "{text}");
+        assert!(text.contains("bootstrap samples"), "{text}");
+        assert!(text.contains("M mutations/s"), "{text}");
+        assert!(text.contains("acceptance: large steps"), "{text}");
+        let image = render::image::read_pfm(&pfm).unwrap();
+        assert!(image.pixels().iter().flatten().any(|&value| value > 0.0));
+    }
+}
+
+/// ERPT from the CLI with QMC seeds and per-dimension steps: the chains'
+/// report and no NaN/Inf.
+#[test]
+fn erpt_renders_and_reports_its_chains() {
+    let directory = temporary_directory("erpt");
+    let pfm = directory.join("erpt.pfm");
+    let output = lqmc(&[
+        "render",
+        "builtin:cornell-box",
+        "--integrator",
+        "erpt",
+        "--sampler",
+        "sobol",
+        "--erpt-chain-length",
+        "20",
+        "--erpt-chains-per-sample",
+        "2",
+        "--mlt-step-scale",
+        "0=4,1=4",
+        "--mlt-bootstrap",
+        "5000",
+        "--spp",
+        "2",
+        "--resolution",
+        "16x12",
+        "--quiet",
+        "-o",
+        pfm.to_str().unwrap(),
+    ]);
+    assert!(output.status.success(), "{output:?}");
+    let text = String::from_utf8(output.stdout).unwrap();
+    assert!(
+        text.contains("with erpt / sobol: 2.0 samples per pixel"),
+        "{text}"
+    );
+    assert!(text.contains("0 NaN/Inf samples dropped"), "{text}");
+    assert!(text.contains("erpt: Markov chains:"), "{text}");
+    assert!(text.contains("5000 bootstrap samples"), "{text}");
+    let image = render::image::read_pfm(&pfm).unwrap();
+    assert!(image.pixels().iter().flatten().any(|&value| value > 0.0));
+}
+
 #[test]
 fn bad_render_input_is_one_line_and_status_two() {
     let cases: &[&[&str]] = &[
@@ -155,7 +246,7 @@ fn bad_render_input_is_one_line_and_status_two() {
         &["render", "builtin:furnace", "-o", "image.txt"],
         &["render", "builtin:furnace", "--sampler", "zsobol"],
         &["render", "builtin:furnace", "--randomize", "sometimes"],
-        &["render", "builtin:furnace", "--integrator", "mmlt"],
+        &["render", "builtin:furnace", "--integrator", "vcm"],
         &[
             "render",
             "builtin:furnace",
@@ -163,6 +254,79 @@ fn bad_render_input_is_one_line_and_status_two() {
             "strategies",
         ],
         &["render", "builtin:furnace", "--bdpt-skip-eye-connections"],
+        &["render", "builtin:furnace", "--mlt-base", "bdpt"],
+        &[
+            "render",
+            "builtin:furnace",
+            "--integrator",
+            "pssmlt",
+            "--mlt-base",
+            "vcm",
+        ],
+        &[
+            "render",
+            "builtin:furnace",
+            "--integrator",
+            "pssmlt",
+            "--mlt-large-step",
+            "1.5",
+        ],
+        &[
+            "render",
+            "builtin:furnace",
+            "--integrator",
+            "pssmlt",
+            "--mlt-kernel",
+            "cauchy",
+        ],
+        &[
+            "render",
+            "builtin:furnace",
+            "--integrator",
+            "pssmlt",
+            "--mlt-sigma",
+            "0.1",
+        ],
+        &[
+            "render",
+            "builtin:furnace",
+            "--integrator",
+            "pssmlt",
+            "--mlt-chains",
+            "0",
+        ],
+        &[
+            "render",
+            "builtin:furnace",
+            "--integrator",
+            "pssmlt",
+            "--erpt-chain-length",
+            "5",
+        ],
+        &[
+            "render",
+            "builtin:furnace",
+            "--integrator",
+            "erpt",
+            "--mlt-base",
+            "bdpt",
+        ],
+        &[
+            "render",
+            "builtin:furnace",
+            "--integrator",
+            "erpt",
+            "--erpt-chain-length",
+            "0",
+        ],
+        &[
+            "render",
+            "builtin:furnace",
+            "--integrator",
+            "erpt",
+            "--mlt-step-scale",
+            "0:4",
+        ],
     ];
     for args in cases {
         let output = lqmc(args);

@@ -34,7 +34,7 @@ use render::image::compare::{
     DEFAULT_ALPHA, ReferenceVariance, VARIANCE_FLOOR, compare_images, normal_two_sided_p_value,
 };
 use render::image::{Image, read_exr, read_pfm};
-use render::integrators::IntegratorKind;
+use render::integrators::{IntegratorKind, IntegratorSettings};
 use render::renderer::{RenderOutput, RenderSettings, render};
 use render::sampler::SamplerKind;
 use render::scene::Scene;
@@ -581,6 +581,56 @@ fn bidirectional_path_tracing_matches_the_references() {
     );
 }
 
+/// The Metropolis integrators (PSSMLT over path tracing and over BDPT,
+/// MMLT, ERPT) on every test scene, with the statistics of
+/// [`light_tracing_matches_the_references`] (every pixel counts): samples
+/// per pixel are mutations per pixel (PSSMLT, MMLT) or seeds per pixel
+/// (ERPT, chains of 20); bootstraps of 20 000 samples (per depth for MMLT,
+/// whose unlimited depths are rendered to 32 segments). Long (several
+/// minutes per integrator): `cargo test --release -p render --test
+/// mitsuba_scenes metropolis -- --ignored --nocapture` (with
+/// `LQMC_SCENE_FILTER`, some scenes). The scene of
+/// [`MEAN_SHARED_WITH_VOLPATH`] is reported, not asserted.
+#[test]
+#[ignore = "several minutes per integrator: run by hand (README)"]
+fn metropolis_integrators_match_the_references() {
+    use render::integrators::erpt::ErptSettings;
+    use render::integrators::mmlt::MmltSettings;
+    use render::integrators::pssmlt::{MltBase, PssmltSettings};
+    let only = std::env::var("LQMC_METROPOLIS").ok();
+    let mut cases = Vec::new();
+    for base in [MltBase::Path, MltBase::Bidirectional] {
+        let mut settings = PssmltSettings {
+            base,
+            ..PssmltSettings::default()
+        };
+        settings.chains.bootstrap_samples = 20_000;
+        cases.push((
+            format!("pssmlt-{}", base.name()),
+            IntegratorSettings::Pssmlt(settings),
+        ));
+    }
+    let mut mmlt = MmltSettings::default();
+    mmlt.chains.bootstrap_samples = 20_000;
+    cases.push(("mmlt".to_string(), IntegratorSettings::Mmlt(mmlt)));
+    let erpt = ErptSettings {
+        chain_length: 20,
+        bootstrap_samples: 20_000,
+        ..ErptSettings::default()
+    };
+    cases.push(("erpt".to_string(), IntegratorSettings::Erpt(erpt)));
+    for (name, settings) in cases {
+        if only
+            .as_ref()
+            .is_some_and(|only| !name.contains(only.as_str()))
+        {
+            continue;
+        }
+        eprintln!("== {name}");
+        integrator_with_settings_matches_the_references(settings, &[], MEAN_SHARED_WITH_VOLPATH);
+    }
+}
+
 /// Scenes BDPT does not match yet (their pixel fraction and image mean are
 /// reported, not asserted): none. Until 2026-12-04 the three scenes with
 /// bump and normal maps were here (16 × 64 spp: bump map 98.65 % of pixels,
@@ -602,6 +652,21 @@ fn splatting_integrator_matches_the_references(
     known_failures: &[&str],
     mean_not_asserted: &[&str],
 ) {
+    integrator_with_settings_matches_the_references(
+        integrator.into(),
+        known_failures,
+        mean_not_asserted,
+    );
+}
+
+/// [`splatting_integrator_matches_the_references`] with the integrator's
+/// own settings.
+fn integrator_with_settings_matches_the_references(
+    settings: IntegratorSettings,
+    known_failures: &[&str],
+    mean_not_asserted: &[&str],
+) {
+    let integrator = settings.kind();
     let mut failures = Vec::new();
     // `LQMC_SCENE_FILTER=text` keeps the scenes whose name contains it (to
     // rerun a few while working on them).
@@ -640,7 +705,7 @@ fn splatting_integrator_matches_the_references(
         let mut image_means = Vec::new();
         for seed in 0..LIGHT_TRACING_SEEDS {
             let settings = RenderSettings {
-                integrator: integrator.into(),
+                integrator: settings.clone(),
                 sampler: SamplerKind::Independent,
                 samples_per_pixel: spp,
                 max_depth: scene.max_depth.unwrap_or(u32::MAX),

@@ -73,6 +73,20 @@ impl SplatBuffer {
         self.rejected_samples
     }
 
+    /// Counts `count` more rejected samples (made elsewhere and dropped,
+    /// e.g. a Markov chain's proposal), so that the film reports them.
+    pub fn add_rejected(&mut self, count: u64) {
+        self.rejected_samples += count;
+    }
+
+    /// Multiplies the values of the splats from index `first` on by
+    /// `factor`.
+    pub fn scale_from(&mut self, first: usize, factor: f32) {
+        for splat in self.splats.iter_mut().skip(first) {
+            splat.rgb = splat.rgb.map(|value| value * factor);
+        }
+    }
+
     /// Empties the buffer (keeping its memory) for the next work unit.
     pub fn clear(&mut self) {
         self.splats.clear();

@@ -569,7 +569,7 @@ impl CameraPathStart {
 
     /// The camera ray and wavelengths of a sample at `position`.
     #[inline]
-    fn at_position<S: crate::sampler::SampleSource + ?Sized>(
+    pub fn at_position<S: crate::sampler::SampleSource + ?Sized>(
         scene: &Scene,
         position: crate::film::CameraSamplePosition,
         sampler: &mut S,

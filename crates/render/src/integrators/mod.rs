@@ -19,12 +19,16 @@
 
 pub mod bdpt;
 pub mod driver;
+pub mod erpt;
 pub mod light;
 pub mod lqmc;
+pub mod markov_chain;
+pub mod mmlt;
 pub mod particle_radiance;
 pub mod path;
 pub mod path_space;
 pub mod progression_variance;
+pub mod pssmlt;
 pub mod volpath;
 
 pub use driver::{DriverStatistics, RenderError, RunControl};
@@ -52,16 +56,29 @@ pub enum IntegratorKind {
     /// light subpath, weighted by multiple importance sampling (see
     /// [`bdpt`]).
     Bdpt,
+    /// Primary-sample-space Metropolis light transport (Kelemen et al.
+    /// 2002) over path tracing or BDPT (see [`pssmlt`]).
+    Pssmlt,
+    /// Energy redistribution path tracing (Cline et al. 2005): path-traced
+    /// seeds whose energy short Metropolis chains redistribute (see
+    /// [`erpt`]).
+    Erpt,
+    /// Multiplexed Metropolis light transport (Hachisuka et al. 2014):
+    /// chains per path depth over one BDPT strategy each (see [`mmlt`]).
+    Mmlt,
 }
 
 impl IntegratorKind {
     /// Every integrator with its command-line name.
-    pub const ALL: [(IntegratorKind, &'static str); 5] = [
+    pub const ALL: [(IntegratorKind, &'static str); 8] = [
         (IntegratorKind::Path, "path"),
         (IntegratorKind::VolPath, "volpath"),
         (IntegratorKind::Lqmc, "lqmc"),
         (IntegratorKind::Light, "light"),
         (IntegratorKind::Bdpt, "bdpt"),
+        (IntegratorKind::Pssmlt, "pssmlt"),
+        (IntegratorKind::Erpt, "erpt"),
+        (IntegratorKind::Mmlt, "mmlt"),
     ];
 
     /// The integrator called `name`.
@@ -72,6 +89,22 @@ impl IntegratorKind {
     /// The command-line name.
     pub fn name(self) -> &'static str {
         Self::ALL.iter().find(|(k, _)| *k == self).unwrap().1
+    }
+
+    /// Whether it runs Markov chains ([`markov_chain`]) only: its samples
+    /// per pixel are mutations per pixel, and it draws its numbers from its
+    /// chains, not from the sampler.
+    pub fn runs_markov_chains(self) -> bool {
+        matches!(self, IntegratorKind::Pssmlt | IntegratorKind::Mmlt)
+    }
+
+    /// Whether it uses Metropolis chains at all (PSSMLT, ERPT): it reports
+    /// its chains' statistics.
+    pub fn is_metropolis(self) -> bool {
+        matches!(
+            self,
+            IntegratorKind::Pssmlt | IntegratorKind::Erpt | IntegratorKind::Mmlt
+        )
     }
 }
 
@@ -89,6 +122,12 @@ pub enum IntegratorSettings {
     Light,
     /// [`IntegratorKind::Bdpt`] with its options.
     Bdpt(bdpt::BdptSettings),
+    /// [`IntegratorKind::Pssmlt`] with its options.
+    Pssmlt(pssmlt::PssmltSettings),
+    /// [`IntegratorKind::Erpt`] with its options.
+    Erpt(erpt::ErptSettings),
+    /// [`IntegratorKind::Mmlt`] with its options.
+    Mmlt(mmlt::MmltSettings),
 }
 
 impl From<IntegratorKind> for IntegratorSettings {
@@ -100,6 +139,9 @@ impl From<IntegratorKind> for IntegratorSettings {
             IntegratorKind::Lqmc => Self::Lqmc(lqmc::LqmcSettings::default()),
             IntegratorKind::Light => Self::Light,
             IntegratorKind::Bdpt => Self::Bdpt(bdpt::BdptSettings::default()),
+            IntegratorKind::Pssmlt => Self::Pssmlt(pssmlt::PssmltSettings::default()),
+            IntegratorKind::Erpt => Self::Erpt(erpt::ErptSettings::default()),
+            IntegratorKind::Mmlt => Self::Mmlt(mmlt::MmltSettings::default()),
         }
     }
 }
@@ -113,6 +155,9 @@ impl IntegratorSettings {
             Self::Lqmc(_) => IntegratorKind::Lqmc,
             Self::Light => IntegratorKind::Light,
             Self::Bdpt(_) => IntegratorKind::Bdpt,
+            Self::Pssmlt(_) => IntegratorKind::Pssmlt,
+            Self::Erpt(_) => IntegratorKind::Erpt,
+            Self::Mmlt(_) => IntegratorKind::Mmlt,
         }
     }
 
@@ -129,6 +174,16 @@ impl IntegratorSettings {
             Self::Lqmc(settings) => Box::new(lqmc::LqmcIntegrator::new(*settings, path_settings)),
             Self::Light => Box::new(light::LightIntegrator::new(path_settings)),
             Self::Bdpt(settings) => Box::new(bdpt::BdptIntegrator::new(*settings, path_settings)),
+            Self::Pssmlt(settings) => Box::new(pssmlt::PssmltIntegrator::new(
+                settings.clone(),
+                path_settings,
+            )),
+            Self::Erpt(settings) => {
+                Box::new(erpt::ErptIntegrator::new(settings.clone(), path_settings))
+            }
+            Self::Mmlt(settings) => {
+                Box::new(mmlt::MmltIntegrator::new(settings.clone(), path_settings))
+            }
         }
     }
 }

@@ -45,6 +45,10 @@
 //! the table (a camera block's light-position pair is its next-event
 //! connection, a light block's its lens point).
 //!
+//! Multiplexed MLT (`mmlt`) takes the bidirectional layout and picks its
+//! one strategy with dimension 7 ([`layout::MULTIPLEXED_STRATEGY`]), which
+//! light subpaths leave unused.
+//!
 //! Every 2-D decision (film, lens, light point, emission and scattering
 //! directions, lens point of a connection) is a pair of dimensions
 //! `(2k, 2k + 1)`: the padded samplers ([`PaddedSampler`]) fill each pair
@@ -62,6 +66,11 @@
 //! [`crate::integrators::volpath`]). It is only asked for when the segment
 //! enters a medium. The QMC samplers put the most important decisions into the lowest
 //! dimensions of their sequences, where they are best distributed.
+//!
+//! The Metropolis integrators read the same layout from a chain's state
+//! ([`MetropolisSampler`]): a mutation moves the numbers of the dimensions
+//! the path reads, so a small step moves the same decisions of the same
+//! vertices.
 //!
 //! # Seeds and randomization
 //!
@@ -106,6 +115,7 @@
 mod global_sequence;
 mod halton;
 mod independent;
+mod metropolis;
 mod padded;
 mod pixel_randomization;
 mod point_set;
@@ -114,6 +124,7 @@ mod sobol;
 pub use global_sequence::GlobalSequenceSampler;
 pub use halton::HaltonSampler;
 pub use independent::IndependentSampler;
+pub use metropolis::{MetropolisSampler, MutationSettings, SmallStep};
 pub use padded::{PaddedSampler, Padding};
 pub use point_set::PointSetSampler;
 pub use sobol::SobolSampler;
@@ -165,6 +176,10 @@ pub mod layout {
     /// connection to the camera, 2 dimensions (the camera subpath has the
     /// lens pair 2, 3 for itself).
     pub const BIDIRECTIONAL_LIGHT_VERTEX_LENS: usize = 12;
+    /// Multiplexed MLT: the choice of the strategy (s, t) among a path
+    /// depth's (the dimension light subpaths leave unused, so that pairs
+    /// stay aligned).
+    pub const MULTIPLEXED_STRATEGY: usize = 7;
     /// Bidirectional path tracing: the first dimension of the interleaved
     /// vertex blocks (camera block k at 14 + 16k, light block k at
     /// 22 + 16k).

@@ -24,7 +24,7 @@
 #![allow(dead_code)]
 
 use render::image::Image;
-use render::integrators::IntegratorKind;
+use render::integrators::{IntegratorKind, IntegratorSettings};
 use render::renderer::{RenderSettings, render};
 use render::sampler::SamplerKind;
 use render::scene::Scene;
@@ -63,7 +63,7 @@ pub fn render_once(
 /// Renders `scene` with `sampler` (randomized by the seed).
 pub fn render_with(
     scene: &Scene,
-    integrator: IntegratorKind,
+    integrator: impl Into<IntegratorSettings>,
     sampler: SamplerKind,
     spp: u64,
     seed: u64,
@@ -145,6 +145,30 @@ pub fn assert_matches_path(
     skip: Option<&[bool]>,
     assert_per_pixel: bool,
 ) {
+    assert_settings_match_path(
+        name,
+        scene,
+        tested.integrator.into(),
+        tested.sampler,
+        path_spp,
+        light_spp,
+        skip,
+        assert_per_pixel,
+    );
+}
+
+/// [`assert_matches_path`] for an integrator with its own settings.
+#[allow(clippy::too_many_arguments)]
+pub fn assert_settings_match_path(
+    name: &str,
+    scene: &Scene,
+    integrator: IntegratorSettings,
+    sampler: SamplerKind,
+    path_spp: u64,
+    light_spp: u64,
+    skip: Option<&[bool]>,
+    assert_per_pixel: bool,
+) {
     let max_depth = scene.max_depth.unwrap_or(6).min(8);
     // Scenes with media are compared with the volumetric path tracer.
     let reference_integrator = if scene.has_media() {
@@ -163,8 +187,8 @@ pub fn assert_matches_path(
     for seed in 0..SEEDS {
         let (image, _) = render_with(
             scene,
-            tested.integrator,
-            tested.sampler,
+            integrator.clone(),
+            sampler,
             light_spp,
             seed,
             max_depth,

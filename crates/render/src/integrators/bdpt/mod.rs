@@ -78,6 +78,7 @@ pub mod mis;
 
 use super::driver::{PixelSampleIndex, SplatEstimator, render_splat_paths};
 use super::light::{LightMedia, lens_numbers};
+use super::markov_chain::PathContribution;
 use super::path::PathSettings;
 use super::path_space::{
     Scatterer, Scattering, SubpathLayout, Vertex, VertexAt, WalkObserver, WalkSettings, WalkStart,
@@ -298,7 +299,7 @@ pub struct BidirectionalScratch {
     strategy_splats: Option<Vec<SplatBuffer>>,
 }
 
-struct Bidirectional<'a> {
+pub(crate) struct Bidirectional<'a> {
     scene: &'a Scene,
     settings: &'a PathSettings,
     strategies: Strategies,
@@ -630,17 +631,115 @@ impl SplatEstimator for Bidirectional<'_> {
         splats: &mut SplatBuffer,
         counters: &mut TraceCounters,
     ) {
+        let raster =
+            self.image_plane
+                .seed_raster(self.scene, path.pixel, sampler.get_2d(layout::FILM));
+        self.trace_from(scratch, raster, None, sampler, splats, counters);
+    }
+}
+
+/// A bidirectional sample from a uniform point of the whole image plane:
+/// what PSSMLT's chains drive over BDPT.
+impl PathContribution for Bidirectional<'_> {
+    type Scratch = BidirectionalScratch;
+
+    fn new_scratch(&self) -> BidirectionalScratch {
+        BidirectionalScratch::default()
+    }
+
+    fn evaluate<S: SampleSource + ?Sized>(
+        &self,
+        scratch: &mut BidirectionalScratch,
+        source: &mut S,
+        splats: &mut SplatBuffer,
+        counters: &mut TraceCounters,
+    ) {
+        let raster = self
+            .image_plane
+            .raster(Vec2::from(source.get_2d(layout::FILM)));
+        self.trace_from(scratch, raster, None, source, splats, counters);
+    }
+}
+
+impl<'a> Bidirectional<'a> {
+    /// BDPT over `scene` with `settings` and the default strategies, no
+    /// strategy images: the path sampler of a Metropolis integrator.
+    pub(crate) fn for_markov_chains(
+        scene: &'a Scene,
+        settings: &'a PathSettings,
+    ) -> Result<Self, RenderError> {
+        let image_plane = ImagePlane::new(scene);
+        let defaults = BdptSettings::default();
+        Ok(Self {
+            scene,
+            settings,
+            strategies: Strategies {
+                heuristic: settings.heuristic,
+                camera_connections: defaults.camera_connections,
+            },
+            strategy_images: false,
+            image_plane,
+            margin: -image_plane.origin,
+            media: scene.has_media(),
+            light_media: LightMedia::new(scene, "pssmlt over bdpt")?,
+        })
+    }
+}
+
+impl Bidirectional<'_> {
+    /// Multiplexed MLT's sample: strategy `strategy` = (s, t) only, from a
+    /// uniform point of the whole image plane, its value times `factor`
+    /// (the number of strategies it was chosen from). The subpaths are
+    /// walked only as far as the strategy needs.
+    pub(crate) fn evaluate_strategy<S: SampleSource + ?Sized>(
+        &self,
+        scratch: &mut BidirectionalScratch,
+        source: &mut S,
+        strategy: (usize, usize),
+        factor: f32,
+        splats: &mut SplatBuffer,
+        counters: &mut TraceCounters,
+    ) {
+        let raster = self
+            .image_plane
+            .raster(Vec2::from(source.get_2d(layout::FILM)));
+        let first = splats.len();
+        self.trace_from(scratch, raster, Some(strategy), source, splats, counters);
+        splats.scale_from(first, factor);
+    }
+
+    /// One bidirectional sample whose camera subpath starts at `raster`:
+    /// every strategy, or with `only` the one strategy (s, t).
+    fn trace_from<S: SampleSource + ?Sized>(
+        &self,
+        scratch: &mut BidirectionalScratch,
+        raster: Vec2,
+        only: Option<(usize, usize)>,
+        sampler: &mut S,
+        splats: &mut SplatBuffer,
+        counters: &mut TraceCounters,
+    ) {
         let scene = self.scene;
         let camera = &scene.camera;
         let max_depth = self.settings.max_depth as usize;
         if max_depth == 0 {
             return;
         }
+        let wanted = |s: usize, t: usize| only.is_none_or(|strategy| strategy == (s, t));
+        // With one strategy, the camera subpath needs t − 1 vertices (s = 0
+        // finds its emitter on the segment after the last), the light
+        // subpath s − 1 after its origin.
+        let camera_vertex_limit = match only {
+            Some((_, t)) => t.saturating_sub(1),
+            None => usize::MAX,
+        };
+        let light_vertex_limit = match only {
+            Some((s, _)) => s.saturating_sub(1),
+            None => usize::MAX,
+        };
+        let needs_light_subpath = only.is_none_or(|(s, t)| s >= 2 || (t == 1 && s >= 1));
 
         // The camera subpath.
-        let raster = self
-            .image_plane
-            .seed_raster(scene, path.pixel, sampler.get_2d(layout::FILM));
         let u_lens = lens_numbers(scene, sampler, layout::LENS);
         let u_time = if camera.uses_time_sample() {
             sampler.get(layout::TIME)
@@ -681,7 +780,8 @@ impl SplatEstimator for Bidirectional<'_> {
             },
             &WalkSettings {
                 mode: TransportMode::Radiance,
-                max_vertices: WalkSettings::camera_vertices(self.settings.max_depth),
+                max_vertices: WalkSettings::camera_vertices(self.settings.max_depth)
+                    .min(camera_vertex_limit),
                 russian_roulette_depth: self.settings.russian_roulette_depth,
                 layout: SubpathLayout::BIDIRECTIONAL_CAMERA,
                 media: self.media,
@@ -700,8 +800,18 @@ impl SplatEstimator for Bidirectional<'_> {
 
         // The light subpath.
         light_vertices.clear();
-        let light_origin =
-            self.trace_light_subpath(time, &mut wavelengths, sampler, counters, light_vertices);
+        let light_origin = if needs_light_subpath {
+            self.trace_light_subpath(
+                time,
+                &mut wavelengths,
+                sampler,
+                counters,
+                light_vertices,
+                light_vertex_limit,
+            )
+        } else {
+            None
+        };
 
         // The camera side's strategies (t ≥ 2), summed and splatted at the
         // camera subpath's raster position.
@@ -715,6 +825,9 @@ impl SplatEstimator for Bidirectional<'_> {
                 continue;
             }
             let t = hit.vertices_before + 2;
+            if !wanted(0, t) {
+                continue;
+            }
             self.subpath_densities(
                 VertexDensities::default(),
                 camera_vertices,
@@ -766,6 +879,9 @@ impl SplatEstimator for Bidirectional<'_> {
                 continue;
             }
             let t = escape.vertices_before + 2;
+            if !wanted(0, t) {
+                continue;
+            }
             self.subpath_densities(
                 VertexDensities::default(),
                 camera_vertices,
@@ -806,7 +922,7 @@ impl SplatEstimator for Bidirectional<'_> {
                 continue;
             }
             // s = 1: next-event estimation from z_{t−1}.
-            if t <= max_depth {
+            if t <= max_depth && wanted(1, t) {
                 let value = self.next_event(
                     camera_vertices,
                     t,
@@ -824,6 +940,9 @@ impl SplatEstimator for Bidirectional<'_> {
                 continue;
             };
             for s in 2..=(light_vertices.len() + 1).min(max_depth + 1 - t) {
+                if !wanted(s, t) {
+                    continue;
+                }
                 let value = self.connect(
                     camera_vertices,
                     t,
@@ -855,6 +974,9 @@ impl SplatEstimator for Bidirectional<'_> {
             return;
         }
         for s in 2..=(light_vertices.len() + 1).min(max_depth) {
+            if !wanted(s, 1) {
+                continue;
+            }
             let Some((raster, rgb)) = self.light_tracing(
                 origin,
                 light_vertices,
@@ -943,6 +1065,7 @@ impl Bidirectional<'_> {
         sampler: &mut S,
         counters: &mut TraceCounters,
         vertices: &mut Vec<Vertex>,
+        vertex_limit: usize,
     ) -> Option<LightOrigin> {
         let scene = self.scene;
         let (light_index, choice, u_primitive) = scene
@@ -987,7 +1110,7 @@ impl Bidirectional<'_> {
             ),
             beta_scale: 1.0,
         };
-        let max_vertices = self.settings.max_depth.saturating_sub(1) as usize;
+        let max_vertices = (self.settings.max_depth.saturating_sub(1) as usize).min(vertex_limit);
         if max_vertices == 0 {
             return Some(origin);
         }

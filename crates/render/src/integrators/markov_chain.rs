@@ -1,0 +1,568 @@
+//! The Markov-chain driver: Metropolis sampling of primary sample space
+//! (Kelemen et al. 2002), shared by every Metropolis integrator. An
+//! integrator gives it a [`PathContribution`] — what one point of primary
+//! sample space contributes to the film, as splats — and the driver runs
+//! the chains over it:
+//!
+//! 1. **Bootstrap**: `bootstrap_samples` independent points (each the first
+//!    iteration of a [`MetropolisSampler`] keyed by the seed and the
+//!    sample's index, i.e. uniform numbers); the normalisation
+//!    `b = mean I(u)`, `I` the target ([`importance`]: the luminance of the
+//!    contribution summed over its splats).
+//! 2. **Chain starts**: each of `chains` chains picks a bootstrap sample
+//!    with probability proportional to its `I`, replays it, and continues
+//!    on a random stream of its own (two chains that pick one sample do not
+//!    run one chain twice).
+//! 3. **Passes**: a pass is one mutation per pixel, shared out over the
+//!    chains in a fixed way; every mutation splats the proposal with weight
+//!    `a · b / I(proposal)` and the current state with `(1 − a) · b /
+//!    I(current)` (expected-value splatting, `a = min(1, I(proposal) /
+//!    I(current))`), then accepts with probability `a`. Chains run in
+//!    parallel; their splats merge in chain order, so the image is the same
+//!    for any number of threads. The film's splat scale is one over the
+//!    mutations per pixel of the whole passes, as for path samples: a
+//!    mutation stands for one uniform path sample.
+//!
+//! A time budget or Ctrl-C is checked before every pass and by every chain
+//! during it; a pass cut short is dropped whole (its splats would favour
+//! the chains that ran). Splats with a NaN or infinite value are dropped
+//! and counted with the film's non-finite samples; a proposal whose
+//! contribution is not finite or not positive is rejected. When the
+//! bootstrap finds no light (`b = 0`), the image is black, without chains
+//! (no 0/0: pbrt-v4 issues #476, #477).
+
+use super::TraceCounters;
+use super::driver::{DriverStatistics, RenderError, RunControl};
+use crate::film::{Film, Splat, SplatBuffer};
+use crate::sampler::{MetropolisSampler, MutationSettings, SampleSource};
+use crate::scene::Scene;
+use qmc::random::SeekablePcg;
+use rayon::prelude::*;
+
+/// What one point of primary sample space contributes to the film: the
+/// function the chains sample.
+pub trait PathContribution: Sync {
+    /// A thread's scratch memory.
+    type Scratch: Send;
+
+    /// Fresh scratch memory.
+    fn new_scratch(&self) -> Self::Scratch;
+
+    /// Evaluates the path sample of `source`'s numbers into `splats`
+    /// (empty on entry): every contribution at its raster position, scaled
+    /// so that the mean over uniform numbers of the splats, times pixels,
+    /// is the image (as a pixel sample's over one pixel).
+    fn evaluate<S: SampleSource + ?Sized>(
+        &self,
+        scratch: &mut Self::Scratch,
+        source: &mut S,
+        splats: &mut SplatBuffer,
+        counters: &mut TraceCounters,
+    );
+}
+
+/// The chains' target `I`: the luminance (Rec. 709 Y, as pbrt-v4 and
+/// Mitsuba) of the contribution, summed over its splats, plus 10⁻³ of its
+/// absolute RGB sum. The small second term makes `I > 0` wherever the
+/// contribution is not zero (a spectral estimate's luminance can be zero
+/// or negative where its RGB is not), which the estimator `b f / I` needs
+/// to be unbiased.
+pub fn importance(splats: &[Splat]) -> f64 {
+    splats
+        .iter()
+        .map(|splat| {
+            let [r, g, b] = splat.rgb.map(f64::from);
+            let luminance = 0.2126 * r + 0.7152 * g + 0.0722 * b;
+            luminance.max(0.0) + 1e-3 * (r.abs() + g.abs() + b.abs())
+        })
+        .sum()
+}
+
+/// The chain settings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChainSettings {
+    /// Independent samples for the normalisation and the starts (pbrt-v4
+    /// and Mitsuba: 100 000).
+    pub bootstrap_samples: u64,
+    /// Chains (pbrt-v4: 1000).
+    pub chains: u64,
+    /// The mutations.
+    pub mutation: MutationSettings,
+}
+
+impl Default for ChainSettings {
+    fn default() -> Self {
+        Self {
+            bootstrap_samples: 100_000,
+            chains: 1000,
+            mutation: MutationSettings::default(),
+        }
+    }
+}
+
+/// Proposals and acceptances of one mutation type.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct MutationCount {
+    /// Proposals made.
+    pub proposed: u64,
+    /// Proposals accepted.
+    pub accepted: u64,
+}
+
+impl MutationCount {
+    /// The acceptance rate (0 without proposals).
+    pub fn rate(&self) -> f64 {
+        if self.proposed == 0 {
+            0.0
+        } else {
+            self.accepted as f64 / self.proposed as f64
+        }
+    }
+
+    /// Adds another count.
+    pub fn add(&mut self, other: &MutationCount) {
+        self.proposed += other.proposed;
+        self.accepted += other.accepted;
+    }
+}
+
+/// What the chains did.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ChainStatistics {
+    /// The normalisation `b`: the mean target over the bootstrap (summed
+    /// over the targets).
+    pub normalization: f64,
+    /// Bootstrap samples evaluated (over all targets).
+    pub bootstrap_samples: u64,
+    /// Bootstrap samples with a positive target.
+    pub bootstrap_nonzero: u64,
+    /// Chains run.
+    pub chains: u64,
+    /// Large steps.
+    pub large_steps: MutationCount,
+    /// Small steps.
+    pub small_steps: MutationCount,
+    /// Seconds of the bootstrap.
+    pub bootstrap_seconds: f64,
+    /// Seconds of the chains' passes.
+    pub chain_seconds: f64,
+}
+
+impl ChainStatistics {
+    /// Mutations made (every proposal, kept passes or not).
+    pub fn mutations(&self) -> u64 {
+        self.large_steps.proposed + self.small_steps.proposed
+    }
+
+    /// A report for the command line.
+    pub fn report(&self) -> String {
+        let mutations = self.mutations();
+        format!(
+            "Markov chains: {} chains, normalisation b = {:.6} from {} bootstrap samples ({} with light, {:.2} s); {} mutations in {:.2} s ({:.3} M mutations/s); acceptance: large steps {:.3} ({} proposed), small steps {:.3} ({} proposed)",
+            self.chains,
+            self.normalization,
+            self.bootstrap_samples,
+            self.bootstrap_nonzero,
+            self.bootstrap_seconds,
+            mutations,
+            self.chain_seconds,
+            mutations as f64 / self.chain_seconds.max(1e-9) / 1e6,
+            self.large_steps.rate(),
+            self.large_steps.proposed,
+            self.small_steps.rate(),
+            self.small_steps.proposed,
+        )
+    }
+}
+
+/// The chains' film and statistics.
+pub struct ChainOutput {
+    /// The film: splats only, to be scaled by one over the completed
+    /// mutations per pixel.
+    pub film: Film,
+    /// The driver's measurements (samples: bootstrap samples and
+    /// mutations; completed samples per pixel: mutations per pixel).
+    pub statistics: DriverStatistics,
+    /// The chains' own.
+    pub chains: ChainStatistics,
+}
+
+/// The bootstrap: independent samples of primary sample space, each the
+/// first state of a [`MetropolisSampler`] keyed by the seed and its index,
+/// so that a chain can start from any of them by replaying it.
+pub struct Bootstrap {
+    /// Per sample, the running sum of the targets (zero for samples with a
+    /// NaN or infinite splat).
+    cumulative: Vec<f64>,
+    /// Samples with a positive target.
+    pub nonzero: u64,
+    /// Rays traced.
+    pub counters: TraceCounters,
+}
+
+impl Bootstrap {
+    /// Evaluates `count` (at least 1) samples of `contribution` in
+    /// parallel (the same values for any number of threads).
+    pub fn run<C: PathContribution>(
+        contribution: &C,
+        seed: u64,
+        count: u64,
+        mutation: &MutationSettings,
+    ) -> Self {
+        let evaluated: Vec<(f64, TraceCounters)> = (0..count.max(1))
+            .into_par_iter()
+            .map_init(
+                || (contribution.new_scratch(), SplatBuffer::new()),
+                |(scratch, splats), index| {
+                    let mut sampler = MetropolisSampler::new(seed, index, mutation.clone());
+                    let mut counters = TraceCounters::default();
+                    splats.clear();
+                    contribution.evaluate(scratch, &mut sampler, splats, &mut counters);
+                    let value = importance(splats.splats());
+                    let finite = value.is_finite() && splats.rejected_samples() == 0;
+                    (if finite { value } else { 0.0 }, counters)
+                },
+            )
+            .collect();
+        let mut cumulative = Vec::with_capacity(evaluated.len());
+        let mut sum = 0.0;
+        let mut nonzero = 0;
+        let mut counters = TraceCounters::default();
+        for (value, sample_counters) in &evaluated {
+            sum += value;
+            cumulative.push(sum);
+            nonzero += u64::from(*value > 0.0);
+            counters.add(sample_counters);
+        }
+        Self {
+            cumulative,
+            nonzero,
+            counters,
+        }
+    }
+
+    /// The samples evaluated.
+    pub fn samples(&self) -> u64 {
+        self.cumulative.len() as u64
+    }
+
+    /// The normalisation `b`: the mean target.
+    pub fn normalization(&self) -> f64 {
+        self.cumulative.last().copied().unwrap_or(0.0) / self.cumulative.len().max(1) as f64
+    }
+
+    /// The sample a uniform number `u` picks in proportion to the targets.
+    pub fn pick(&self, u: f64) -> u64 {
+        let target = u * self.cumulative.last().copied().unwrap_or(0.0);
+        self.cumulative
+            .partition_point(|&value| value <= target)
+            .min(self.cumulative.len().saturating_sub(1)) as u64
+    }
+}
+
+/// One chain: its sampler, its current state's splats and target.
+pub struct Chain {
+    sampler: MetropolisSampler,
+    current: SplatBuffer,
+    current_importance: f64,
+    proposal: SplatBuffer,
+}
+
+/// What mutations add up to: their splats, rays and acceptances.
+#[derive(Default)]
+pub struct ChainWork {
+    /// The splats, with expected-value weights.
+    pub splats: SplatBuffer,
+    /// Rays traced.
+    pub counters: TraceCounters,
+    /// Large steps.
+    pub large_steps: MutationCount,
+    /// Small steps.
+    pub small_steps: MutationCount,
+}
+
+impl ChainWork {
+    /// Adds another's counts (not its splats).
+    pub fn add_counts(&mut self, other: &ChainWork) {
+        self.counters.add(&other.counters);
+        self.large_steps.add(&other.large_steps);
+        self.small_steps.add(&other.small_steps);
+    }
+}
+
+impl Chain {
+    /// A chain in the state `sampler` holds, whose splats are `current`
+    /// with target `importance` (positive).
+    pub fn new(sampler: MetropolisSampler, current: SplatBuffer, importance: f64) -> Self {
+        Self {
+            sampler,
+            current,
+            current_importance: importance,
+            proposal: SplatBuffer::new(),
+        }
+    }
+
+    /// Runs `mutations` mutations, each splatting the proposal with
+    /// `a · energy / I(proposal)` and the current state with
+    /// `(1 − a) · energy / I(current)` into `work`, then accepting with
+    /// probability `a`. `stop` is asked every 64 mutations; returns false
+    /// if it stopped the chain.
+    pub fn mutate<C: PathContribution>(
+        &mut self,
+        contribution: &C,
+        scratch: &mut C::Scratch,
+        mutations: u64,
+        energy: f64,
+        work: &mut ChainWork,
+        stop: &dyn Fn() -> bool,
+    ) -> bool {
+        for mutation in 0..mutations {
+            if mutation % 64 == 0 && stop() {
+                return false;
+            }
+            self.sampler.start_iteration();
+            let large_step = self.sampler.is_large_step();
+            self.proposal.clear();
+            contribution.evaluate(
+                scratch,
+                &mut self.sampler,
+                &mut self.proposal,
+                &mut work.counters,
+            );
+            work.splats.add_rejected(self.proposal.rejected_samples());
+            let proposed = importance(self.proposal.splats());
+            let acceptance = if proposed.is_finite()
+                && proposed > 0.0
+                && self.proposal.rejected_samples() == 0
+            {
+                (proposed / self.current_importance).min(1.0)
+            } else {
+                0.0
+            };
+            if acceptance > 0.0 {
+                let weight = (acceptance * energy / proposed) as f32;
+                for splat in self.proposal.splats() {
+                    let _ = work
+                        .splats
+                        .add(splat.raster_position, splat.rgb.map(|value| value * weight));
+                }
+            }
+            if acceptance < 1.0 {
+                let weight = ((1.0 - acceptance) * energy / self.current_importance) as f32;
+                for splat in self.current.splats() {
+                    let _ = work
+                        .splats
+                        .add(splat.raster_position, splat.rgb.map(|value| value * weight));
+                }
+            }
+            let count = if large_step {
+                &mut work.large_steps
+            } else {
+                &mut work.small_steps
+            };
+            count.proposed += 1;
+            if self.sampler.uniform() < acceptance as f32 {
+                count.accepted += 1;
+                self.sampler.accept();
+                std::mem::swap(&mut self.current, &mut self.proposal);
+                self.current_importance = proposed;
+            } else {
+                self.sampler.reject();
+            }
+        }
+        true
+    }
+}
+
+/// The bootstrap's and the chains' stream keys: distinct uses of one seed.
+const CHAIN_START_KEY: u64 = 0x6d6c_745f_7374_6172;
+const CHAIN_STREAM_KEY: u64 = 0x6d6c_745f_6368_6169;
+
+/// Runs Metropolis chains over `targets` for `scene` under `run`
+/// (`run.samples_per_pixel`: mutations per pixel); see the module docs.
+/// One target (PSSMLT) is the plain algorithm; with several (MMLT's path
+/// depths), each has its own bootstrap normalisation `b_k`, and chains and
+/// mutations per pass in proportion to `b_k` (at least one of each where
+/// `b_k > 0`), every mutation of target k carrying the energy
+/// `b_k · pixels / M_k` (`M_k` its mutations per pass), so the passes add
+/// up to the image exactly whatever the rounding.
+pub fn render_markov_chains<C: PathContribution>(
+    targets: &[C],
+    scene: &Scene,
+    run: &RunControl<'_>,
+    settings: &ChainSettings,
+) -> Result<ChainOutput, RenderError> {
+    let [width, height] = scene.camera.resolution();
+    let resolution = [width as usize, height as usize];
+    let mut film = Film::new(resolution, scene.filter)?;
+    let pixels = width as u64 * height as u64;
+    let mut statistics = DriverStatistics::default();
+    let mut chain_statistics = ChainStatistics::default();
+
+    // 1. The bootstraps, one per target.
+    let clock = std::time::Instant::now();
+    let bootstraps: Vec<Bootstrap> = targets
+        .iter()
+        .enumerate()
+        .map(|(index, target)| {
+            Bootstrap::run(
+                target,
+                target_key(run.seed, index),
+                settings.bootstrap_samples,
+                &settings.mutation,
+            )
+        })
+        .collect();
+    let mut total = 0.0;
+    for bootstrap in &bootstraps {
+        statistics.rays += bootstrap.counters.rays();
+        statistics.samples += bootstrap.samples();
+        chain_statistics.bootstrap_samples += bootstrap.samples();
+        chain_statistics.bootstrap_nonzero += bootstrap.nonzero;
+        let normalization = bootstrap.normalization();
+        if normalization > 0.0 && normalization.is_finite() {
+            total += normalization;
+        }
+    }
+    chain_statistics.normalization = total;
+    chain_statistics.bootstrap_seconds = clock.elapsed().as_secs_f64();
+    (run.progress)(0, pixels.saturating_mul(run.samples_per_pixel));
+    if !(total > 0.0 && total.is_finite()) {
+        // No light found: the image is black (all passes "done").
+        statistics.completed_samples_per_pixel = run.samples_per_pixel;
+        return Ok(ChainOutput {
+            film,
+            statistics,
+            chains: chain_statistics,
+        });
+    }
+
+    // 2. The chains' starts: per target, its share of the chains.
+    let chain_total = settings.chains.max(1);
+    let mut plans = Vec::new();
+    for (target, bootstrap) in bootstraps.iter().enumerate() {
+        let normalization = bootstrap.normalization();
+        if !(normalization > 0.0 && normalization.is_finite()) {
+            continue;
+        }
+        let share = normalization / total;
+        let chains = ((chain_total as f64 * share).round() as u64).max(1);
+        let mutations = ((pixels as f64 * share).round() as u64).max(1);
+        for chain in 0..chains {
+            plans.push(ChainPlan {
+                target,
+                index: chain,
+                mutations: mutations * (chain + 1) / chains - mutations * chain / chains,
+                energy: normalization * pixels as f64 / mutations as f64,
+            });
+        }
+    }
+    chain_statistics.chains = plans.len() as u64;
+    let mut chains: Vec<(ChainPlan, Chain)> = plans
+        .into_par_iter()
+        .map_init(
+            || {
+                targets
+                    .iter()
+                    .map(|target| target.new_scratch())
+                    .collect::<Vec<_>>()
+            },
+            |scratches, plan| {
+                let target = &targets[plan.target];
+                let key = target_key(run.seed, plan.target);
+                let start = bootstraps[plan.target]
+                    .pick(SeekablePcg::new(key ^ CHAIN_START_KEY, plan.index).next_f64());
+                let mut sampler = MetropolisSampler::new(key, start, settings.mutation.clone());
+                let mut current = SplatBuffer::new();
+                let mut counters = TraceCounters::default();
+                target.evaluate(
+                    &mut scratches[plan.target],
+                    &mut sampler,
+                    &mut current,
+                    &mut counters,
+                );
+                sampler.accept();
+                sampler.continue_on_stream(key ^ CHAIN_STREAM_KEY, plan.index);
+                let current_importance = importance(current.splats());
+                (plan, Chain::new(sampler, current, current_importance))
+            },
+        )
+        .collect();
+
+    // 3. The passes: one mutation per pixel each (over all targets).
+    let clock = std::time::Instant::now();
+    let mut pass = 0;
+    while pass < run.samples_per_pixel && !run.out_of_time() {
+        let outputs: Vec<(ChainWork, bool)> = chains
+            .par_iter_mut()
+            .map_init(
+                || {
+                    targets
+                        .iter()
+                        .map(|target| target.new_scratch())
+                        .collect::<Vec<_>>()
+                },
+                |scratches, (plan, chain)| {
+                    let mut work = ChainWork::default();
+                    let finished = chain.mutate(
+                        &targets[plan.target],
+                        &mut scratches[plan.target],
+                        plan.mutations,
+                        plan.energy,
+                        &mut work,
+                        &|| run.out_of_time(),
+                    );
+                    (work, finished)
+                },
+            )
+            .collect();
+        let complete = outputs.iter().all(|(_, finished)| *finished);
+        for (work, _) in &outputs {
+            statistics.rays += work.counters.rays();
+            statistics.samples += work.large_steps.proposed + work.small_steps.proposed;
+            chain_statistics.large_steps.add(&work.large_steps);
+            chain_statistics.small_steps.add(&work.small_steps);
+        }
+        if !complete {
+            break;
+        }
+        film.merge_splat_buffers(
+            &outputs
+                .iter()
+                .map(|(work, _)| &work.splats)
+                .collect::<Vec<_>>(),
+        );
+        pass += 1;
+        statistics.completed_samples_per_pixel = pass;
+        (run.progress)(pass * pixels, pixels.saturating_mul(run.samples_per_pixel));
+    }
+    chain_statistics.chain_seconds = clock.elapsed().as_secs_f64();
+    statistics.stopped_early = statistics.completed_samples_per_pixel < run.samples_per_pixel;
+    Ok(ChainOutput {
+        film,
+        statistics,
+        chains: chain_statistics,
+    })
+}
+
+/// What one chain does per pass.
+struct ChainPlan {
+    /// Its target.
+    target: usize,
+    /// Its number among the target's chains.
+    index: u64,
+    /// Mutations per pass.
+    mutations: u64,
+    /// The energy of each mutation.
+    energy: f64,
+}
+
+/// The random key of target `index`: the seed itself for the first (one
+/// target: PSSMLT), a hash of it for the others.
+fn target_key(seed: u64, index: usize) -> u64 {
+    if index == 0 {
+        seed
+    } else {
+        qmc::hash::hash2(seed, index as u64)
+    }
+}
