@@ -259,6 +259,12 @@ pub struct MltArgs {
     /// dimension, as the LQMC paper matches them to its tiles).
     #[arg(long, value_name = "D=S,...")]
     pub mlt_step_scale: Option<String>,
+    /// pssmlt over path: render the direct light (paths of 1 and 2
+    /// segments) separately with the path tracer at N samples per pixel
+    /// (the render's sampler), the chains only paths of 3 segments and more
+    /// (Mitsuba's `directSamples`; default: off, the chains render all).
+    #[arg(long, value_name = "N")]
+    pub mlt_direct_spp: Option<u64>,
     /// erpt: mutations per chain (default 100, Mitsuba's).
     #[arg(long, value_name = "L")]
     pub erpt_chain_length: Option<u64>,
@@ -277,6 +283,7 @@ impl MltArgs {
             || self.mlt_bootstrap.is_some()
             || self.mlt_chains.is_some()
             || self.mlt_step_scale.is_some()
+            || self.mlt_direct_spp.is_some()
             || self.erpt_chain_length.is_some()
             || self.erpt_chains_per_sample.is_some()
     }
@@ -346,9 +353,9 @@ fn mutation_settings(
 
 /// MMLT's settings from the options.
 pub fn mmlt_settings(args: &MltArgs) -> Result<render::integrators::mmlt::MmltSettings, CliError> {
-    if args.mlt_base.is_some() {
+    if args.mlt_base.is_some() || args.mlt_direct_spp.is_some() {
         return Err(usage(
-            "--mlt-base is for pssmlt (MMLT always runs over BDPT)",
+            "--mlt-base and --mlt-direct-spp are for pssmlt (MMLT always runs over BDPT)",
         ));
     }
     if args.erpt_chain_length.is_some() || args.erpt_chains_per_sample.is_some() {
@@ -375,9 +382,9 @@ pub fn mmlt_settings(args: &MltArgs) -> Result<render::integrators::mmlt::MmltSe
 /// ERPT's settings from the options.
 pub fn erpt_settings(args: &MltArgs) -> Result<render::integrators::erpt::ErptSettings, CliError> {
     let mut settings = render::integrators::erpt::ErptSettings::default();
-    if args.mlt_base.is_some() || args.mlt_chains.is_some() {
+    if args.mlt_base.is_some() || args.mlt_chains.is_some() || args.mlt_direct_spp.is_some() {
         return Err(usage(
-            "--mlt-base and --mlt-chains are for pssmlt (ERPT's seeds are path-traced; --erpt-chains-per-sample sets its chains)",
+            "--mlt-base, --mlt-chains and --mlt-direct-spp are for pssmlt (ERPT's seeds are path-traced; --erpt-chains-per-sample sets its chains)",
         ));
     }
     settings.mutation = mutation_settings(args, settings.mutation)?;
@@ -419,6 +426,15 @@ pub fn pssmlt_settings(
     }
     if args.erpt_chain_length.is_some() || args.erpt_chains_per_sample.is_some() {
         return Err(usage("the --erpt-* options are for --integrator erpt"));
+    }
+    if let Some(spp) = args.mlt_direct_spp {
+        if spp == 0 {
+            return Err(usage("--mlt-direct-spp must be at least 1"));
+        }
+        if settings.base != MltBase::Path {
+            return Err(usage("--mlt-direct-spp is for --mlt-base path"));
+        }
+        settings.direct_samples_per_pixel = Some(spp);
     }
     let chains = &mut settings.chains;
     chains.mutation = mutation_settings(args, chains.mutation.clone())?;

@@ -83,6 +83,7 @@ impl RenderSettings {
             heuristic: self.heuristic,
             russian_roulette_depth: self.russian_roulette_depth,
             splat_film: self.splat_film,
+            min_depth: 1,
         }
     }
 }

@@ -67,6 +67,29 @@ fn pssmlt_over_bdpt_matches_path_tracing_in_the_cornell_box() {
     );
 }
 
+/// Separate direct light (`--mlt-direct-spp`, Mitsuba's `directSamples`):
+/// the path tracer's paths of 1 and 2 segments at 4 samples per pixel, the
+/// chains' from 3 on; with media, the volumetric path tracer's.
+#[test]
+fn pssmlt_with_separate_direct_light_matches_path_tracing() {
+    for name in ["cornell-box", "translucent-spheres"] {
+        let settings = PssmltSettings {
+            direct_samples_per_pixel: Some(4),
+            ..PssmltSettings::default()
+        };
+        assert_settings_match_path(
+            &format!("{name} (pssmlt, direct light apart)"),
+            &builtin(name),
+            IntegratorSettings::Pssmlt(settings),
+            SamplerKind::Independent,
+            4096,
+            256,
+            None,
+            true,
+        );
+    }
+}
+
 /// 16 chains of 4096 mutations each: the image mean only (see the module
 /// docs).
 #[test]

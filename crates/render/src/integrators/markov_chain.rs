@@ -393,8 +393,20 @@ pub fn render_markov_chains<C: PathContribution>(
     settings: &ChainSettings,
 ) -> Result<ChainOutput, RenderError> {
     let [width, height] = scene.camera.resolution();
-    let resolution = [width as usize, height as usize];
-    let mut film = Film::new(resolution, scene.filter)?;
+    let film = Film::new([width as usize, height as usize], scene.filter)?;
+    render_markov_chains_onto(film, targets, scene, run, settings)
+}
+
+/// [`render_markov_chains`] adding its splats to `film` (which may hold
+/// camera samples of another estimator: PSSMLT's separate direct light).
+pub fn render_markov_chains_onto<C: PathContribution>(
+    mut film: Film,
+    targets: &[C],
+    scene: &Scene,
+    run: &RunControl<'_>,
+    settings: &ChainSettings,
+) -> Result<ChainOutput, RenderError> {
+    let [width, height] = scene.camera.resolution();
     let pixels = width as u64 * height as u64;
     let mut statistics = DriverStatistics::default();
     let mut chain_statistics = ChainStatistics::default();
@@ -564,5 +576,116 @@ fn target_key(seed: u64, index: usize) -> u64 {
         seed
     } else {
         qmc::hash::hash2(seed, index as u64)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampler::SmallStep;
+
+    /// A contribution without a scene: one splat `[v, 1, 0]`, where `v` is
+    /// 10⁴ on the slab u₀ < 10⁻³ (rare and bright: nothing may clamp it),
+    /// `1 + u₁` where u₀ > ½ (dimension 1 is read only there: lazy
+    /// updates), and 1 elsewhere. ∫v = 10 + 0.499 + 0.75 = 11.249, ∫1 = 1.
+    struct Slabs;
+
+    impl PathContribution for Slabs {
+        type Scratch = ();
+
+        fn new_scratch(&self) {}
+
+        fn evaluate<S: SampleSource + ?Sized>(
+            &self,
+            _scratch: &mut (),
+            source: &mut S,
+            splats: &mut SplatBuffer,
+            _counters: &mut TraceCounters,
+        ) {
+            let u0 = source.get(0);
+            let v = if u0 < 1e-3 {
+                1e4
+            } else if u0 > 0.5 {
+                1.0 + source.get(1)
+            } else {
+                1.0
+            };
+            let _ = splats.add([0.5, 0.5], [v, 1.0, 0.0]);
+        }
+    }
+
+    /// Chains started from the bootstrap keep the target I stationary and
+    /// splat with expected values: the mean splat per mutation over b is
+    /// ∫f / ∫I (b, the bootstrap's estimate of ∫I, is common to all chains
+    /// and divided out), the bright slab's contributions unclamped. Per
+    /// chain means are independent, so their spread gives the standard
+    /// error; the means must be within 4 of it.
+    #[test]
+    fn chains_integrate_a_function_with_a_rare_bright_part() {
+        for (small_step, large_step_probability) in
+            [(SmallStep::KELEMEN, 0.3), (SmallStep::PBRT, 0.1)]
+        {
+            let mutation = MutationSettings {
+                large_step_probability,
+                small_step,
+                step_scales: Vec::new(),
+            };
+            let bootstrap = Bootstrap::run(&Slabs, 5, 20_000, &mutation);
+            let normalization = bootstrap.normalization();
+            let chains = 400;
+            let mutations = 500;
+            let mut means = Vec::new();
+            for index in 0..chains {
+                let start = bootstrap.pick(SeekablePcg::new(9, index).next_f64());
+                let mut sampler = MetropolisSampler::new(5, start, mutation.clone());
+                let mut current = SplatBuffer::new();
+                Slabs.evaluate(
+                    &mut (),
+                    &mut sampler,
+                    &mut current,
+                    &mut TraceCounters::default(),
+                );
+                sampler.accept();
+                sampler.continue_on_stream(11, index);
+                let importance = importance(current.splats());
+                let mut chain = Chain::new(sampler, current, importance);
+                let mut work = ChainWork::default();
+                assert!(chain.mutate(
+                    &Slabs,
+                    &mut (),
+                    mutations,
+                    normalization,
+                    &mut work,
+                    &|| false
+                ));
+                let mut sum = [0.0f64; 2];
+                for splat in work.splats.splats() {
+                    sum[0] += f64::from(splat.rgb[0]);
+                    sum[1] += f64::from(splat.rgb[1]);
+                }
+                means.push(sum.map(|value| value / mutations as f64));
+            }
+            // ∫I for I = Y(v, 1, 0) + 10⁻³ (v + 1).
+            let integral_v = 11.249;
+            let integral_importance = 0.2126 * integral_v + 0.7152 + 1e-3 * (integral_v + 1.0);
+            for (channel, integral) in [(0, integral_v), (1, 1.0)] {
+                let expected = integral / integral_importance;
+                let values: Vec<f64> = means
+                    .iter()
+                    .map(|mean| mean[channel] / normalization)
+                    .collect();
+                let mean = values.iter().sum::<f64>() / chains as f64;
+                let variance = values
+                    .iter()
+                    .map(|value| (value - mean).powi(2))
+                    .sum::<f64>()
+                    / (chains as f64 - 1.0);
+                let error = (variance / chains as f64).sqrt();
+                assert!(
+                    (mean - expected).abs() < 4.0 * error,
+                    "{small_step:?}, channel {channel}: {mean} ± {error}, expected {expected}"
+                );
+            }
+        }
     }
 }

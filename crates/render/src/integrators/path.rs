@@ -43,6 +43,11 @@ pub struct PathSettings {
     /// it is the like-for-like baseline for LQMC. The variance layer then
     /// comes from the progressions ([`super::progression_variance`]).
     pub splat_film: bool,
+    /// Paths of fewer segments than this contribute nothing (default 1:
+    /// every path). PSSMLT's separate direct lighting (`--mlt-direct-spp`)
+    /// leaves paths of 1 and 2 segments to a path tracer of depth 2 and
+    /// runs its chains from 3 on (path and volpath observe it).
+    pub min_depth: u32,
 }
 
 impl Default for PathSettings {
@@ -52,6 +57,7 @@ impl Default for PathSettings {
             heuristic: MisHeuristic::Power,
             russian_roulette_depth: 3,
             splat_film: false,
+            min_depth: 1,
         }
     }
 }
@@ -267,6 +273,10 @@ impl WalkObserver for PathRadiance<'_> {
         wo: Vec3,
         wavelengths: &SampledWavelengths,
     ) {
+        // A path of vertex_index scatterings and this segment.
+        if walk.vertex_index + 1 < self.settings.min_depth {
+            return;
+        }
         let scene = self.scene;
         let area_radiance = &mut self.area_radiance;
         let emitted = scene.lights[light_index as usize].emitted_radiance_with_area_radiance(
@@ -293,6 +303,9 @@ impl WalkObserver for PathRadiance<'_> {
 
     #[inline]
     fn escaped(&mut self, walk: &WalkState, direction: Vec3, wavelengths: &SampledWavelengths) {
+        if walk.vertex_index + 1 < self.settings.min_depth {
+            return;
+        }
         for &index in &self.scene.environment_lights {
             let light = &self.scene.lights[index as usize];
             let emitted = light.environment_radiance(direction, wavelengths);
@@ -323,7 +336,9 @@ impl WalkObserver for PathRadiance<'_> {
         let ScattererRef::Surface { hit, bsdf, offset } = vertex.scatterer else {
             return ControlFlow::Continue(());
         };
-        if bsdf.flags().is_non_specular() {
+        // Next-event estimation makes a path of this vertex's scatterings
+        // before it, its segment and the one to the light.
+        if bsdf.flags().is_non_specular() && walk.vertex_index + 2 >= self.settings.min_depth {
             self.radiance += walk.beta
                 * sample_light(
                     self.scene,

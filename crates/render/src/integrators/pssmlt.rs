@@ -18,7 +18,10 @@
 //! pixel.
 
 use super::driver::{CameraPathStart, RenderError, RunControl};
-use super::markov_chain::{ChainSettings, ChainStatistics, PathContribution, render_markov_chains};
+use super::markov_chain::{
+    ChainSettings, ChainStatistics, PathContribution, render_markov_chains,
+    render_markov_chains_onto,
+};
 use super::path::PathSettings;
 use super::{Integrator, IntegratorDetails, IntegratorRender, TraceCounters};
 use crate::film::{CameraSamplePosition, ImagePlane, SplatBuffer};
@@ -55,6 +58,11 @@ pub struct PssmltSettings {
     pub base: MltBase,
     /// Bootstrap, chains and mutations.
     pub chains: ChainSettings,
+    /// Separate direct lighting (Mitsuba's `directSamples`): paths of 1 and
+    /// 2 segments rendered by the path tracer at this many samples per
+    /// pixel (the render's sampler), the chains' paths from 3 segments on.
+    /// Default none (the chains render every path). Path base only.
+    pub direct_samples_per_pixel: Option<u64>,
 }
 
 /// PSSMLT as an [`Integrator`].
@@ -73,6 +81,9 @@ impl PssmltIntegrator {
 
 impl Integrator for PssmltIntegrator {
     fn render(&self, scene: &Scene, run: &RunControl<'_>) -> Result<IntegratorRender, RenderError> {
+        if let Some(direct_spp) = self.settings.direct_samples_per_pixel {
+            return self.render_with_direct_light(scene, run, direct_spp);
+        }
         let output = match self.settings.base {
             MltBase::Path => render_markov_chains(
                 &[CameraPathContribution::new(scene, self.path)],
@@ -89,6 +100,84 @@ impl Integrator for PssmltIntegrator {
                 &self.settings.chains,
             )?,
         };
+        Ok(IntegratorRender {
+            film: output.film,
+            statistics: output.statistics,
+            variance: None,
+            auxiliary_images: Vec::new(),
+            details: Some(Box::new(ChainDetails {
+                name: "pssmlt",
+                chains: output.chains,
+            })),
+        })
+    }
+}
+
+impl PssmltIntegrator {
+    /// Direct light (paths of 1 and 2 segments) by the path tracer at
+    /// `direct_spp` samples per pixel into the film's camera samples, then
+    /// the chains over paths of 3 segments and more into its splats: the
+    /// image is their sum (camera samples averaged per pixel, splats scaled
+    /// by the mutation passes).
+    fn render_with_direct_light(
+        &self,
+        scene: &Scene,
+        run: &RunControl<'_>,
+        direct_spp: u64,
+    ) -> Result<IntegratorRender, RenderError> {
+        if self.settings.base != MltBase::Path {
+            return Err(RenderError::Unsupported(
+                "pssmlt: separate direct light (--mlt-direct-spp) is for --mlt-base path".into(),
+            ));
+        }
+        let direct_settings = PathSettings {
+            max_depth: self.path.max_depth.min(2),
+            splat_film: false,
+            ..self.path
+        };
+        let direct_run = RunControl {
+            sampler: run.sampler,
+            pattern_size: None,
+            seed: run.seed,
+            randomization: run.randomization,
+            samples_per_pixel: direct_spp.max(1),
+            time_budget: None,
+            tile_size: run.tile_size,
+            stop: run.stop,
+            progress: &|_, _| {},
+            start: run.start,
+        };
+        let integrator: Box<dyn Integrator> = if scene.has_media() {
+            Box::new(super::volpath::VolPathIntegrator::new(direct_settings))
+        } else {
+            Box::new(super::path::PathIntegrator::new(direct_settings))
+        };
+        let direct = integrator.render(scene, &direct_run)?;
+        let indirect = PathSettings {
+            min_depth: 3,
+            ..self.path
+        };
+        let mut output = if self.path.max_depth >= 3 {
+            render_markov_chains_onto(
+                direct.film,
+                &[CameraPathContribution::new(scene, indirect)],
+                scene,
+                run,
+                &self.settings.chains,
+            )?
+        } else {
+            // No path of 3 segments: the direct light is the image.
+            super::markov_chain::ChainOutput {
+                film: direct.film,
+                statistics: super::DriverStatistics {
+                    completed_samples_per_pixel: run.samples_per_pixel,
+                    ..Default::default()
+                },
+                chains: ChainStatistics::default(),
+            }
+        };
+        output.statistics.samples += direct.statistics.samples;
+        output.statistics.rays += direct.statistics.rays;
         Ok(IntegratorRender {
             film: output.film,
             statistics: output.statistics,

@@ -189,6 +189,7 @@ pub fn radiance<S: SampleSource + ?Sized>(
     let mut observer = VolPathRadiance {
         scene,
         radiance: SampledSpectrum::zero(),
+        min_depth: settings.min_depth,
     };
     walk(
         scene,
@@ -214,6 +215,8 @@ pub fn radiance<S: SampleSource + ?Sized>(
 struct VolPathRadiance<'a> {
     scene: &'a Scene,
     radiance: SampledSpectrum,
+    /// [`PathSettings::min_depth`].
+    min_depth: u32,
 }
 
 impl VolPathRadiance<'_> {
@@ -262,6 +265,9 @@ impl WalkObserver for VolPathRadiance<'_> {
         wo: Vec3,
         wavelengths: &SampledWavelengths,
     ) {
+        if walk.vertex_index + 1 < self.min_depth {
+            return;
+        }
         let emitted = self.scene.lights[light_index as usize].emitted_radiance(
             hit.geometric_normal,
             hit.uv,
@@ -276,6 +282,9 @@ impl WalkObserver for VolPathRadiance<'_> {
     }
 
     fn escaped(&mut self, walk: &WalkState, direction: Vec3, wavelengths: &SampledWavelengths) {
+        if walk.vertex_index + 1 < self.min_depth {
+            return;
+        }
         for &index in &self.scene.environment_lights {
             let emitted =
                 self.scene.lights[index as usize].environment_radiance(direction, wavelengths);
@@ -293,6 +302,9 @@ impl WalkObserver for VolPathRadiance<'_> {
         sampler: &mut S,
         counters: &mut TraceCounters,
     ) -> ControlFlow<()> {
+        if walk.vertex_index + 2 < self.min_depth {
+            return ControlFlow::Continue(());
+        }
         let wo = vertex.wo;
         let next_event = match vertex.scatterer {
             ScattererRef::Medium { phase } => {
