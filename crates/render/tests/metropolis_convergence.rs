@@ -442,3 +442,33 @@ fn mmlt_strategies_of_a_depth() {
     assert_eq!(strategies(2, true), [(0, 3), (1, 2), (2, 1)]);
     assert_eq!(strategies(3, false), [(0, 4), (1, 3), (2, 2)]);
 }
+
+/// A time budget stops the chains between passes, a stop flag before the
+/// first: whole passes only, the image finite, the render marked as stopped
+/// early (the partial pass's splats dropped, as the splat driver does).
+#[test]
+fn chains_stop_at_the_time_budget_and_on_interruption() {
+    let scene = builtin("cornell-box");
+    for integrator in [pssmlt(MltBase::Path, SmallStep::KELEMEN), mmlt()] {
+        let settings = RenderSettings {
+            integrator: integrator.clone(),
+            sampler: SamplerKind::Independent,
+            samples_per_pixel: 1_000_000,
+            time_budget: Some(std::time::Duration::from_secs(3)),
+            seed: 1,
+            ..RenderSettings::default()
+        };
+        let output = render(&scene, &settings, &AtomicBool::new(false), &|_, _| {}).unwrap();
+        assert!(output.statistics.stopped_early);
+        let passes = output.statistics.completed_samples_per_pixel;
+        assert!((1..1_000_000).contains(&passes), "{passes} passes");
+        let image = output.image();
+        assert!(values(&image).all(f64::is_finite));
+        assert!(image_mean(&image) > 0.0);
+        // Interrupted before the first pass: nothing splatted, nothing NaN.
+        let stopped = render(&scene, &settings, &AtomicBool::new(true), &|_, _| {}).unwrap();
+        assert!(stopped.statistics.stopped_early);
+        assert_eq!(stopped.statistics.completed_samples_per_pixel, 0);
+        assert!(values(&stopped.image()).all(|value| value == 0.0));
+    }
+}

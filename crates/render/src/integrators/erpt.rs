@@ -27,10 +27,10 @@ use super::driver::{
     PixelSampleIndex, RenderError, RunControl, SplatEstimator, render_splat_paths,
 };
 use super::markov_chain::{
-    Bootstrap, Chain, ChainStatistics, ChainWork, PathContribution, importance,
+    Bootstrap, Chain, ChainOutput, ChainStatistics, ChainWork, PathContribution, importance,
 };
 use super::path::PathSettings;
-use super::pssmlt::{CameraPathContribution, ChainDetails};
+use super::pssmlt::CameraPathContribution;
 use super::{Integrator, IntegratorRender, TraceCounters};
 use crate::film::SplatBuffer;
 use crate::sampler::{MetropolisSampler, MutationSettings, PixelSampler, SampleSource, layout};
@@ -113,16 +113,12 @@ impl Integrator for ErptIntegrator {
         chains.bootstrap_seconds = bootstrap_seconds;
         chains.chain_seconds = clock.elapsed().as_secs_f64();
         output.statistics.rays += bootstrap.counters.rays();
-        Ok(IntegratorRender {
+        Ok(ChainOutput {
             film: output.film,
             statistics: output.statistics,
-            variance: None,
-            auxiliary_images: Vec::new(),
-            details: Some(Box::new(ChainDetails {
-                name: "erpt",
-                chains,
-            })),
-        })
+            chains,
+        }
+        .into_render("erpt"))
     }
 }
 

@@ -31,8 +31,8 @@
 //! bootstrap finds no light (`b = 0`), the image is black, without chains
 //! (no 0/0: pbrt-v4 issues #476, #477).
 
-use super::TraceCounters;
 use super::driver::{DriverStatistics, RenderError, RunControl};
+use super::{IntegratorDetails, IntegratorRender, TraceCounters};
 use crate::film::{Film, Splat, SplatBuffer};
 use crate::sampler::{MetropolisSampler, MutationSettings, SampleSource};
 use crate::scene::Scene;
@@ -257,6 +257,41 @@ impl Bootstrap {
         self.cumulative
             .partition_point(|&value| value <= target)
             .min(self.cumulative.len().saturating_sub(1)) as u64
+    }
+}
+
+impl ChainOutput {
+    /// The render of a Metropolis integrator called `name`: the film, the
+    /// driver's measurements and the chains' report as its details.
+    pub fn into_render(self, name: &'static str) -> IntegratorRender {
+        IntegratorRender {
+            film: self.film,
+            statistics: self.statistics,
+            variance: None,
+            auxiliary_images: Vec::new(),
+            details: Some(Box::new(ChainDetails {
+                name,
+                chains: self.chains,
+            })),
+        }
+    }
+}
+
+/// A Metropolis integrator's statistics (`--stats`).
+pub struct ChainDetails {
+    /// The integrator's name.
+    pub name: &'static str,
+    /// What its chains did.
+    pub chains: ChainStatistics,
+}
+
+impl IntegratorDetails for ChainDetails {
+    fn report(&self, _render_seconds: f64, _threads: usize) -> String {
+        format!("{}: {}", self.name, self.chains.report())
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
     }
 }
 

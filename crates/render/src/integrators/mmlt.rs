@@ -21,7 +21,6 @@ use super::bdpt::Bidirectional;
 use super::driver::{RenderError, RunControl};
 use super::markov_chain::{ChainSettings, PathContribution, render_markov_chains};
 use super::path::PathSettings;
-use super::pssmlt::ChainDetails;
 use super::{Integrator, IntegratorRender, TraceCounters};
 use crate::film::SplatBuffer;
 use crate::sampler::{SampleSource, layout};
@@ -71,16 +70,7 @@ impl Integrator for MmltIntegrator {
             })
             .collect::<Result<_, RenderError>>()?;
         let output = render_markov_chains(&depths, scene, run, &self.settings.chains)?;
-        Ok(IntegratorRender {
-            film: output.film,
-            statistics: output.statistics,
-            variance: None,
-            auxiliary_images: Vec::new(),
-            details: Some(Box::new(ChainDetails {
-                name: "mmlt",
-                chains: output.chains,
-            })),
-        })
+        Ok(output.into_render("mmlt"))
     }
 }
 

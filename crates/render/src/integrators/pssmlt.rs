@@ -23,7 +23,7 @@ use super::markov_chain::{
     render_markov_chains_onto,
 };
 use super::path::PathSettings;
-use super::{Integrator, IntegratorDetails, IntegratorRender, TraceCounters};
+use super::{Integrator, IntegratorRender, TraceCounters};
 use crate::film::{CameraSamplePosition, ImagePlane, SplatBuffer};
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
@@ -100,16 +100,7 @@ impl Integrator for PssmltIntegrator {
                 &self.settings.chains,
             )?,
         };
-        Ok(IntegratorRender {
-            film: output.film,
-            statistics: output.statistics,
-            variance: None,
-            auxiliary_images: Vec::new(),
-            details: Some(Box::new(ChainDetails {
-                name: "pssmlt",
-                chains: output.chains,
-            })),
-        })
+        Ok(output.into_render("pssmlt"))
     }
 }
 
@@ -178,34 +169,7 @@ impl PssmltIntegrator {
         };
         output.statistics.samples += direct.statistics.samples;
         output.statistics.rays += direct.statistics.rays;
-        Ok(IntegratorRender {
-            film: output.film,
-            statistics: output.statistics,
-            variance: None,
-            auxiliary_images: Vec::new(),
-            details: Some(Box::new(ChainDetails {
-                name: "pssmlt",
-                chains: output.chains,
-            })),
-        })
-    }
-}
-
-/// A Metropolis integrator's statistics (`--stats`).
-pub struct ChainDetails {
-    /// The integrator's name.
-    pub name: &'static str,
-    /// What its chains did.
-    pub chains: ChainStatistics,
-}
-
-impl IntegratorDetails for ChainDetails {
-    fn report(&self, _render_seconds: f64, _threads: usize) -> String {
-        format!("{}: {}", self.name, self.chains.report())
-    }
-
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
+        Ok(output.into_render("pssmlt"))
     }
 }
 
