@@ -130,29 +130,26 @@ def luxcore_scene(pyluxcore):
     return scene, triangle_count
 
 
-def luxcore_config(pyluxcore, args, seed):
+def render_config(pyluxcore, args, engine):
+    """The box with `engine`'s properties (engine, sampler, depths) and the
+    film both scripts use: 2 threads by default, a box filter of radius 0.5."""
     scene, _ = luxcore_scene(pyluxcore)
     props = pyluxcore.Properties()
-    props.SetFromString(f"""
-        renderengine.type = "LIGHTCPU"
-        renderengine.seed = {seed + 1}
-        sampler.type = "RANDOM"
+    props.SetFromString(engine + f"""
         native.threads.count = {args.threads}
-        light.maxdepth = {args.max_depth - 1}
-        path.pathdepth.total = {args.max_depth - 1}
         film.width = {args.res}
         film.height = {args.res}
         film.filter.type = "BOX"
         film.filter.width = 0.5
         film.outputs.0.type = "RGB_IMAGEPIPELINE"
-        film.outputs.0.filename = "luxcore_light.png"
+        film.outputs.0.filename = "luxcore.png"
         """)
     return pyluxcore.RenderConfig(props, scene)
 
 
-def luxcore_run(pyluxcore, args, seconds, seed):
-    """Light paths per second of one LIGHTCPU session of `seconds`."""
-    session = pyluxcore.RenderSession(luxcore_config(pyluxcore, args, seed))
+def session_stats(pyluxcore, config, seconds):
+    """Runs a session of `config` for `seconds`; its statistics."""
+    session = pyluxcore.RenderSession(config)
     session.Start()
     deadline = time.perf_counter() + seconds
     while time.perf_counter() < deadline:
@@ -160,6 +157,22 @@ def luxcore_run(pyluxcore, args, seconds, seed):
     session.UpdateStats()
     stats = session.GetStats()
     session.Stop()
+    return stats
+
+
+def luxcore_config(pyluxcore, args, seed):
+    return render_config(pyluxcore, args, f"""
+        renderengine.type = "LIGHTCPU"
+        renderengine.seed = {seed + 1}
+        sampler.type = "RANDOM"
+        light.maxdepth = {args.max_depth - 1}
+        path.pathdepth.total = {args.max_depth - 1}
+        """)
+
+
+def luxcore_run(pyluxcore, args, seconds, seed):
+    """Light paths per second of one LIGHTCPU session of `seconds`."""
+    stats = session_stats(pyluxcore, luxcore_config(pyluxcore, args, seed), seconds)
     paths = stats.Get("stats.renderengine.total.samplecount").GetFloat()
     engine_seconds = stats.Get("stats.renderengine.time").GetFloat()
     rays_per_path = (stats.Get("stats.renderengine.total.raysec").GetFloat()

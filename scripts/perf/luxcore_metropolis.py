@@ -32,45 +32,25 @@ import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from luxcore_light import luxcore_scene  # noqa: E402  (the same Cornell box)
-
-
-def luxcore_config(pyluxcore, args, seed):
-    scene, _ = luxcore_scene(pyluxcore)
-    props = pyluxcore.Properties()
-    props.SetFromString(f"""
-        renderengine.type = "PATHCPU"
-        renderengine.seed = {seed + 1}
-        sampler.type = "METROPOLIS"
-        native.threads.count = {args.threads}
-        path.pathdepth.total = {args.max_depth - 1}
-        path.pathdepth.diffuse = {args.max_depth - 1}
-        path.pathdepth.glossy = {args.max_depth - 1}
-        path.pathdepth.specular = {args.max_depth - 1}
-        film.width = {args.res}
-        film.height = {args.res}
-        film.filter.type = "BOX"
-        film.filter.width = 0.5
-        film.outputs.0.type = "RGB_IMAGEPIPELINE"
-        film.outputs.0.filename = "luxcore_metropolis.png"
-        """)
-    return pyluxcore.RenderConfig(props, scene)
+from luxcore_light import render_config, session_stats  # noqa: E402  (the same box)
 
 
 def luxcore_run(pyluxcore, args, seconds, seed):
     """Mutations per second of one METROPOLIS session of `seconds`."""
-    session = pyluxcore.RenderSession(luxcore_config(pyluxcore, args, seed))
-    session.Start()
-    deadline = time.perf_counter() + seconds
-    while time.perf_counter() < deadline:
-        time.sleep(0.2)
-    session.UpdateStats()
-    stats = session.GetStats()
-    session.Stop()
+    depth = args.max_depth - 1
+    config = render_config(pyluxcore, args, f"""
+        renderengine.type = "PATHCPU"
+        renderengine.seed = {seed + 1}
+        sampler.type = "METROPOLIS"
+        path.pathdepth.total = {depth}
+        path.pathdepth.diffuse = {depth}
+        path.pathdepth.glossy = {depth}
+        path.pathdepth.specular = {depth}
+        """)
+    stats = session_stats(pyluxcore, config, seconds)
     samples = stats.Get("stats.renderengine.total.samplecount").GetFloat()
     engine_seconds = stats.Get("stats.renderengine.time").GetFloat()
     return samples / engine_seconds, samples, engine_seconds

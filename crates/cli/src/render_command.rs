@@ -351,6 +351,31 @@ fn mutation_settings(
     Ok(mutation)
 }
 
+/// `value` if it is at least 1 (a count given as `option`).
+fn positive_count(value: Option<u64>, option: &str) -> Result<Option<u64>, CliError> {
+    match value {
+        Some(0) => Err(usage(format!("{option} must be at least 1"))),
+        other => Ok(other),
+    }
+}
+
+/// The chain options shared by pssmlt and mmlt (mutations, bootstrap,
+/// chains) over `defaults`.
+fn chain_settings(
+    args: &MltArgs,
+    defaults: render::integrators::markov_chain::ChainSettings,
+) -> Result<render::integrators::markov_chain::ChainSettings, CliError> {
+    let mut chains = defaults;
+    chains.mutation = mutation_settings(args, chains.mutation)?;
+    if let Some(count) = positive_count(args.mlt_bootstrap, "--mlt-bootstrap")? {
+        chains.bootstrap_samples = count;
+    }
+    if let Some(count) = positive_count(args.mlt_chains, "--mlt-chains")? {
+        chains.chains = count;
+    }
+    Ok(chains)
+}
+
 /// MMLT's settings from the options.
 pub fn mmlt_settings(args: &MltArgs) -> Result<render::integrators::mmlt::MmltSettings, CliError> {
     if args.mlt_base.is_some() || args.mlt_direct_spp.is_some() {
@@ -362,20 +387,7 @@ pub fn mmlt_settings(args: &MltArgs) -> Result<render::integrators::mmlt::MmltSe
         return Err(usage("the --erpt-* options are for --integrator erpt"));
     }
     let mut settings = render::integrators::mmlt::MmltSettings::default();
-    let chains = &mut settings.chains;
-    chains.mutation = mutation_settings(args, chains.mutation.clone())?;
-    if let Some(count) = args.mlt_bootstrap {
-        if count == 0 {
-            return Err(usage("--mlt-bootstrap must be at least 1"));
-        }
-        chains.bootstrap_samples = count;
-    }
-    if let Some(count) = args.mlt_chains {
-        if count == 0 {
-            return Err(usage("--mlt-chains must be at least 1"));
-        }
-        chains.chains = count;
-    }
+    settings.chains = chain_settings(args, settings.chains)?;
     Ok(settings)
 }
 
@@ -388,16 +400,10 @@ pub fn erpt_settings(args: &MltArgs) -> Result<render::integrators::erpt::ErptSe
         ));
     }
     settings.mutation = mutation_settings(args, settings.mutation)?;
-    if let Some(count) = args.mlt_bootstrap {
-        if count == 0 {
-            return Err(usage("--mlt-bootstrap must be at least 1"));
-        }
+    if let Some(count) = positive_count(args.mlt_bootstrap, "--mlt-bootstrap")? {
         settings.bootstrap_samples = count;
     }
-    if let Some(length) = args.erpt_chain_length {
-        if length == 0 {
-            return Err(usage("--erpt-chain-length must be at least 1"));
-        }
+    if let Some(length) = positive_count(args.erpt_chain_length, "--erpt-chain-length")? {
         settings.chain_length = length;
     }
     if let Some(chains) = args.erpt_chains_per_sample {
@@ -427,29 +433,13 @@ pub fn pssmlt_settings(
     if args.erpt_chain_length.is_some() || args.erpt_chains_per_sample.is_some() {
         return Err(usage("the --erpt-* options are for --integrator erpt"));
     }
-    if let Some(spp) = args.mlt_direct_spp {
-        if spp == 0 {
-            return Err(usage("--mlt-direct-spp must be at least 1"));
-        }
+    if let Some(spp) = positive_count(args.mlt_direct_spp, "--mlt-direct-spp")? {
         if settings.base != MltBase::Path {
             return Err(usage("--mlt-direct-spp is for --mlt-base path"));
         }
         settings.direct_samples_per_pixel = Some(spp);
     }
-    let chains = &mut settings.chains;
-    chains.mutation = mutation_settings(args, chains.mutation.clone())?;
-    if let Some(count) = args.mlt_bootstrap {
-        if count == 0 {
-            return Err(usage("--mlt-bootstrap must be at least 1"));
-        }
-        chains.bootstrap_samples = count;
-    }
-    if let Some(count) = args.mlt_chains {
-        if count == 0 {
-            return Err(usage("--mlt-chains must be at least 1"));
-        }
-        chains.chains = count;
-    }
+    settings.chains = chain_settings(args, settings.chains)?;
     Ok(settings)
 }
 

@@ -12,7 +12,9 @@ use render::sampler::SamplerKind;
 use std::sync::atomic::AtomicBool;
 
 mod path_comparison;
-use path_comparison::{SEEDS, Tested, assert_matches_path, builtin, render_with, values};
+use path_comparison::{
+    SEEDS, Tested, assert_matches_path, builtin, mean_and_error, render_with, values,
+};
 
 const BDPT: Tested = Tested {
     integrator: IntegratorKind::Bdpt,
@@ -273,13 +275,6 @@ fn image_means_of(
             values(&image).sum::<f64>() / (image.pixels().len() * 3) as f64
         })
         .collect()
-}
-
-fn mean_and_error(values: &[f64]) -> (f64, f64) {
-    let r = values.len() as f64;
-    let mean = values.iter().sum::<f64>() / r;
-    let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (r - 1.0);
-    (mean, (variance / r).sqrt())
 }
 
 /// pbrt-v4's analytic furnace: every pixel is 1 (the depth limit of 64

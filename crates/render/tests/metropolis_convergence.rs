@@ -28,7 +28,7 @@ use render::scene::builtin::builtin_scene;
 use std::sync::atomic::AtomicBool;
 
 mod path_comparison;
-use path_comparison::{SEEDS, assert_settings_match_path, builtin, small, values};
+use path_comparison::{SEEDS, assert_settings_match_path, builtin, mean_and_error, small, values};
 
 fn pssmlt(base: MltBase, small_step: SmallStep) -> IntegratorSettings {
     let mut settings = PssmltSettings {
@@ -189,11 +189,18 @@ fn image_mean(image: &render::image::Image) -> f64 {
     values(image).sum::<f64>() / (image.pixels().len() * 3) as f64
 }
 
-fn mean_and_error(values: &[f64]) -> (f64, f64) {
-    let r = values.len() as f64;
-    let mean = values.iter().sum::<f64>() / r;
-    let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (r - 1.0);
-    (mean, (variance / r).sqrt())
+/// pbrt-v4's furnace at depth 64 (every pixel is 1) rendered by
+/// `integrator` at `spp` with seeds 0..SEEDS: the image mean within 4.5
+/// standard errors of 1.
+fn assert_furnace_gives_one(name: &str, integrator: IntegratorSettings, spp: u64) {
+    let scene = builtin("furnace");
+    let means: Vec<f64> = (0..SEEDS)
+        .map(|seed| image_mean(&render_image(&scene, integrator.clone(), spp, seed, 64, 0)))
+        .collect();
+    let (mean, error) = mean_and_error(&means);
+    let t = (mean - 1.0) / error;
+    eprintln!("furnace ({name}): {mean:.5} ± {error:.5} (t = {t:.2})");
+    assert!(t.abs() < 4.5, "furnace ({name}) mean {mean} ± {error}");
 }
 
 /// pbrt-v4's furnace at depth 64: every pixel is 1, with a bootstrap of
@@ -201,7 +208,6 @@ fn mean_and_error(values: &[f64]) -> (f64, f64) {
 /// seed and the bootstrap at depth 64).
 #[test]
 fn pssmlt_in_the_furnace_gives_one_whatever_the_bootstrap() {
-    let scene = builtin("furnace");
     for (base, bootstrap) in [
         (MltBase::Path, 1000),
         (MltBase::Path, 100_000),
@@ -213,25 +219,11 @@ fn pssmlt_in_the_furnace_gives_one_whatever_the_bootstrap() {
         };
         settings.chains.chains = 32;
         settings.chains.bootstrap_samples = bootstrap;
-        let means: Vec<f64> = (0..SEEDS)
-            .map(|seed| {
-                image_mean(&render_image(
-                    &scene,
-                    IntegratorSettings::Pssmlt(settings.clone()),
-                    16,
-                    seed,
-                    64,
-                    0,
-                ))
-            })
-            .collect();
-        let (mean, error) = mean_and_error(&means);
-        let t = (mean - 1.0) / error;
-        eprintln!(
-            "furnace (pssmlt over {}, bootstrap {bootstrap}): {mean:.5} ± {error:.5} (t = {t:.2})",
-            base.name()
+        assert_furnace_gives_one(
+            &format!("pssmlt over {}, bootstrap {bootstrap}", base.name()),
+            IntegratorSettings::Pssmlt(settings),
+            16,
         );
-        assert!(t.abs() < 4.5, "furnace mean {mean} ± {error}");
     }
 }
 
@@ -350,14 +342,7 @@ fn erpt_with_other_steps_matches_path_tracing() {
 
 #[test]
 fn erpt_in_the_furnace_gives_one() {
-    let scene = builtin("furnace");
-    let means: Vec<f64> = (0..SEEDS)
-        .map(|seed| image_mean(&render_image(&scene, erpt(), 2, seed, 64, 0)))
-        .collect();
-    let (mean, error) = mean_and_error(&means);
-    let t = (mean - 1.0) / error;
-    eprintln!("furnace (erpt): {mean:.5} ± {error:.5} (t = {t:.2})");
-    assert!(t.abs() < 4.5, "furnace mean {mean} ± {error}");
+    assert_furnace_gives_one("erpt", erpt(), 2);
 }
 
 #[test]
@@ -405,25 +390,9 @@ fn mmlt_matches_path_tracing_with_depth_of_field_a_glass_sphere_and_media() {
 /// 2000 samples.
 #[test]
 fn mmlt_in_the_furnace_gives_one() {
-    let scene = builtin("furnace");
     let mut settings = MmltSettings::default();
     settings.chains.bootstrap_samples = 2000;
-    let means: Vec<f64> = (0..SEEDS)
-        .map(|seed| {
-            image_mean(&render_image(
-                &scene,
-                IntegratorSettings::Mmlt(settings.clone()),
-                16,
-                seed,
-                64,
-                0,
-            ))
-        })
-        .collect();
-    let (mean, error) = mean_and_error(&means);
-    let t = (mean - 1.0) / error;
-    eprintln!("furnace (mmlt): {mean:.5} ± {error:.5} (t = {t:.2})");
-    assert!(t.abs() < 4.5, "furnace mean {mean} ± {error}");
+    assert_furnace_gives_one("mmlt", IntegratorSettings::Mmlt(settings), 16);
 }
 
 #[test]

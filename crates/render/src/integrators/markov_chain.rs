@@ -505,35 +505,34 @@ pub fn render_markov_chains_onto<C: PathContribution>(
         }
     }
     chain_statistics.chains = plans.len() as u64;
+    // Per thread, a scratch per target.
+    let new_scratches = || {
+        targets
+            .iter()
+            .map(|target| target.new_scratch())
+            .collect::<Vec<_>>()
+    };
     let mut chains: Vec<(ChainPlan, Chain)> = plans
         .into_par_iter()
-        .map_init(
-            || {
-                targets
-                    .iter()
-                    .map(|target| target.new_scratch())
-                    .collect::<Vec<_>>()
-            },
-            |scratches, plan| {
-                let target = &targets[plan.target];
-                let key = target_key(run.seed, plan.target);
-                let start = bootstraps[plan.target]
-                    .pick(SeekablePcg::new(key ^ CHAIN_START_KEY, plan.index).next_f64());
-                let mut sampler = MetropolisSampler::new(key, start, settings.mutation.clone());
-                let mut current = SplatBuffer::new();
-                let mut counters = TraceCounters::default();
-                target.evaluate(
-                    &mut scratches[plan.target],
-                    &mut sampler,
-                    &mut current,
-                    &mut counters,
-                );
-                sampler.accept();
-                sampler.continue_on_stream(key ^ CHAIN_STREAM_KEY, plan.index);
-                let current_importance = importance(current.splats());
-                (plan, Chain::new(sampler, current, current_importance))
-            },
-        )
+        .map_init(new_scratches, |scratches, plan| {
+            let target = &targets[plan.target];
+            let key = target_key(run.seed, plan.target);
+            let start = bootstraps[plan.target]
+                .pick(SeekablePcg::new(key ^ CHAIN_START_KEY, plan.index).next_f64());
+            let mut sampler = MetropolisSampler::new(key, start, settings.mutation.clone());
+            let mut current = SplatBuffer::new();
+            let mut counters = TraceCounters::default();
+            target.evaluate(
+                &mut scratches[plan.target],
+                &mut sampler,
+                &mut current,
+                &mut counters,
+            );
+            sampler.accept();
+            sampler.continue_on_stream(key ^ CHAIN_STREAM_KEY, plan.index);
+            let current_importance = importance(current.splats());
+            (plan, Chain::new(sampler, current, current_importance))
+        })
         .collect();
 
     // 3. The passes: one mutation per pixel each (over all targets).
@@ -542,26 +541,18 @@ pub fn render_markov_chains_onto<C: PathContribution>(
     while pass < run.samples_per_pixel && !run.out_of_time() {
         let outputs: Vec<(ChainWork, bool)> = chains
             .par_iter_mut()
-            .map_init(
-                || {
-                    targets
-                        .iter()
-                        .map(|target| target.new_scratch())
-                        .collect::<Vec<_>>()
-                },
-                |scratches, (plan, chain)| {
-                    let mut work = ChainWork::default();
-                    let finished = chain.mutate(
-                        &targets[plan.target],
-                        &mut scratches[plan.target],
-                        plan.mutations,
-                        plan.energy,
-                        &mut work,
-                        &|| run.out_of_time(),
-                    );
-                    (work, finished)
-                },
-            )
+            .map_init(new_scratches, |scratches, (plan, chain)| {
+                let mut work = ChainWork::default();
+                let finished = chain.mutate(
+                    &targets[plan.target],
+                    &mut scratches[plan.target],
+                    plan.mutations,
+                    plan.energy,
+                    &mut work,
+                    &|| run.out_of_time(),
+                );
+                (work, finished)
+            })
             .collect();
         let complete = outputs.iter().all(|(_, finished)| *finished);
         for (work, _) in &outputs {

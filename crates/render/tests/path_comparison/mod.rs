@@ -278,6 +278,14 @@ pub fn assert_settings_match_path(
     }
 }
 
+/// The mean of independent `values` and its standard error.
+pub fn mean_and_error(values: &[f64]) -> (f64, f64) {
+    let r = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / r;
+    let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (r - 1.0);
+    (mean, (variance / r).sqrt())
+}
+
 /// A built-in scene at the tests' width.
 pub fn builtin(name: &str) -> Scene {
     Scene::build(&small(builtin_scene(name).unwrap())).unwrap()
