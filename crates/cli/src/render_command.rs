@@ -48,6 +48,9 @@ pub enum IntegratorName {
     /// Multiplexed Metropolis light transport (Hachisuka et al. 2014):
     /// chains per path depth, one BDPT strategy per sample.
     Mmlt,
+    /// Vertex connection and merging (Georgiev et al. 2012): BDPT and
+    /// progressive photon mapping under one MIS (--vcm-mode).
+    Vcm,
 }
 
 impl IntegratorName {
@@ -62,6 +65,7 @@ impl IntegratorName {
             IntegratorName::Pssmlt => IntegratorKind::Pssmlt,
             IntegratorName::Erpt => IntegratorKind::Erpt,
             IntegratorName::Mmlt => IntegratorKind::Mmlt,
+            IntegratorName::Vcm => IntegratorKind::Vcm,
         }
     }
 }
@@ -225,6 +229,59 @@ pub struct RenderArgs {
     pub lqmc: LqmcArgs,
     #[command(flatten)]
     pub mlt: MltArgs,
+    #[command(flatten)]
+    pub vcm: VcmArgs,
+}
+
+/// Options of vertex connection and merging (defaults SmallVCM's; see
+/// `render::integrators::vcm`).
+#[derive(Args, Debug, Default)]
+pub struct VcmArgs {
+    /// vcm: the techniques, `vcm` (connections and merges; default), `bpt`
+    /// (connections only), `bpm` (merges with MIS) or `ppm` (merges at the
+    /// first non-specular vertex, no MIS).
+    #[arg(long, value_name = "vcm|bpt|bpm|ppm")]
+    pub vcm_mode: Option<String>,
+    /// vcm: the first iteration's merging radius as a fraction of the
+    /// scene's bounding-sphere radius (default 0.003).
+    #[arg(long, value_name = "FRACTION")]
+    pub vcm_radius: Option<f32>,
+    /// vcm: the radius reduction's alpha, r_i = r_1 i^((alpha-1)/2), in
+    /// (0, 1] (default 0.75).
+    #[arg(long, value_name = "ALPHA")]
+    pub vcm_alpha: Option<f32>,
+}
+
+impl VcmArgs {
+    /// Whether any option is given.
+    pub fn any(&self) -> bool {
+        self.vcm_mode.is_some() || self.vcm_radius.is_some() || self.vcm_alpha.is_some()
+    }
+}
+
+/// VCM's settings from the options.
+pub fn vcm_settings(args: &VcmArgs) -> Result<render::integrators::vcm::VcmSettings, CliError> {
+    use render::integrators::vcm::{VcmMode, VcmSettings};
+    let mut settings = VcmSettings::default();
+    if let Some(name) = &args.vcm_mode {
+        settings.mode = VcmMode::from_name(name)
+            .ok_or_else(|| usage(format!("--vcm-mode: `{name}` is not vcm, bpt, bpm or ppm")))?;
+    }
+    if let Some(fraction) = args.vcm_radius {
+        if !(fraction > 0.0 && fraction.is_finite()) {
+            return Err(usage(format!(
+                "--vcm-radius must be a positive fraction, got {fraction}"
+            )));
+        }
+        settings.radius_fraction = fraction;
+    }
+    if let Some(alpha) = args.vcm_alpha {
+        if !(alpha > 0.0 && alpha <= 1.0) {
+            return Err(usage(format!("--vcm-alpha must be in (0, 1], got {alpha}")));
+        }
+        settings.alpha = alpha;
+    }
+    Ok(settings)
 }
 
 /// Options of the Metropolis integrators (defaults: Kelemen et al. 2002,
@@ -705,8 +762,16 @@ pub fn integrator_settings(
     kind: IntegratorKind,
     lqmc: &LqmcArgs,
     mlt: &MltArgs,
+    vcm: &VcmArgs,
 ) -> Result<IntegratorSettings, CliError> {
+    if vcm.any() && kind != IntegratorKind::Vcm {
+        return Err(usage(format!(
+            "the --vcm-* options are for --integrator vcm, not {}",
+            kind.name()
+        )));
+    }
     Ok(match kind {
+        IntegratorKind::Vcm => IntegratorSettings::Vcm(vcm_settings(vcm)?),
         IntegratorKind::Lqmc => IntegratorSettings::Lqmc(lqmc_settings(lqmc)?),
         IntegratorKind::Pssmlt => IntegratorSettings::Pssmlt(pssmlt_settings(mlt)?),
         IntegratorKind::Erpt => IntegratorSettings::Erpt(erpt_settings(mlt)?),
@@ -716,10 +781,11 @@ pub fn integrator_settings(
 }
 
 /// The MIS heuristic of an integrator when `--mis` names none: the balance
-/// heuristic for BDPT (Kollig & Keller's), the power heuristic otherwise.
+/// heuristic for BDPT (Kollig & Keller's) and VCM (SmallVCM's), the power
+/// heuristic otherwise.
 pub fn default_heuristic(kind: IntegratorKind) -> MisHeuristic {
     match kind {
-        IntegratorKind::Bdpt => MisHeuristic::Balance,
+        IntegratorKind::Bdpt | IntegratorKind::Vcm => MisHeuristic::Balance,
         _ => MisHeuristic::Power,
     }
 }
@@ -830,6 +896,16 @@ pub fn render_metadata(
         "rrDepth".into(),
         settings.russian_roulette_depth.to_string(),
     );
+    if let Some(memory) = statistics.memory {
+        metadata.insert(
+            "peakResidentBytes".into(),
+            memory.peak_resident_bytes.to_string(),
+        );
+        metadata.insert(
+            "residentBytesAtStart".into(),
+            memory.resident_bytes_at_start.to_string(),
+        );
+    }
     metadata
 }
 
@@ -917,7 +993,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             integrator_kind.name()
         )));
     }
-    let mut integrator = integrator_settings(integrator_kind, &args.lqmc, &args.mlt)?;
+    let mut integrator = integrator_settings(integrator_kind, &args.lqmc, &args.mlt, &args.vcm)?;
     for (given, option) in [
         (
             args.bdpt_skip_eye_connections,
@@ -1078,8 +1154,14 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         statistics.rays as f64 / seconds / 1e6,
         statistics.nonfinite_samples,
     );
-    let metropolis = settings.integrator.kind().is_metropolis();
-    if let (true, Some(details)) = (args.lqmc.stats || metropolis, &output.details) {
+    if let Some(memory) = statistics.memory {
+        say!("{}", memory.describe());
+    }
+    // The Metropolis integrators' chains and VCM's iterations and merges
+    // are always reported.
+    let kind = settings.integrator.kind();
+    let always = kind.is_metropolis() || kind == IntegratorKind::Vcm;
+    if let (true, Some(details)) = (args.lqmc.stats || always, &output.details) {
         let threads = if settings.threads == 0 {
             std::thread::available_parallelism().map_or(1, |count| count.get())
         } else {

@@ -66,6 +66,7 @@ fn render_writes_exr_and_png_with_metadata_and_reports_rates() {
         "rays/s",
         "NaN/Inf samples dropped",
         "4.0 samples per pixel",
+        "peak resident memory",
     ] {
         assert!(text.contains(expected), "'{expected}' missing in {text}");
     }
@@ -86,6 +87,9 @@ fn render_writes_exr_and_png_with_metadata_and_reports_rates() {
         Some("path")
     );
     assert!(contents.metadata.contains_key("renderTimeSeconds"));
+    // The peak resident memory of the render, in bytes: at least the film.
+    let peak: u64 = contents.metadata["peakResidentBytes"].parse().unwrap();
+    assert!(peak > 1 << 20, "{peak}");
     assert_eq!(
         contents.metadata.get("rrDepth").map(String::as_str),
         Some("5")
@@ -234,6 +238,48 @@ fn erpt_renders_and_reports_its_chains() {
     assert!(image.pixels().iter().flatten().any(|&value| value > 0.0));
 }
 
+/// VCM from the CLI in every mode: iterations and merges reported, no
+/// NaN/Inf, and the peak memory.
+#[test]
+fn vcm_renders_and_reports_its_merges() {
+    let directory = temporary_directory("vcm");
+    for mode in ["vcm", "bpt", "bpm", "ppm"] {
+        let pfm = directory.join(format!("{mode}.pfm"));
+        let output = lqmc(&[
+            "render",
+            "builtin:cornell-box",
+            "--integrator",
+            "vcm",
+            "--vcm-mode",
+            mode,
+            "--vcm-radius",
+            "0.02",
+            "--spp",
+            "3",
+            "--resolution",
+            "16x12",
+            "--quiet",
+            "-o",
+            pfm.to_str().unwrap(),
+        ]);
+        assert!(output.status.success(), "{output:?}");
+        let text = String::from_utf8(output.stdout).unwrap();
+        assert!(
+            text.contains("with vcm / halton: 3.0 samples per pixel"),
+            "{text}"
+        );
+        assert!(text.contains("0 NaN/Inf samples dropped"), "{text}");
+        assert!(
+            text.contains(&format!("vcm ({mode}): 3 iterations")),
+            "{text}"
+        );
+        assert!(text.contains("M merges/s"), "{text}");
+        assert!(text.contains("peak resident memory"), "{text}");
+        let image = render::image::read_pfm(&pfm).unwrap();
+        assert!(image.pixels().iter().flatten().any(|&value| value > 0.0));
+    }
+}
+
 #[test]
 fn bad_render_input_is_one_line_and_status_two() {
     let cases: &[&[&str]] = &[
@@ -246,7 +292,32 @@ fn bad_render_input_is_one_line_and_status_two() {
         &["render", "builtin:furnace", "-o", "image.txt"],
         &["render", "builtin:furnace", "--sampler", "zsobol"],
         &["render", "builtin:furnace", "--randomize", "sometimes"],
-        &["render", "builtin:furnace", "--integrator", "vcm"],
+        &["render", "builtin:furnace", "--integrator", "sppm"],
+        &["render", "builtin:furnace", "--vcm-radius", "0.01"],
+        &[
+            "render",
+            "builtin:furnace",
+            "--integrator",
+            "vcm",
+            "--vcm-mode",
+            "sppm",
+        ],
+        &[
+            "render",
+            "builtin:furnace",
+            "--integrator",
+            "vcm",
+            "--vcm-radius",
+            "0",
+        ],
+        &[
+            "render",
+            "builtin:furnace",
+            "--integrator",
+            "vcm",
+            "--vcm-alpha",
+            "1.5",
+        ],
         &[
             "render",
             "builtin:furnace",

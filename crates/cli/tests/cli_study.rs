@@ -381,8 +381,8 @@ fn bad_study_input_is_one_line_and_status_two_before_rendering() {
     let output_directory = directory.join("never-written");
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (
-            vec!["--integrators", "path,vcm", "--reference-spp", "4"],
-            "unknown integrator `vcm` (known: path, volpath, lqmc, light, bdpt, pssmlt,",
+            vec!["--integrators", "path,sppm", "--reference-spp", "4"],
+            "unknown integrator `sppm` (known: path, volpath, lqmc, light, bdpt, pssmlt,",
         ),
         (
             vec!["--integrators", "path:owen", "--reference-spp", "4"],

@@ -10,6 +10,7 @@ pub mod integrators;
 pub mod light;
 pub mod material;
 pub mod medium;
+pub mod memory;
 pub mod renderer;
 pub mod sampler;
 pub mod scene;

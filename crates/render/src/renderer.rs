@@ -103,6 +103,9 @@ pub struct RenderStatistics {
     pub completed_samples_per_pixel: u64,
     /// True if the render stopped early (time budget or interruption).
     pub stopped_early: bool,
+    /// The peak resident memory during the render, where the system tells
+    /// ([`crate::memory`]).
+    pub memory: Option<crate::memory::MemoryReport>,
 }
 
 /// The rendered film and what else the integrator returned.
@@ -196,6 +199,7 @@ pub fn render(
             threads: settings.threads,
             message: error.to_string(),
         })?;
+    let memory = crate::memory::PeakMemoryMeasurement::start();
     let integrator = settings.integrator.create(settings.path_settings());
     let run = RunControl {
         sampler: settings.sampler,
@@ -219,6 +223,7 @@ pub fn render(
         elapsed: run.start.elapsed(),
         completed_samples_per_pixel: driver.completed_samples_per_pixel,
         stopped_early: driver.stopped_early,
+        memory: memory.finish(),
     };
     let auxiliary_images = rendered
         .auxiliary_images

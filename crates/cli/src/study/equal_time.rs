@@ -448,7 +448,14 @@ pub fn run(args: &EqualTimeArgs) -> Result<(), CliError> {
     check_distinct(&entries)?;
     let settings_of_entries = entries
         .iter()
-        .map(|entry| integrator_settings(entry.integrator, &args.scene.lqmc, &args.scene.mlt))
+        .map(|entry| {
+            integrator_settings(
+                entry.integrator,
+                &args.scene.lqmc,
+                &args.scene.mlt,
+                &args.scene.vcm,
+            )
+        })
         .collect::<Result<Vec<_>, CliError>>()?;
     prepare_output_directory(&args.output)?;
 

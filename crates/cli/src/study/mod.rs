@@ -12,7 +12,7 @@ pub mod kollig_keller;
 pub mod measures;
 
 use crate::error::{CliError, usage};
-use crate::render_command::{LqmcArgs, MltArgs, parse_definition};
+use crate::render_command::{LqmcArgs, MltArgs, VcmArgs, parse_definition};
 use clap::Args;
 use render::integrators::IntegratorKind;
 use render::sampler::SamplerKind;
@@ -47,6 +47,9 @@ pub struct StudySceneArgs {
     /// Options of the Metropolis entries.
     #[command(flatten)]
     pub mlt: MltArgs,
+    /// Options of the `vcm` entries.
+    #[command(flatten)]
+    pub vcm: VcmArgs,
 }
 
 impl StudySceneArgs {
@@ -248,10 +251,10 @@ mod tests {
 
     #[test]
     fn unknown_names_are_usage_errors_listing_the_known_ones() {
-        let Err(CliError::Usage(message)) = parse_integrator_list("path,vcm") else {
-            panic!("vcm is not an integrator yet");
+        let Err(CliError::Usage(message)) = parse_integrator_list("path,sppm") else {
+            panic!("sppm is not an integrator");
         };
-        assert!(message.contains("vcm") && message.contains("path, volpath, lqmc, light, bdpt"));
+        assert!(message.contains("sppm") && message.contains("path, volpath, lqmc, light, bdpt"));
         let Err(CliError::Usage(message)) = parse_integrator_list("path:owen") else {
             panic!("owen is not a sampler");
         };

@@ -235,6 +235,87 @@ pub trait PixelSampleEstimator: Sync {
     /// Called after each pass has been merged into `film`; `complete` is
     /// false for a partial pass.
     fn end_pass(&self, _total: &mut Self::Total, _film: &Film, _complete: bool) {}
+
+    /// Called before each pass's tiles: an integrator that needs the whole
+    /// pass's light subpaths before any camera subpath (VCM) traces them
+    /// here, through `pass`. Returns the rays it traced.
+    fn begin_pass(&self, _pass: &PassWork<'_>) -> TraceCounters {
+        TraceCounters::default()
+    }
+}
+
+/// What [`PixelSampleEstimator::begin_pass`] can do: work over the pass's
+/// pixel samples with the render's sampler, in parallel and in a fixed
+/// order.
+pub struct PassWork<'a> {
+    tiles: &'a [PixelBounds],
+    samples: std::ops::Range<u64>,
+    prototype: &'a dyn PixelSampler,
+    resolution: [usize; 2],
+}
+
+impl PassWork<'_> {
+    /// The pass's samples per pixel (their indices).
+    pub fn samples(&self) -> std::ops::Range<u64> {
+        self.samples.clone()
+    }
+
+    /// The film's resolution.
+    pub fn resolution(&self) -> [usize; 2] {
+        self.resolution
+    }
+
+    /// A sampler positioned at sample `sample_index` of `pixel`: numbers
+    /// shared by the whole pass.
+    pub fn sampler_at(&self, pixel: (u32, u32), sample_index: u64) -> Box<dyn PixelSampler> {
+        let mut sampler = self.prototype.clone_sampler();
+        sampler.start_pixel_sample(pixel, sample_index);
+        sampler
+    }
+
+    /// Runs `work` once per pixel sample of the pass, the sampler
+    /// positioned at it, with a state per tile (from `start`): the film's
+    /// tiles in parallel, pixels in rows within a tile, a pixel's samples
+    /// in order. Returns the tiles' states in tile order and the rays
+    /// counted.
+    pub fn for_each_pixel_sample<State: Send>(
+        &self,
+        start: &(dyn Fn() -> State + Sync),
+        work: &(
+             dyn Fn(&mut State, PixelSampleIndex, &mut dyn PixelSampler, &mut TraceCounters) + Sync
+         ),
+    ) -> (Vec<State>, TraceCounters) {
+        let per_tile: Vec<(State, TraceCounters)> = self
+            .tiles
+            .par_iter()
+            .map(|bounds| {
+                let mut sampler = self.prototype.clone_sampler();
+                let mut counters = TraceCounters::default();
+                let mut state = start();
+                for y in bounds.min[1]..bounds.max[1] {
+                    for x in bounds.min[0]..bounds.max[0] {
+                        for sample_index in self.samples.clone() {
+                            let pixel = (x as u32, y as u32);
+                            sampler.start_pixel_sample(pixel, sample_index);
+                            let index = PixelSampleIndex {
+                                pixel,
+                                sample_index,
+                            };
+                            work(&mut state, index, sampler.as_mut(), &mut counters);
+                        }
+                    }
+                }
+                (state, counters)
+            })
+            .collect();
+        let mut counters = TraceCounters::default();
+        let mut states = Vec::with_capacity(per_tile.len());
+        for (state, tile_counters) in per_tile {
+            states.push(state);
+            counters.add(&tile_counters);
+        }
+        (states, counters)
+    }
 }
 
 /// Renders `scene` with `estimator` under `run` (see the module docs).
@@ -269,6 +350,13 @@ pub fn render_pixel_samples<E: PixelSampleEstimator>(
     while first_sample < run.samples_per_pixel && !run.out_of_time() {
         let end_sample = (first_sample + pass_size).min(run.samples_per_pixel);
         let samples = first_sample..end_sample;
+        let prepared = estimator.begin_pass(&PassWork {
+            tiles: &tiles,
+            samples: samples.clone(),
+            prototype: prototype.as_ref(),
+            resolution,
+        });
+        statistics.rays += prepared.rays();
         let results: Vec<Option<(UnitOutput, E::Unit, u64)>> = tiles
             .par_iter()
             .map(|bounds| {
@@ -460,6 +548,20 @@ pub trait SplatEstimator: Sync {
     /// Adds a finished work unit to the total, in a fixed order; `kept` is
     /// false for a unit of a partial pass (its splats were dropped).
     fn merge_unit(&self, total: &mut Self::Total, unit: Self::Unit, kept: bool);
+
+    /// [`PixelSampleEstimator::begin_pass`].
+    fn begin_pass(&self, _pass: &PassWork<'_>) -> TraceCounters {
+        TraceCounters::default()
+    }
+
+    /// [`PixelSampleEstimator::pass_size`] (the same default).
+    fn pass_size(&self, samples_per_pixel: u64, timed: bool) -> u64 {
+        if timed {
+            1
+        } else {
+            samples_per_pixel.clamp(1, 4)
+        }
+    }
 }
 
 /// A [`SplatEstimator`] seen as a [`PixelSampleEstimator`] that writes no
@@ -498,6 +600,14 @@ impl<E: SplatEstimator> PixelSampleEstimator for SplatsOnly<'_, E> {
 
     fn merge_unit(&self, total: &mut Self::Total, unit: Self::Unit, kept: bool) {
         self.0.merge_unit(total, unit, kept);
+    }
+
+    fn begin_pass(&self, pass: &PassWork<'_>) -> TraceCounters {
+        self.0.begin_pass(pass)
+    }
+
+    fn pass_size(&self, samples_per_pixel: u64, timed: bool) -> u64 {
+        self.0.pass_size(samples_per_pixel, timed)
     }
 }
 

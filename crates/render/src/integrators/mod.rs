@@ -29,6 +29,7 @@ pub mod path;
 pub mod path_space;
 pub mod progression_variance;
 pub mod pssmlt;
+pub mod vcm;
 pub mod volpath;
 
 pub use driver::{DriverStatistics, RenderError, RunControl};
@@ -66,11 +67,14 @@ pub enum IntegratorKind {
     /// Multiplexed Metropolis light transport (Hachisuka et al. 2014):
     /// chains per path depth over one BDPT strategy each (see [`mmlt`]).
     Mmlt,
+    /// Vertex connection and merging (Georgiev et al. 2012): BDPT plus
+    /// progressive photon mapping's merges, one MIS (see [`vcm`]).
+    Vcm,
 }
 
 impl IntegratorKind {
     /// Every integrator with its command-line name.
-    pub const ALL: [(IntegratorKind, &'static str); 8] = [
+    pub const ALL: [(IntegratorKind, &'static str); 9] = [
         (IntegratorKind::Path, "path"),
         (IntegratorKind::VolPath, "volpath"),
         (IntegratorKind::Lqmc, "lqmc"),
@@ -79,6 +83,7 @@ impl IntegratorKind {
         (IntegratorKind::Pssmlt, "pssmlt"),
         (IntegratorKind::Erpt, "erpt"),
         (IntegratorKind::Mmlt, "mmlt"),
+        (IntegratorKind::Vcm, "vcm"),
     ];
 
     /// The integrator called `name`.
@@ -128,6 +133,8 @@ pub enum IntegratorSettings {
     Erpt(erpt::ErptSettings),
     /// [`IntegratorKind::Mmlt`] with its options.
     Mmlt(mmlt::MmltSettings),
+    /// [`IntegratorKind::Vcm`] with its options.
+    Vcm(vcm::VcmSettings),
 }
 
 impl From<IntegratorKind> for IntegratorSettings {
@@ -142,6 +149,7 @@ impl From<IntegratorKind> for IntegratorSettings {
             IntegratorKind::Pssmlt => Self::Pssmlt(pssmlt::PssmltSettings::default()),
             IntegratorKind::Erpt => Self::Erpt(erpt::ErptSettings::default()),
             IntegratorKind::Mmlt => Self::Mmlt(mmlt::MmltSettings::default()),
+            IntegratorKind::Vcm => Self::Vcm(vcm::VcmSettings::default()),
         }
     }
 }
@@ -158,6 +166,7 @@ impl IntegratorSettings {
             Self::Pssmlt(_) => IntegratorKind::Pssmlt,
             Self::Erpt(_) => IntegratorKind::Erpt,
             Self::Mmlt(_) => IntegratorKind::Mmlt,
+            Self::Vcm(_) => IntegratorKind::Vcm,
         }
     }
 
@@ -184,6 +193,7 @@ impl IntegratorSettings {
             Self::Mmlt(settings) => {
                 Box::new(mmlt::MmltIntegrator::new(settings.clone(), path_settings))
             }
+            Self::Vcm(settings) => Box::new(vcm::VcmIntegrator::new(*settings, path_settings)),
         }
     }
 }

@@ -11,7 +11,7 @@ use crate::camera::{FovAxis, PerspectiveSettings, look_at};
 use glam::{Affine3A, Quat, Vec3};
 
 /// The built-in scenes: name and a one-line description.
-pub const BUILTIN_SCENES: [(&str, &str); 8] = [
+pub const BUILTIN_SCENES: [(&str, &str); 9] = [
     (
         "cornell-box",
         "Mitsuba 3's RGB Cornell box (cbox-rgb.xml): diffuse walls and boxes, one area light",
@@ -44,6 +44,10 @@ pub const BUILTIN_SCENES: [(&str, &str); 8] = [
         "heinrich-keller",
         "a furnished diffuse room of 276 triangles with two rectangular ceiling lights (Heinrich & Keller's test scene kind)",
     ),
+    (
+        "ajar-door",
+        "a room lit only through a door ajar from a second room's ceiling light; glossy floor, gold and plastic spheres (LQMC Fig. 8 kind; scenes/ajar-door/ajar-door.xml)",
+    ),
 ];
 
 /// The scene used when none is named.
@@ -60,6 +64,7 @@ pub fn builtin_scene(name: &str) -> Option<SceneDescription> {
         "translucent-spheres" => Some(translucent_spheres()),
         "volumetric-caustic" => Some(volumetric_caustic()),
         "heinrich-keller" => Some(heinrich_keller_room()),
+        "ajar-door" => Some(ajar_door()),
         _ => None,
     }
 }
@@ -910,6 +915,27 @@ fn heinrich_keller_room() -> SceneDescription {
     }
 }
 
+/// The ajar door's Mitsuba file, embedded: one definition that lqmc and
+/// other renderers (Mitsuba 3) render alike.
+const AJAR_DOOR_XML: &str = include_str!("../../../../scenes/ajar-door/ajar-door.xml");
+
+/// The LQMC paper's Fig. 8 kind of scene (and Veach's door): a room lit
+/// only through the gaps of a door ajar, from a light in the next room
+/// (see the file's comment).
+fn ajar_door() -> SceneDescription {
+    let loaded = super::mitsuba::load_text(
+        AJAR_DOOR_XML,
+        std::path::Path::new("scenes/ajar-door/ajar-door.xml"),
+        &super::loader::LoadOptions::default(),
+    )
+    .expect(
+        "the embedded ajar-door scene loads (tested: every_listed_scene_exists_and_has_a_light)",
+    );
+    let mut description = loaded.description;
+    description.name = "ajar-door".into();
+    description
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -924,6 +950,36 @@ mod tests {
         }
         assert!(builtin_scene("teapot").is_none());
         assert!(builtin_scene(DEFAULT_SCENE).is_some());
+    }
+
+    /// The ajar door's camera sees no emitter (at depth 1, emitters only,
+    /// the image is black) and light reaches the room through the gaps.
+    #[test]
+    fn the_ajar_door_hides_its_light() {
+        use crate::renderer::{RenderSettings, render};
+        let mut description = builtin_scene("ajar-door").unwrap();
+        description.camera.resolution = [32, 24];
+        let scene = crate::scene::Scene::build(&description).unwrap();
+        let mean = |max_depth| {
+            let settings = RenderSettings {
+                samples_per_pixel: 4,
+                max_depth,
+                threads: 2,
+                ..RenderSettings::default()
+            };
+            render(
+                &scene,
+                &settings,
+                &std::sync::atomic::AtomicBool::new(false),
+                &|_, _| {},
+            )
+            .unwrap()
+            .image()
+            .mean()
+        };
+        assert_eq!(mean(1), [0.0f64; 3]);
+        let lit = mean(8);
+        assert!(lit.iter().all(|&channel| channel > 0.0), "{lit:?}");
     }
 
     #[test]

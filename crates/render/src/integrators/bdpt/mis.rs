@@ -71,6 +71,9 @@ pub struct VertexDensities {
     pub reverse_free_flight: SampledSpectrum,
     /// The vertex scattered by a delta lobe (no connection can join it).
     pub delta: bool,
+    /// The vertex is on a surface (not in a medium): vertex merging
+    /// ([`technique_weight`]) happens on surfaces only.
+    pub on_surface: bool,
 }
 
 impl Default for VertexDensities {
@@ -88,6 +91,7 @@ impl VertexDensities {
             forward_free_flight: SampledSpectrum::splat(1.0),
             reverse_free_flight: SampledSpectrum::splat(1.0),
             delta,
+            on_surface: true,
         }
     }
 
@@ -99,16 +103,40 @@ impl VertexDensities {
     }
 }
 
-/// Which strategies a render uses besides the always-present ones, and the
-/// heuristic that weighs them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Which strategies a render uses besides the always-present one (the
+/// camera subpath reaching a light), and the heuristic that weighs them:
+/// BDPT's connections, and vertex connection and merging's merges
+/// (Georgiev et al. 2012; every mode of `--vcm-mode` is such a set).
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Strategies {
     /// The heuristic.
     pub heuristic: MisHeuristic,
+    /// Connections with s ≥ 1 (next-event estimation, subpath connections,
+    /// light tracing): BDPT's; off for bidirectional photon mapping.
+    pub connections: bool,
     /// Whether the strategies with t = 1 (light tracing: the light
-    /// subpath's vertices connected to the camera) are used; Kollig & Keller
-    /// leave them out for OFFICE.
+    /// subpath's vertices connected to the camera) are among the
+    /// connections; Kollig & Keller leave them out for OFFICE.
     pub camera_connections: bool,
+    /// Vertex merging, with η = π r² N_VM / N_VC: the merging disc's area
+    /// times the light subpaths each camera subpath merges with, over those
+    /// it connects to (one). A merge at a vertex has the density of the
+    /// connection there times η times the density of the vertex sampled
+    /// from the light side (Georgiev et al. 2012, §4).
+    pub merging: Option<f32>,
+}
+
+impl Strategies {
+    /// BDPT's strategies: every connection, light tracing if
+    /// `camera_connections`, no merging.
+    pub fn bidirectional(heuristic: MisHeuristic, camera_connections: bool) -> Self {
+        Self {
+            heuristic,
+            connections: true,
+            camera_connections,
+            merging: None,
+        }
+    }
 }
 
 /// The weight of the strategy that made a path from the camera subpath's
@@ -127,6 +155,16 @@ pub fn strategy_weight(
     strategies: Strategies,
     spectral_density_ratio: Option<&SampledSpectrum>,
 ) -> f32 {
+    if strategies.merging.is_some() || !strategies.connections {
+        return technique_weight(
+            camera,
+            light,
+            delta_light,
+            strategies,
+            OwnTechnique::Connection,
+            spectral_density_ratio,
+        );
+    }
     if let Some(ratio) = spectral_density_ratio {
         return spectral_strategy_weight(camera, light, delta_light, strategies, ratio);
     }
@@ -247,15 +285,190 @@ fn spectral_strategy_weight(
     }
 }
 
+/// Which technique made the path whose weight is asked.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OwnTechnique {
+    /// The connection of the split the densities describe (s, t).
+    Connection,
+    /// A merge at the camera subpath's last vertex `z_{t−1}`: the light
+    /// subpath reached a point near it after `y_{s−1}`; the densities are
+    /// those of the split (s, t), `z_{t−1}`'s reverse density its density
+    /// as sampled from `y_{s−1}`.
+    MergeAtCameraEnd,
+}
+
+/// Whether a vertex can be merged at: a surface point whose scattering is
+/// not a delta lobe (VCM here merges on surfaces only).
+#[inline]
+fn mergeable(vertex: &VertexDensities) -> bool {
+    vertex.on_surface && !vertex.delta
+}
+
+/// The multiple-importance weight of technique `own` over the strategies
+/// `techniques` (vertex connection and merging), for the path of the
+/// split (s, t) described by `camera` (`z₀` first) and `light` (`y₀`
+/// first) as in [`strategy_weight`]. The ratio walk of the module docs,
+/// with a merge at each vertex `x` besides the connections: its density
+/// relative to the split whose connection joins `x` to its light-side
+/// neighbour is η times `x`'s density sampled from the light side
+/// (Georgiev et al. 2012, Eq. 11; SmallVCM's dVCM, dVC and dVM are the
+/// same sums, accumulated along the subpaths). A merge needs a mergeable
+/// vertex that is neither the lens `z₀` nor the light's own point `y₀`.
+///
+/// In media, `spectral_density_ratio` is as in [`strategy_weight`] (the
+/// path's `r_j` for the split (s, t)) and the combination with the choice
+/// of hero wavelength is the same: `m_X = mean_j r_j R_j(X)` per
+/// technique X, weight `(p_{own,0} / p_{s,0}) m_own^{β−1} / Σ_X m_X^β`.
+pub fn technique_weight(
+    camera: &[VertexDensities],
+    light: &[VertexDensities],
+    delta_light: bool,
+    techniques: Strategies,
+    own: OwnTechnique,
+    spectral_density_ratio: Option<&SampledSpectrum>,
+) -> f32 {
+    const LANES: usize = SPECTRUM_SAMPLE_COUNT;
+    let (s, t) = (light.len(), camera.len());
+    let heuristic = techniques.heuristic;
+    let power = |value: f64| match heuristic {
+        MisHeuristic::Balance => value,
+        MisHeuristic::Power => value * value,
+    };
+    let remap = |density: f32| if density != 0.0 { density } else { 1.0 } as f64;
+    // r_j (all 1 without media: one lane suffices, the others follow).
+    let lanes = if spectral_density_ratio.is_some() {
+        LANES
+    } else {
+        1
+    };
+    let path_ratio: [f64; LANES] = std::array::from_fn(|j| match spectral_density_ratio {
+        Some(ratio) => {
+            let r = ratio[j] as f64;
+            if r.is_finite() && r > 0.0 { r } else { 0.0 }
+        }
+        None => 1.0,
+    });
+    let mean_of = |ratio: &[f64; LANES]| -> f64 {
+        (0..lanes).map(|j| path_ratio[j] * ratio[j]).sum::<f64>() / lanes as f64
+    };
+    let step = |ratio: &mut [f64; LANES], vertex: &VertexDensities| {
+        let geometric = remap(vertex.reverse) / remap(vertex.forward);
+        for (j, value) in ratio.iter_mut().enumerate().take(lanes) {
+            let forward = vertex.forward_free_flight[j] as f64;
+            let reverse = vertex.reverse_free_flight[j] as f64;
+            *value *= if forward > 0.0 {
+                geometric * reverse / forward
+            } else {
+                0.0
+            };
+        }
+    };
+    // A merge at `vertex`, from the split with ratios `ratio`: times η and
+    // the vertex's light-side density (with its free flight).
+    let merge = |ratio: &[f64; LANES], vertex: &VertexDensities, eta: f32| -> [f64; LANES] {
+        std::array::from_fn(|j| {
+            ratio[j] * vertex.reverse as f64 * vertex.reverse_free_flight[j] as f64 * eta as f64
+        })
+    };
+    // Whether the connection joining the last `i` camera vertices' side to
+    // the rest is a technique of the set: between z_{i−1} and z_i.
+    let connection = |before: &VertexDensities, after: &VertexDensities, light_count: usize| {
+        if light_count == 0 {
+            // The camera subpath reaching the light.
+            !delta_light
+        } else {
+            techniques.connections && !before.delta && !after.delta
+        }
+    };
+
+    let ones = [1.0f64; LANES];
+    let mut sum = 0.0f64;
+    // The split (s, t) itself.
+    let own_split = match (s, t) {
+        (_, 0) => false,
+        (0, _) => !delta_light,
+        (_, 1) => techniques.connections && techniques.camera_connections && !light[s - 1].delta,
+        _ => techniques.connections && !light[s - 1].delta && !camera[t - 1].delta,
+    };
+    let own_split = own == OwnTechnique::Connection || own_split;
+    if own_split {
+        sum += power(mean_of(&ones));
+    }
+    let mut own_relative = match own {
+        OwnTechnique::Connection => Some(ones),
+        OwnTechnique::MergeAtCameraEnd => None,
+    };
+    // A path of two vertices (the lens and the light's point) has one
+    // technique, the camera subpath reaching the light (BDPT leaves (1, 1)
+    // to it): only the split's own term.
+    let others = if s + t > 2 { t } else { 0 };
+    // The camera side: merges at z_i and connections between z_{i−1}, z_i.
+    let mut ratio = ones;
+    for i in (1..others).rev() {
+        if let Some(eta) = techniques.merging
+            && mergeable(&camera[i])
+            && s + t - i >= 2
+        {
+            let merged = merge(&ratio, &camera[i], eta);
+            if i == t - 1 && own == OwnTechnique::MergeAtCameraEnd {
+                own_relative = Some(merged);
+            }
+            sum += power(mean_of(&merged));
+        }
+        step(&mut ratio, &camera[i]);
+        let light_count = s + t - i;
+        let allowed = if i == 1 {
+            techniques.camera_connections
+        } else {
+            true
+        };
+        if allowed && connection(&camera[i - 1], &camera[i], light_count) {
+            sum += power(mean_of(&ratio));
+        }
+    }
+    // The light side: merges at y_i (i ≥ 1) and connections between y_{i−1}
+    // and y_i (i = 0: the camera subpath reaching the light).
+    ratio = ones;
+    let others = if s + t > 2 { s } else { 0 };
+    for i in (0..others).rev() {
+        if i >= 1
+            && let Some(eta) = techniques.merging
+            && mergeable(&light[i])
+        {
+            sum += power(mean_of(&merge(&ratio, &light[i], eta)));
+        }
+        step(&mut ratio, &light[i]);
+        let counted = if i == 0 {
+            !light[0].delta && !delta_light
+        } else {
+            connection(&light[i - 1], &light[i], i)
+        };
+        if counted {
+            sum += power(mean_of(&ratio));
+        }
+    }
+    let Some(own_relative) = own_relative else {
+        // The merge is not a technique of the set here.
+        return 0.0;
+    };
+    let own_mean = mean_of(&own_relative);
+    let weight = match heuristic {
+        MisHeuristic::Balance => own_relative[0] / sum,
+        MisHeuristic::Power => own_relative[0] * own_mean / sum,
+    };
+    if weight.is_finite() && sum > 0.0 {
+        weight as f32
+    } else {
+        0.0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn all(heuristic: MisHeuristic) -> Strategies {
-        Strategies {
-            heuristic,
-            camera_connections: true,
-        }
+        Strategies::bidirectional(heuristic, true)
     }
 
     fn vertex(forward: f32, reverse: f32) -> VertexDensities {
@@ -362,6 +575,7 @@ mod tests {
                             forward_free_flight: spectrum(free_camera[x]),
                             reverse_free_flight: spectrum(free_light[x]),
                             delta: false,
+                            on_surface: true,
                         }
                     })
                     .collect();
@@ -372,6 +586,7 @@ mod tests {
                         forward_free_flight: spectrum(free_light[i]),
                         reverse_free_flight: spectrum(free_camera[i]),
                         delta: false,
+                        on_surface: true,
                     })
                     .collect();
                 let ratio = spectrum(std::array::from_fn(|j| {
@@ -415,11 +630,187 @@ mod tests {
             1.0
         );
         // Without light tracing the split with one camera vertex is gone.
-        let without = Strategies {
-            heuristic: MisHeuristic::Balance,
-            camera_connections: false,
-        };
+        let without = Strategies::bidirectional(MisHeuristic::Balance, false);
         let weight = strategy_weight(&camera, &light, false, without, None);
         assert!((weight - 0.5).abs() < 1e-6);
+    }
+
+    /// The path of `ratio_walk_equals_the_direct_heuristic` as split (s, t)
+    /// sees it: camera vertices z_j = x_{3−j}, light vertices y_i = x_i.
+    fn split(
+        from_light: &[f32; 4],
+        from_camera: &[f32; 4],
+        s: usize,
+    ) -> (Vec<VertexDensities>, Vec<VertexDensities>) {
+        let t = 4 - s;
+        let camera = (0..t)
+            .map(|j| vertex(from_camera[3 - j], from_light[3 - j]))
+            .collect();
+        let light = (0..s)
+            .map(|i| vertex(from_light[i], from_camera[i]))
+            .collect();
+        (camera, light)
+    }
+
+    /// Without merging, the technique weight of a connection is BDPT's.
+    #[test]
+    fn technique_weight_without_merging_is_the_strategy_weight() {
+        let from_light = [0.7f32, 1.3, 0.4, 2.0];
+        let from_camera = [0.9f32, 0.25, 1.7, 1.0];
+        let ratio = SampledSpectrum::new([1.0, 0.6, 1.7, 0.3]);
+        for heuristic in [MisHeuristic::Balance, MisHeuristic::Power] {
+            for camera_connections in [true, false] {
+                let techniques = Strategies::bidirectional(heuristic, camera_connections);
+                let strategies = techniques;
+                for s in 0..3usize {
+                    let (camera, light) = split(&from_light, &from_camera, s);
+                    for spectral in [None, Some(&ratio)] {
+                        let expected =
+                            strategy_weight(&camera, &light, false, strategies, spectral);
+                        let actual = technique_weight(
+                            &camera,
+                            &light,
+                            false,
+                            techniques,
+                            OwnTechnique::Connection,
+                            spectral,
+                        );
+                        assert!(
+                            (actual - expected).abs() < 1e-6,
+                            "{heuristic:?} s={s}: {actual} vs {expected}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// A path of four vertices x₀ (light) … x₃ (lens) made by every
+    /// connection (s = 0 … 3) and every merge (at x₁ and x₂, η = 0.37):
+    /// each technique's weight equals p^β / Σ p^β computed directly from
+    /// the per-vertex densities (a merge at x_k: the connection density of
+    /// split k times η times x_k's light-side density), and they sum to
+    /// one; with connections off (`bpm`), the same over the light hit and
+    /// the merges.
+    #[test]
+    fn merging_weights_equal_the_direct_heuristic() {
+        let from_light = [0.7f32, 1.3, 0.4, 2.0];
+        let from_camera = [0.9f32, 0.25, 1.7, 1.0];
+        let eta = 0.37f64;
+        let path_density = |s: usize| -> f64 {
+            let light: f64 = from_light[..s].iter().map(|&d| d as f64).product();
+            let camera: f64 = from_camera[s..].iter().map(|&d| d as f64).product();
+            light * camera
+        };
+        let merge_density = |k: usize| path_density(k) * from_light[k] as f64 * eta;
+        for heuristic in [MisHeuristic::Balance, MisHeuristic::Power] {
+            for connections in [true, false] {
+                let exponent = if heuristic == MisHeuristic::Balance {
+                    1
+                } else {
+                    2
+                };
+                let techniques = Strategies {
+                    heuristic,
+                    connections,
+                    camera_connections: true,
+                    merging: Some(eta as f32),
+                };
+                let connection_splits: Vec<usize> = if connections {
+                    vec![0, 1, 2, 3]
+                } else {
+                    vec![0]
+                };
+                let total: f64 = connection_splits
+                    .iter()
+                    .map(|&s| path_density(s).powi(exponent))
+                    .sum::<f64>()
+                    + [1, 2]
+                        .iter()
+                        .map(|&k| merge_density(k).powi(exponent))
+                        .sum::<f64>();
+                let mut sum_of_weights = 0.0;
+                for &s in &connection_splits {
+                    let (camera, light) = split(&from_light, &from_camera, s);
+                    let weight = technique_weight(
+                        &camera,
+                        &light,
+                        false,
+                        techniques,
+                        OwnTechnique::Connection,
+                        None,
+                    ) as f64;
+                    let expected = path_density(s).powi(exponent) / total;
+                    assert!(
+                        (weight - expected).abs() < 1e-6,
+                        "{heuristic:?} {connections} s={s}: {weight} vs {expected}"
+                    );
+                    sum_of_weights += weight;
+                }
+                for k in [1usize, 2] {
+                    // The merge at x_k as split (k, 4 − k) sees it: z_{t−1} = x_k.
+                    let (camera, light) = split(&from_light, &from_camera, k);
+                    let weight = technique_weight(
+                        &camera,
+                        &light,
+                        false,
+                        techniques,
+                        OwnTechnique::MergeAtCameraEnd,
+                        None,
+                    ) as f64;
+                    let expected = merge_density(k).powi(exponent) / total;
+                    assert!(
+                        (weight - expected).abs() < 1e-6,
+                        "{heuristic:?} {connections} merge at x{k}: {weight} vs {expected}"
+                    );
+                    sum_of_weights += weight;
+                }
+                assert!((sum_of_weights - 1.0).abs() < 1e-6, "{sum_of_weights}");
+            }
+        }
+    }
+
+    /// No merge at a delta vertex or in a medium, at the lens or at the
+    /// light's own point.
+    #[test]
+    fn merges_need_a_surface_vertex_that_is_not_delta() {
+        let techniques = Strategies {
+            heuristic: MisHeuristic::Balance,
+            connections: true,
+            camera_connections: true,
+            merging: Some(1.0),
+        };
+        let camera = [vertex(1.0, 1.0), vertex(1.0, 1.0)];
+        let light = [vertex(1.0, 1.0)];
+        // Splits s = 0, 1, 2 and the merge at the middle vertex: 1/4 each.
+        let own = OwnTechnique::MergeAtCameraEnd;
+        let weight = technique_weight(&camera, &light, false, techniques, own, None);
+        assert!((weight - 0.25).abs() < 1e-6, "{weight}");
+        let mut in_medium = camera;
+        in_medium[1].on_surface = false;
+        assert_eq!(
+            technique_weight(&in_medium, &light, false, techniques, own, None),
+            0.0
+        );
+        let weight = technique_weight(
+            &in_medium,
+            &light,
+            false,
+            techniques,
+            OwnTechnique::Connection,
+            None,
+        );
+        assert!((weight - 1.0 / 3.0).abs() < 1e-6, "{weight}");
+        // Two vertices (the lens and the light's point): one technique, as
+        // in BDPT, and nothing to merge.
+        let weight = technique_weight(
+            &camera[..1],
+            &light,
+            false,
+            techniques,
+            OwnTechnique::Connection,
+            None,
+        );
+        assert_eq!(weight, 1.0);
     }
 }

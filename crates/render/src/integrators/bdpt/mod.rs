@@ -84,6 +84,7 @@ use super::path_space::{
     Scatterer, Scattering, SubpathLayout, Vertex, VertexAt, WalkObserver, WalkSettings, WalkStart,
     WalkState, random_walk, record_scattering, solid_angle_to_area, walk,
 };
+use super::vcm::{LightVertexRecord, MergingPass};
 use super::volpath::shadow_transmittance;
 use super::{AuxiliaryImage, Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
 use crate::film::{Film, ImagePlane, SplatBuffer};
@@ -96,7 +97,7 @@ use crate::sampler::{PixelSampler, SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
 use glam::{Vec2, Vec3};
-use mis::{Strategies, VertexDensities, strategy_weight};
+use mis::{OwnTechnique, Strategies, VertexDensities, strategy_weight, technique_weight};
 use std::ops::ControlFlow;
 
 /// The options of bidirectional path tracing beyond the shared path
@@ -169,10 +170,10 @@ impl Integrator for BdptIntegrator {
         let estimator = Bidirectional {
             scene,
             settings: &self.settings,
-            strategies: Strategies {
-                heuristic: self.settings.heuristic,
-                camera_connections: self.bdpt.camera_connections,
-            },
+            strategies: Strategies::bidirectional(
+                self.settings.heuristic,
+                self.bdpt.camera_connections,
+            ),
             strategy_images: self.bdpt.strategy_images,
             image_plane,
             margin: -image_plane.origin,
@@ -267,7 +268,7 @@ struct EnvironmentEscape {
 
 /// The light subpath's first vertex: the point on the light.
 #[derive(Debug, Clone, Copy)]
-struct LightOrigin {
+pub(crate) struct LightOrigin {
     point: Vec3,
     /// The light's front normal (zero for lights without a surface).
     normal: Vec3,
@@ -278,7 +279,7 @@ struct LightOrigin {
     /// is then on the disk it starts from).
     from_infinity: Option<Vec3>,
     /// Its densities.
-    densities: VertexDensities,
+    pub(crate) densities: VertexDensities,
     /// The light subpath's vertices carry their throughput over this
     /// (the largest component of `β(y₁)`), so that Russian roulette
     /// decides on the scatterings' product as from the camera (see
@@ -297,6 +298,8 @@ pub struct BidirectionalScratch {
     light_densities: Vec<VertexDensities>,
     /// Per strategy, its splats ([`BdptSettings::strategy_images`]).
     strategy_splats: Option<Vec<SplatBuffer>>,
+    /// Vertex merges done (VCM).
+    pub(crate) merges: u64,
 }
 
 pub(crate) struct Bidirectional<'a> {
@@ -467,7 +470,7 @@ impl Bidirectional<'_> {
     /// The densities of a subpath's vertex at its origin (`origin`) and its
     /// first `count − 1` recorded vertices, into `densities`; with media,
     /// with their free flights per wavelength.
-    fn subpath_densities(
+    pub(crate) fn subpath_densities(
         &self,
         origin: VertexDensities,
         vertices: &[Vertex],
@@ -499,6 +502,7 @@ impl Bidirectional<'_> {
                         None => vertex.extinction,
                     },
                     delta: vertex.delta,
+                    on_surface: vertex.geometric_normal != Vec3::ZERO,
                 }),
         );
     }
@@ -634,7 +638,7 @@ impl SplatEstimator for Bidirectional<'_> {
         let raster =
             self.image_plane
                 .seed_raster(self.scene, path.pixel, sampler.get_2d(layout::FILM));
-        self.trace_from(scratch, raster, None, sampler, splats, counters);
+        self.trace_from(scratch, raster, None, None, sampler, splats, counters);
     }
 }
 
@@ -657,7 +661,7 @@ impl PathContribution for Bidirectional<'_> {
         let raster = self
             .image_plane
             .raster(Vec2::from(source.get_2d(layout::FILM)));
-        self.trace_from(scratch, raster, None, source, splats, counters);
+        self.trace_from(scratch, raster, None, None, source, splats, counters);
     }
 }
 
@@ -673,10 +677,7 @@ impl<'a> Bidirectional<'a> {
         Ok(Self {
             scene,
             settings,
-            strategies: Strategies {
-                heuristic: settings.heuristic,
-                camera_connections: defaults.camera_connections,
-            },
+            strategies: Strategies::bidirectional(settings.heuristic, defaults.camera_connections),
             strategy_images: false,
             image_plane,
             margin: -image_plane.origin,
@@ -686,7 +687,58 @@ impl<'a> Bidirectional<'a> {
     }
 }
 
+impl<'a> Bidirectional<'a> {
+    /// BDPT over `scene` with `settings` and every strategy, no strategy
+    /// images: VCM's connections (its passes set the strategies).
+    pub(crate) fn for_vertex_merging(
+        scene: &'a Scene,
+        settings: &'a PathSettings,
+    ) -> Result<Self, RenderError> {
+        let image_plane = ImagePlane::new(scene);
+        Ok(Self {
+            scene,
+            settings,
+            strategies: Strategies::bidirectional(settings.heuristic, true),
+            strategy_images: false,
+            image_plane,
+            margin: -image_plane.origin,
+            media: scene.has_media(),
+            light_media: LightMedia::new(scene, "vcm")?,
+        })
+    }
+
+    /// The scene.
+    pub(crate) fn scene(&self) -> &'a Scene {
+        self.scene
+    }
+}
+
 impl Bidirectional<'_> {
+    /// VCM's sample of `pixel`: the camera subpath from the pixel's share
+    /// of the image plane, the light subpath and merges of `merging`.
+    pub(crate) fn trace_merging_sample<S: SampleSource + ?Sized>(
+        &self,
+        scratch: &mut BidirectionalScratch,
+        pixel: (u32, u32),
+        merging: &MergingPass<'_>,
+        sampler: &mut S,
+        splats: &mut SplatBuffer,
+        counters: &mut TraceCounters,
+    ) {
+        let raster = self
+            .image_plane
+            .seed_raster(self.scene, pixel, sampler.get_2d(layout::FILM));
+        self.trace_from(
+            scratch,
+            raster,
+            None,
+            Some(merging),
+            sampler,
+            splats,
+            counters,
+        );
+    }
+
     /// Multiplexed MLT's sample: strategy `strategy` = (s, t) only, from a
     /// uniform point of the whole image plane, its value times `factor`
     /// (the number of strategies it was chosen from). The subpaths are
@@ -704,17 +756,30 @@ impl Bidirectional<'_> {
             .image_plane
             .raster(Vec2::from(source.get_2d(layout::FILM)));
         let first = splats.len();
-        self.trace_from(scratch, raster, Some(strategy), source, splats, counters);
+        self.trace_from(
+            scratch,
+            raster,
+            Some(strategy),
+            None,
+            source,
+            splats,
+            counters,
+        );
         splats.scale_from(first, factor);
     }
 
     /// One bidirectional sample whose camera subpath starts at `raster`:
-    /// every strategy, or with `only` the one strategy (s, t).
-    fn trace_from<S: SampleSource + ?Sized>(
+    /// every strategy, or with `only` the one strategy (s, t). With
+    /// `merging` (a VCM pass), the wavelengths, time and strategies are the
+    /// pass's, and the camera subpath's vertices merge with the pass's
+    /// light vertices.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn trace_from<S: SampleSource + ?Sized>(
         &self,
         scratch: &mut BidirectionalScratch,
         raster: Vec2,
         only: Option<(usize, usize)>,
+        merging: Option<&MergingPass<'_>>,
         sampler: &mut S,
         splats: &mut SplatBuffer,
         counters: &mut TraceCounters,
@@ -740,13 +805,19 @@ impl Bidirectional<'_> {
         let needs_light_subpath = only.is_none_or(|(s, t)| s >= 2 || (t == 1 && s >= 1));
 
         // The camera subpath.
+        let pass = merging;
+        let strategies = pass.map_or(self.strategies, |pass| pass.strategies);
+        let first_merge_only = pass.is_some_and(|pass| pass.first_merge_only);
         let u_lens = lens_numbers(scene, sampler, layout::LENS);
-        let u_time = if camera.uses_time_sample() {
-            sampler.get(layout::TIME)
-        } else {
-            0.5
+        let u_time = match pass {
+            Some(pass) => pass.time_sample,
+            None if camera.uses_time_sample() => sampler.get(layout::TIME),
+            None => 0.5,
         };
-        let mut wavelengths = SampledWavelengths::sample_visible(sampler.get(layout::WAVELENGTH));
+        let mut wavelengths = match pass {
+            Some(pass) => pass.wavelengths,
+            None => SampledWavelengths::sample_visible(sampler.get(layout::WAVELENGTH)),
+        };
         let camera_ray = camera.generate_ray(raster, u_lens, u_time);
         let time = camera_ray.time;
         let camera_density = camera.pdf_importance_with_margin(
@@ -766,6 +837,7 @@ impl Bidirectional<'_> {
             camera_densities,
             light_densities,
             strategy_splats,
+            merges: merge_count,
         } = scratch;
         camera_vertices.clear();
         emitters.clear();
@@ -798,7 +870,12 @@ impl Bidirectional<'_> {
             },
         );
 
-        // The light subpath.
+        // The wavelengths as the camera subpath left them: merges combine
+        // them with other light subpaths'.
+        let camera_wavelengths = wavelengths;
+
+        // The light subpath (with VCM, the pass's light subpath of this
+        // pixel sample again: the same numbers).
         light_vertices.clear();
         let light_origin = if needs_light_subpath {
             self.trace_light_subpath(
@@ -843,6 +920,7 @@ impl Bidirectional<'_> {
                 forward_free_flight: hit.arrival_transmittance,
                 reverse_free_flight: SampledSpectrum::splat(1.0),
                 delta: false,
+                on_surface: true,
             });
             if t >= 3 {
                 let previous = &camera_vertices[t - 3];
@@ -856,13 +934,18 @@ impl Bidirectional<'_> {
                     hit.arrival_transmittance * previous.extinction,
                 );
             }
-            let weight = strategy_weight(
-                camera_densities,
-                &[],
-                false,
-                self.strategies,
-                self.media.then_some(&hit.spectral_density_ratio),
-            );
+            let weight = if first_merge_only {
+                // Photon mapping: only light seen through delta lobes.
+                only_delta_before(camera_vertices, hit.vertices_before)
+            } else {
+                strategy_weight(
+                    camera_densities,
+                    &[],
+                    false,
+                    strategies,
+                    self.media.then_some(&hit.spectral_density_ratio),
+                )
+            };
             let value = hit.beta * emitted * weight;
             self.record(strategy_splats, 0, t, raster, &value, &wavelengths);
             camera_side += value;
@@ -894,6 +977,7 @@ impl Bidirectional<'_> {
                 forward_free_flight: escape.arrival_transmittance,
                 reverse_free_flight: SampledSpectrum::splat(1.0),
                 delta: false,
+                on_surface: true,
             });
             if t >= 3 {
                 // The density of z_{t−2} as the first vertex of a light
@@ -904,13 +988,17 @@ impl Bidirectional<'_> {
                     escape.arrival_transmittance * previous.extinction,
                 );
             }
-            let weight = strategy_weight(
-                camera_densities,
-                &[],
-                false,
-                self.strategies,
-                self.media.then_some(&escape.spectral_density_ratio),
-            );
+            let weight = if first_merge_only {
+                only_delta_before(camera_vertices, escape.vertices_before)
+            } else {
+                strategy_weight(
+                    camera_densities,
+                    &[],
+                    false,
+                    strategies,
+                    self.media.then_some(&escape.spectral_density_ratio),
+                )
+            };
             let value = escape.beta * emitted * weight;
             self.record(strategy_splats, 0, t, raster, &value, &wavelengths);
             camera_side += value;
@@ -918,7 +1006,7 @@ impl Bidirectional<'_> {
 
         for t in 2..=(camera_vertices.len() + 1).min(max_depth + 1) {
             let end = &camera_vertices[t - 2];
-            if !end.is_connectible() {
+            if !end.is_connectible() || !strategies.connections {
                 continue;
             }
             // s = 1: next-event estimation from z_{t−1}.
@@ -927,6 +1015,7 @@ impl Bidirectional<'_> {
                     camera_vertices,
                     t,
                     &wavelengths,
+                    strategies,
                     sampler,
                     counters,
                     camera_densities,
@@ -950,6 +1039,7 @@ impl Bidirectional<'_> {
                     light_vertices,
                     s,
                     &wavelengths,
+                    strategies,
                     counters,
                     camera_densities,
                     light_densities,
@@ -958,8 +1048,26 @@ impl Bidirectional<'_> {
                 camera_side += value;
             }
         }
-        if !camera_side.is_black() {
-            let rgb = to_linear_srgb(&camera_side, &wavelengths);
+        let mut rgb = if camera_side.is_black() {
+            [0.0; 3]
+        } else {
+            to_linear_srgb(&camera_side, &wavelengths)
+        };
+        // Vertex merging with the pass's light vertices.
+        if let Some(pass) = pass
+            && strategies.merging.is_some()
+        {
+            let merged = self.merges(
+                camera_vertices,
+                &camera_wavelengths,
+                pass,
+                camera_densities,
+                light_densities,
+                merge_count,
+            );
+            rgb = std::array::from_fn(|channel| rgb[channel] + merged[channel]);
+        }
+        if rgb != [0.0; 3] {
             let _ = splats.add(
                 raster.to_array(),
                 rgb.map(|channel| channel * self.image_plane.area_scale),
@@ -970,7 +1078,7 @@ impl Bidirectional<'_> {
         let Some(origin) = &light_origin else {
             return;
         };
-        if !self.strategies.camera_connections {
+        if !strategies.camera_connections || !strategies.connections {
             return;
         }
         for s in 2..=(light_vertices.len() + 1).min(max_depth) {
@@ -982,6 +1090,7 @@ impl Bidirectional<'_> {
                 light_vertices,
                 s,
                 &wavelengths,
+                strategies,
                 sampler,
                 counters,
                 camera_densities,
@@ -996,6 +1105,178 @@ impl Bidirectional<'_> {
                 let _ = buffers[index].add(raster.to_array(), rgb);
             }
         }
+    }
+}
+
+/// 1 if the camera subpath's first `count` vertices all scattered by delta
+/// lobes, else 0: photon mapping's weight for light the camera subpath
+/// reached (only through specular chains, the rest being merged).
+fn only_delta_before(camera: &[Vertex], count: usize) -> f32 {
+    if camera[..count].iter().all(|vertex| vertex.delta) {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+impl Bidirectional<'_> {
+    /// Vertex merging (Georgiev et al. 2012): every surface vertex of the
+    /// camera subpath `camera` that is not purely specular merges with each
+    /// light vertex of `pass` within its radius, weighted against every
+    /// technique of the pass's strategies (with photon mapping's
+    /// `first_merge_only`, at the first such vertex only, weight 1). A merge
+    /// of `z_{t−1}` with the light vertex `y_s` reached from `y_{s−1}` is the
+    /// path `y₀ … y_{s−1} z_{t−1} … z₀`: its value is `β(z_{t−1}) f(z_{t−1};
+    /// wo, wi) β(y_s) / (π r² N)`, the BSDF without a cosine (the light
+    /// subpath's density at `y_s` holds it) but with the shading normal's
+    /// `|wi·ns| / |wi·ng|`, `wi` the direction the light arrived from.
+    /// Returns the sum in linear sRGB, each merge converted with the
+    /// wavelengths of its two subpaths.
+    fn merges(
+        &self,
+        camera: &[Vertex],
+        camera_wavelengths: &SampledWavelengths,
+        pass: &MergingPass<'_>,
+        camera_densities: &mut Vec<VertexDensities>,
+        light_densities: &mut Vec<VertexDensities>,
+        merge_count: &mut u64,
+    ) -> [f32; 3] {
+        let max_depth = self.settings.max_depth as usize;
+        let mut rgb = [0.0f32; 3];
+        for t in 2..=camera.len() + 1 {
+            let end = &camera[t - 2];
+            let Scatterer::Surface { hit, bsdf, .. } = &end.scatterer else {
+                continue;
+            };
+            if !end.is_connectible() {
+                continue;
+            }
+            pass.lights.for_each_near(end.point, |light_path, k| {
+                // The light vertex y_s = light[k], s = k + 1 vertices before it.
+                let s = k + 1;
+                if s + t - 1 > max_depth {
+                    return;
+                }
+                let light = pass.lights.records_of(light_path);
+                let Some(origin) = &light_path.origin else {
+                    return;
+                };
+                let photon = &light[k];
+                let wi = photon.wo;
+                let cosine_geometric = wi.dot(hit.geometric_normal).abs();
+                if cosine_geometric == 0.0 {
+                    return;
+                }
+                let mut wavelengths = *camera_wavelengths;
+                if light_path.secondary_terminated {
+                    wavelengths.terminate_secondary();
+                }
+                let shading = bsdf.shading_normal_for(end.wo, wi, TransportMode::Radiance);
+                let value = end.beta
+                    * bsdf.evaluate(end.wo, wi, &wavelengths)
+                    * photon.beta
+                    * (origin.beta_scale * wi.dot(shading).abs() / cosine_geometric
+                        * pass.normalisation);
+                *merge_count += 1;
+                if value.is_black() {
+                    return;
+                }
+                let weight = if pass.first_merge_only {
+                    1.0
+                } else {
+                    self.merge_weight(
+                        camera,
+                        t,
+                        origin,
+                        light,
+                        k,
+                        pass.strategies,
+                        camera_densities,
+                        light_densities,
+                    )
+                };
+                let merged = to_linear_srgb(&(value * weight), &wavelengths);
+                for channel in 0..3 {
+                    rgb[channel] += merged[channel];
+                }
+            });
+            if pass.first_merge_only {
+                break;
+            }
+        }
+        rgb
+    }
+
+    /// The weight of the merge of `z_{t−1}` (`camera[t − 2]`) with the
+    /// light vertex `light[k]` (`y_s`, s = k + 1) against the strategies:
+    /// the densities of the split (s, t) with `z_{t−1}` sampled from
+    /// `y_{s−1}` as the light subpath sampled `y_s`.
+    #[allow(clippy::too_many_arguments)]
+    fn merge_weight(
+        &self,
+        camera: &[Vertex],
+        t: usize,
+        origin: &LightOrigin,
+        light: &[LightVertexRecord],
+        k: usize,
+        strategies: Strategies,
+        camera_densities: &mut Vec<VertexDensities>,
+        light_densities: &mut Vec<VertexDensities>,
+    ) -> f32 {
+        let s = k + 1;
+        let end = &camera[t - 2];
+        let photon = &light[k];
+        let wi = photon.wo;
+        self.subpath_densities(VertexDensities::default(), camera, t, camera_densities);
+        camera_densities[t - 1].set_reverse(photon.pdf_forward, photon.arrival_transmittance);
+        camera_densities[t - 1].delta = false;
+        if t >= 3 {
+            let previous = &camera[t - 3];
+            camera_densities[t - 2].set_reverse(
+                area_density_from(
+                    end,
+                    wi,
+                    previous.point,
+                    previous.geometric_normal,
+                    TransportMode::Importance,
+                ),
+                end.arrival_transmittance * previous.extinction,
+            );
+        }
+        light_densities.clear();
+        light_densities.push(origin.densities);
+        light_densities.extend(light[..k].iter().map(|record| record.densities));
+        if s >= 2 {
+            let before = &light[k - 1];
+            light_densities[s - 1].set_reverse(
+                area_density_from(
+                    end,
+                    end.wo,
+                    before.point,
+                    before.geometric_normal,
+                    TransportMode::Radiance,
+                ),
+                photon.arrival_transmittance * before.extinction,
+            );
+        } else {
+            light_densities[0].set_reverse(
+                density_towards_origin(end, end.wo, origin),
+                photon.arrival_transmittance,
+            );
+        }
+        let spectral_density_ratio = if s >= 2 {
+            end.spectral_density_ratio * light[k - 1].spectral_density_ratio
+        } else {
+            end.spectral_density_ratio
+        };
+        technique_weight(
+            camera_densities,
+            light_densities,
+            origin.delta_light,
+            strategies,
+            OwnTechnique::MergeAtCameraEnd,
+            self.media.then_some(&spectral_density_ratio),
+        )
     }
 }
 
@@ -1058,7 +1339,7 @@ impl Bidirectional<'_> {
     /// on) and returns its origin `y₀`, or `None` if no light emits. The
     /// vertices' throughputs include the emission: `β(y₁) = Le |cos| /
     /// (p_choice p_position p_direction)`.
-    fn trace_light_subpath<S: SampleSource + ?Sized>(
+    pub(crate) fn trace_light_subpath<S: SampleSource + ?Sized>(
         &self,
         time: f32,
         wavelengths: &mut SampledWavelengths,
@@ -1188,6 +1469,7 @@ impl Bidirectional<'_> {
         camera: &[Vertex],
         t: usize,
         wavelengths: &SampledWavelengths,
+        strategies: Strategies,
         sampler: &mut S,
         counters: &mut TraceCounters,
         camera_densities: &mut Vec<VertexDensities>,
@@ -1321,7 +1603,7 @@ impl Bidirectional<'_> {
             camera_densities,
             light_densities,
             sample.is_delta,
-            self.strategies,
+            strategies,
             self.media.then_some(&end.spectral_density_ratio),
         );
         value * weight
@@ -1337,6 +1619,7 @@ impl Bidirectional<'_> {
         light: &[Vertex],
         s: usize,
         wavelengths: &SampledWavelengths,
+        strategies: Strategies,
         counters: &mut TraceCounters,
         camera_densities: &mut Vec<VertexDensities>,
         light_densities: &mut Vec<VertexDensities>,
@@ -1443,7 +1726,7 @@ impl Bidirectional<'_> {
             camera_densities,
             light_densities,
             origin.delta_light,
-            self.strategies,
+            strategies,
             self.media.then_some(&spectral_density_ratio),
         );
         value * weight
@@ -1458,6 +1741,7 @@ impl Bidirectional<'_> {
         light: &[Vertex],
         s: usize,
         wavelengths: &SampledWavelengths,
+        strategies: Strategies,
         sampler: &mut S,
         counters: &mut TraceCounters,
         camera_densities: &mut Vec<VertexDensities>,
@@ -1539,7 +1823,7 @@ impl Bidirectional<'_> {
             camera_densities,
             light_densities,
             origin.delta_light,
-            self.strategies,
+            strategies,
             self.media.then_some(&light_end.spectral_density_ratio),
         );
         Some((

@@ -208,6 +208,24 @@ impl Loader {
 pub fn load(path: &Path, options: &LoadOptions) -> Result<LoadedScene, SceneFileError> {
     let mut reader = Reader::new(&options.parameters);
     let root = reader.read_file(path, None)?;
+    load_root(reader, root, path)
+}
+
+/// Loads a Mitsuba XML scene from its text, named `path` in messages (its
+/// relative file references resolve from `path`'s directory): the built-in
+/// scenes that are Mitsuba files ([`crate::scene::builtin`]).
+pub fn load_text(
+    text: &str,
+    path: &Path,
+    options: &LoadOptions,
+) -> Result<LoadedScene, SceneFileError> {
+    let mut reader = Reader::new(&options.parameters);
+    let root = reader.read_text(text, path, None)?;
+    load_root(reader, root, path)
+}
+
+/// Builds the scene of a root element read by `reader` from `path`.
+fn load_root(reader: Reader, root: Element, path: &Path) -> Result<LoadedScene, SceneFileError> {
     if root.tag != "scene" {
         return Err(root.location.error(format!(
             "the root element is <{}>, expected <scene>",

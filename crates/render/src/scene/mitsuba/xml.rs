@@ -225,7 +225,19 @@ impl Reader {
             path: path.to_path_buf(),
             source,
         })?;
-        let document = roxmltree::Document::parse(&text).map_err(|error| {
+        self.read_text(&text, path, location)
+    }
+
+    /// Reads the text of a whole file, named `path` in messages (and
+    /// resolving relative paths from its directory); returns its root
+    /// element.
+    pub fn read_text(
+        &mut self,
+        text: &str,
+        path: &Path,
+        location: Option<&Location>,
+    ) -> Result<Element, SceneFileError> {
+        let document = roxmltree::Document::parse(text).map_err(|error| {
             let position = error.pos();
             SceneFileError::Syntax {
                 file: path.to_path_buf(),
