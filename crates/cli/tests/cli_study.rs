@@ -201,6 +201,7 @@ fn equal_time_tables_match_the_images_it_wrote() {
         assert_eq!(seeds.len(), 2);
         let mut images = Vec::new();
         let mut per_seed = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut per_seed_memory = Vec::new();
         for (seed, entry) in seeds.iter().enumerate() {
             assert_eq!(entry["seed"], seed as u64);
             let name = entry["image"].as_str().unwrap();
@@ -214,6 +215,12 @@ fn equal_time_tables_match_the_images_it_wrote() {
             assert_eq!(metadata("seed"), seed.to_string());
             assert_eq!(metadata("timeBudgetSeconds"), budget.to_string());
             assert_eq!(metadata("spp"), entry["whole_passes"].to_string());
+            // The render's peak memory, as its image says.
+            assert_eq!(
+                metadata("peakResidentBytes"),
+                entry["peak_resident_bytes"].to_string()
+            );
+            per_seed_memory.push(number(&entry["peak_resident_bytes"]) / 1e6);
             let image = values(&contents.image);
             let (rmse, relative_mse, mad) = errors(&image, &reference);
             let what = format!("{integrator} at {budget} s, seed {seed}");
@@ -240,6 +247,11 @@ fn equal_time_tables_match_the_images_it_wrote() {
         );
         assert_spread(&row["mad"], &per_seed.2, &format!("MAD of {what}"));
         assert_spread(&row["spp"], &per_seed.3, &format!("spp of {what}"));
+        assert_spread(
+            &row["peak_memory_mb"],
+            &per_seed_memory,
+            &format!("peak memory of {what}"),
+        );
         assert_close(
             number(&row["mean_bias"]),
             bias(&images, &reference),
@@ -264,7 +276,7 @@ fn equal_time_tables_match_the_images_it_wrote() {
     for expected in [
         "builtin:cornell-box at 24x18",
         "load average",
-        "| budget (s) | integrator | spp | RMSE | relative MSE | MAD | mean bias | flicker | RMSE / path's |",
+        "| budget (s) | integrator | spp | RMSE | relative MSE | MAD | mean bias | flicker | RMSE / path's | peak memory (MB) |",
         "| 0.2 | lqmc |",
         "lqmc study equal-time builtin:cornell-box --resolution 24x18",
     ] {

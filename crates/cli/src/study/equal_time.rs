@@ -126,6 +126,8 @@ struct RenderRecord {
     traced_samples_per_pixel: f64,
     whole_passes: u64,
     seconds: f64,
+    /// The render's peak resident memory, where the system tells.
+    peak_resident_bytes: Option<u64>,
 }
 
 /// One seed's measures, from its image as written.
@@ -147,6 +149,9 @@ struct Cell<'a> {
     flicker: f64,
     /// Median RMSE over that of the first integrator at the same budget.
     rmse_ratio_to_first: f64,
+    /// The renders' peak resident memory in MB (10⁶ bytes), where every
+    /// render measured it.
+    peak_memory_megabytes: Option<Spread>,
 }
 
 /// What the report says about how the study ran.
@@ -262,13 +267,13 @@ impl RenderContext<'_> {
 
     /// Renders with `settings` and writes the image with `lqmc render`'s
     /// metadata plus `extra` to `path`; returns the image and the record's
-    /// numbers (traced spp, whole passes, seconds).
+    /// numbers (traced spp, whole passes, seconds, peak resident bytes).
     fn render_to(
         &self,
         settings: &RenderSettings,
         path: &Path,
         extra: &[(&str, String)],
-    ) -> Result<(Image, f64, u64, f64), CliError> {
+    ) -> Result<(Image, f64, u64, f64, Option<u64>), CliError> {
         let output = render(self.scene, settings, self.stop, &|_, _| {})
             .map_err(|error| CliError::Failure(error.to_string()))?;
         if self.stop.load(Ordering::Relaxed) {
@@ -300,6 +305,7 @@ impl RenderContext<'_> {
             traced_samples_per_pixel(self.scene, &statistics),
             statistics.completed_samples_per_pixel,
             seconds,
+            statistics.memory.map(|memory| memory.peak_resident_bytes),
         ))
     }
 }
@@ -501,11 +507,12 @@ pub fn run(args: &EqualTimeArgs) -> Result<(), CliError> {
                 request.splat_film = entry.splat_film;
                 let settings = request.settings(&scene);
                 let name = image_name(entry, budget, seed);
-                let (image, traced, whole_passes, seconds) = context.render_to(
-                    &settings,
-                    &args.output.join(&name),
-                    &[("timeBudgetSeconds", format!("{budget}"))],
-                )?;
+                let (image, traced, whole_passes, seconds, peak_resident_bytes) = context
+                    .render_to(
+                        &settings,
+                        &args.output.join(&name),
+                        &[("timeBudgetSeconds", format!("{budget}"))],
+                    )?;
                 if !args.quiet {
                     let rmse = compare_images(&image, &reference.image, None)
                         .map(|comparison| format_significant(comparison.rmse, 4))
@@ -524,6 +531,7 @@ pub fn run(args: &EqualTimeArgs) -> Result<(), CliError> {
                     traced_samples_per_pixel: traced,
                     whole_passes,
                     seconds,
+                    peak_resident_bytes,
                 });
             }
         }
@@ -638,6 +646,11 @@ fn measure_cells<'a>(
                 mean_bias: mean_bias(&images, &reference.image),
                 flicker: flicker(&images, &reference.image),
                 rmse_ratio_to_first: rmse.median / first_rmse,
+                peak_memory_megabytes: cell_records
+                    .iter()
+                    .map(|record| record.peak_resident_bytes.map(|bytes| bytes as f64 / 1e6))
+                    .collect::<Option<Vec<f64>>>()
+                    .map(|megabytes| spread(&megabytes)),
                 seeds,
             });
         }
@@ -727,13 +740,13 @@ fn markdown_table(
         load_end = conditions.load_at_end,
     );
     text += &format!(
-        "| budget (s) | integrator | spp | RMSE | relative MSE | MAD | mean bias | flicker | RMSE / {}'s |\n",
+        "| budget (s) | integrator | spp | RMSE | relative MSE | MAD | mean bias | flicker | RMSE / {}'s | peak memory (MB) |\n",
         labels[0]
     );
-    text += "|---|---|---|---|---|---|---|---|---|\n";
+    text += "|---|---|---|---|---|---|---|---|---|---|\n";
     for cell in cells {
         text += &format!(
-            "| {} | {} | {:.1} | {} | {} | {} | {} | {} | {} |\n",
+            "| {} | {} | {:.1} | {} | {} | {} | {} | {} | {} | {} |\n",
             conditions.budgets[cell.budget],
             labels[cell.entry],
             cell.samples_per_pixel.median,
@@ -743,6 +756,12 @@ fn markdown_table(
             format_percentage(cell.mean_bias, 3),
             format_significant(cell.flicker, 4),
             format_significant(cell.rmse_ratio_to_first, 4),
+            cell.peak_memory_megabytes
+                .as_ref()
+                .map_or("—".to_string(), |megabytes| format!(
+                    "{:.1}",
+                    megabytes.median
+                )),
         );
     }
     text += &format!(
@@ -751,7 +770,8 @@ fn markdown_table(
          MAD, the mean absolute deviation |image − reference|; mean bias, (m − r) / r with m the mean over pixels and \
          channels of the seeds' average image and r the reference's; flicker, the mean over pixels and channels of the \
          standard deviation of a pixel across the seeds (denominator K − 1) over √(reference² + {RELATIVE_MSE_EPSILON}) \
-         (— for one seed). RMSE / {first}'s is the ratio of the median RMSEs at the same budget.\n\n\
+         (— for one seed). RMSE / {first}'s is the ratio of the median RMSEs at the same budget. Peak memory: the \
+         median over the seeds of each render's peak resident memory (Linux's VmHWM, reset at the render's start).\n\n\
          Files: images/INTEGRATOR-bBUDGET-seedK.exr, table.json (every number, per seed too), error-vs-time.svg and \
          .png (median RMSE against the budget, bars from min to max), crops.png (the crop {x},{y},{w},{h} of the \
          reference, then of each integrator's seed-0 render at {largest} s, enlarged {scale}×).\n\n\
@@ -843,6 +863,10 @@ fn json_table(conditions: &StudyConditions, reference: &Reference, cells: &[Cell
                             "non_finite_pixels",
                             Json::Integer(seed.comparison.non_finite_pixels as u64),
                         ),
+                        (
+                            "peak_resident_bytes",
+                            Json::Integer(record.peak_resident_bytes.unwrap_or(0)),
+                        ),
                     ])
                 })
                 .collect();
@@ -862,6 +886,12 @@ fn json_table(conditions: &StudyConditions, reference: &Reference, cells: &[Cell
                 (
                     "rmse_ratio_to_first",
                     Json::Number(cell.rmse_ratio_to_first),
+                ),
+                (
+                    "peak_memory_mb",
+                    cell.peak_memory_megabytes
+                        .as_ref()
+                        .map_or(Json::Integer(0), spread_json),
                 ),
             ])
         })
