@@ -28,7 +28,9 @@ use render::scene::builtin::builtin_scene;
 use std::sync::atomic::AtomicBool;
 
 mod path_comparison;
-use path_comparison::{SEEDS, assert_settings_match_path, builtin, mean_and_error, small, values};
+use path_comparison::{
+    SEEDS, assert_settings_match_path, builtin, mean_and_error, render_output, small, values,
+};
 
 fn pssmlt(base: MltBase, small_step: SmallStep) -> IntegratorSettings {
     let mut settings = PssmltSettings {
@@ -171,18 +173,16 @@ fn render_image(
     max_depth: u32,
     threads: usize,
 ) -> render::image::Image {
-    let settings = RenderSettings {
+    render_output(
+        scene,
         integrator,
-        sampler: SamplerKind::Independent,
-        samples_per_pixel: spp,
+        SamplerKind::Independent,
+        spp,
         seed,
         max_depth,
         threads,
-        ..RenderSettings::default()
-    };
-    render(scene, &settings, &AtomicBool::new(false), &|_, _| {})
-        .unwrap()
-        .image()
+    )
+    .image()
 }
 
 fn image_mean(image: &render::image::Image) -> f64 {

@@ -17,13 +17,12 @@
 
 use render::integrators::IntegratorSettings;
 use render::integrators::vcm::{VcmMode, VcmSettings, VcmStatistics};
-use render::renderer::{RenderSettings, render};
 use render::sampler::SamplerKind;
-use render::scene::Scene;
-use std::sync::atomic::AtomicBool;
 
 mod path_comparison;
-use path_comparison::{SEEDS, assert_settings_match_path, builtin, mean_and_error, values};
+use path_comparison::{
+    SEEDS, assert_settings_match_path, builtin, mean_and_error, render_output, values,
+};
 
 fn vcm(mode: VcmMode, radius_fraction: f32) -> IntegratorSettings {
     IntegratorSettings::Vcm(VcmSettings {
@@ -31,28 +30,6 @@ fn vcm(mode: VcmMode, radius_fraction: f32) -> IntegratorSettings {
         radius_fraction,
         ..VcmSettings::default()
     })
-}
-
-fn render_output(
-    scene: &Scene,
-    integrator: IntegratorSettings,
-    sampler: SamplerKind,
-    spp: u64,
-    seed: u64,
-    max_depth: u32,
-    threads: usize,
-) -> render::renderer::RenderOutput {
-    let settings = RenderSettings {
-        integrator,
-        sampler,
-        samples_per_pixel: spp,
-        seed,
-        max_depth,
-        threads,
-        heuristic: render::integrators::MisHeuristic::Balance,
-        ..RenderSettings::default()
-    };
-    render(scene, &settings, &AtomicBool::new(false), &|_, _| {}).unwrap()
 }
 
 fn image_mean(image: &render::image::Image) -> f64 {

@@ -49,6 +49,11 @@
 //! one strategy with dimension 7 ([`layout::MULTIPLEXED_STRATEGY`]), which
 //! light subpaths leave unused.
 //!
+//! Vertex connection and merging (`vcm`) takes the bidirectional layout
+//! per pixel sample; an iteration's wavelengths and time, shared by all its
+//! subpaths, are pixel (0, 0)'s [`layout::WAVELENGTH`] and
+//! [`layout::TIME`] of that sample.
+//!
 //! Every 2-D decision (film, lens, light point, emission and scattering
 //! directions, lens point of a connection) is a pair of dimensions
 //! `(2k, 2k + 1)`: the padded samplers ([`PaddedSampler`]) fill each pair

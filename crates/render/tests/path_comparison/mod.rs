@@ -25,7 +25,7 @@
 
 use render::image::Image;
 use render::integrators::{IntegratorKind, IntegratorSettings};
-use render::renderer::{RenderSettings, render};
+use render::renderer::{RenderOutput, RenderSettings, render};
 use render::sampler::SamplerKind;
 use render::scene::Scene;
 use render::scene::builtin::builtin_scene;
@@ -69,16 +69,30 @@ pub fn render_with(
     seed: u64,
     max_depth: u32,
 ) -> (Image, Image) {
+    let output = render_output(scene, integrator, sampler, spp, seed, max_depth, 0);
+    (output.image(), output.variance_image())
+}
+
+/// The whole render of [`render_with`] on `threads` threads (0: all).
+pub fn render_output(
+    scene: &Scene,
+    integrator: impl Into<IntegratorSettings>,
+    sampler: SamplerKind,
+    spp: u64,
+    seed: u64,
+    max_depth: u32,
+    threads: usize,
+) -> RenderOutput {
     let settings = RenderSettings {
         integrator: integrator.into(),
         sampler,
         samples_per_pixel: spp,
         seed,
         max_depth,
+        threads,
         ..RenderSettings::default()
     };
-    let output = render(scene, &settings, &AtomicBool::new(false), &|_, _| {}).unwrap();
-    (output.image(), output.variance_image())
+    render(scene, &settings, &AtomicBool::new(false), &|_, _| {}).unwrap()
 }
 
 pub fn values(image: &Image) -> impl Iterator<Item = f64> + '_ {

@@ -446,6 +446,52 @@ fn density_towards_origin(vertex: &Vertex, wo: Vec3, origin: &LightOrigin) -> f3
     }
 }
 
+/// Sets the reverse density of `z_{t−2}` (`camera[t − 3]`, when t ≥ 3)
+/// for a strategy that joins the camera subpath's end `z_{t−1}` to light
+/// arriving from the unit direction `wi`: `z_{t−1}` scattering towards it,
+/// with the free flight of the segment between them.
+fn set_camera_predecessor_reverse(
+    camera: &[Vertex],
+    t: usize,
+    wi: Vec3,
+    densities: &mut [VertexDensities],
+) {
+    if t < 3 {
+        return;
+    }
+    let (end, previous) = (&camera[t - 2], &camera[t - 3]);
+    densities[t - 2].set_reverse(
+        area_density_from(
+            end,
+            wi,
+            previous.point,
+            previous.geometric_normal,
+            TransportMode::Importance,
+        ),
+        end.arrival_transmittance * previous.extinction,
+    );
+}
+
+/// The reverse density, and its free flight, of a light subpath's vertex
+/// `before` (its point, normal and extinction) — or of the subpath's
+/// origin when `before` is `None` — as sampled by `scatterer` after arriving
+/// from `wo`; `arrival` is the transmittance of the segment between them.
+fn light_vertex_reverse(
+    scatterer: &Vertex,
+    wo: Vec3,
+    before: Option<(Vec3, Vec3, SampledSpectrum)>,
+    origin: &LightOrigin,
+    arrival: SampledSpectrum,
+) -> (f32, SampledSpectrum) {
+    match before {
+        Some((point, normal, extinction)) => (
+            area_density_from(scatterer, wo, point, normal, TransportMode::Radiance),
+            arrival * extinction,
+        ),
+        None => (density_towards_origin(scatterer, wo, origin), arrival),
+    }
+}
+
 /// The geometry's stored normal of an area light's point from its front
 /// normal (the light flips stored normals itself).
 fn stored_normal(light: &Light, front: Vec3) -> Vec3 {
@@ -1230,40 +1276,17 @@ impl Bidirectional<'_> {
         self.subpath_densities(VertexDensities::default(), camera, t, camera_densities);
         camera_densities[t - 1].set_reverse(photon.pdf_forward, photon.arrival_transmittance);
         camera_densities[t - 1].delta = false;
-        if t >= 3 {
-            let previous = &camera[t - 3];
-            camera_densities[t - 2].set_reverse(
-                area_density_from(
-                    end,
-                    wi,
-                    previous.point,
-                    previous.geometric_normal,
-                    TransportMode::Importance,
-                ),
-                end.arrival_transmittance * previous.extinction,
-            );
-        }
+        set_camera_predecessor_reverse(camera, t, wi, camera_densities);
         light_densities.clear();
         light_densities.push(origin.densities);
         light_densities.extend(light[..k].iter().map(|record| record.densities));
-        if s >= 2 {
+        let before = (s >= 2).then(|| {
             let before = &light[k - 1];
-            light_densities[s - 1].set_reverse(
-                area_density_from(
-                    end,
-                    end.wo,
-                    before.point,
-                    before.geometric_normal,
-                    TransportMode::Radiance,
-                ),
-                photon.arrival_transmittance * before.extinction,
-            );
-        } else {
-            light_densities[0].set_reverse(
-                density_towards_origin(end, end.wo, origin),
-                photon.arrival_transmittance,
-            );
-        }
+            (before.point, before.geometric_normal, before.extinction)
+        });
+        let (density, free_flight) =
+            light_vertex_reverse(end, end.wo, before, origin, photon.arrival_transmittance);
+        light_densities[s - 1].set_reverse(density, free_flight);
         let spectral_density_ratio = if s >= 2 {
             end.spectral_density_ratio * light[k - 1].spectral_density_ratio
         } else {
@@ -1586,19 +1609,7 @@ impl Bidirectional<'_> {
         self.subpath_densities(VertexDensities::default(), camera, t, camera_densities);
         camera_densities[t - 1].set_reverse(end_reverse, transmittance * end.extinction);
         camera_densities[t - 1].delta = false;
-        if t >= 3 {
-            let previous = &camera[t - 3];
-            camera_densities[t - 2].set_reverse(
-                area_density_from(
-                    end,
-                    sample.wi,
-                    previous.point,
-                    previous.geometric_normal,
-                    TransportMode::Importance,
-                ),
-                end.arrival_transmittance * previous.extinction,
-            );
-        }
+        set_camera_predecessor_reverse(camera, t, sample.wi, camera_densities);
         let weight = strategy_weight(
             camera_densities,
             light_densities,
@@ -1689,37 +1700,19 @@ impl Bidirectional<'_> {
             transmittance * light_end.extinction,
         );
         light_densities[s - 1].delta = false;
-        if t >= 3 {
-            let previous = &camera[t - 3];
-            camera_densities[t - 2].set_reverse(
-                area_density_from(
-                    camera_end,
-                    direction,
-                    previous.point,
-                    previous.geometric_normal,
-                    TransportMode::Importance,
-                ),
-                camera_end.arrival_transmittance * previous.extinction,
-            );
-        }
-        if s >= 3 {
+        set_camera_predecessor_reverse(camera, t, direction, camera_densities);
+        let before = (s >= 3).then(|| {
             let before = &light[s - 3];
-            light_densities[s - 2].set_reverse(
-                area_density_from(
-                    light_end,
-                    -direction,
-                    before.point,
-                    before.geometric_normal,
-                    TransportMode::Radiance,
-                ),
-                light_end.arrival_transmittance * before.extinction,
-            );
-        } else {
-            light_densities[s - 2].set_reverse(
-                density_towards_origin(light_end, -direction, origin),
-                light_end.arrival_transmittance,
-            );
-        }
+            (before.point, before.geometric_normal, before.extinction)
+        });
+        let (density, free_flight) = light_vertex_reverse(
+            light_end,
+            -direction,
+            before,
+            origin,
+            light_end.arrival_transmittance,
+        );
+        light_densities[s - 2].set_reverse(density, free_flight);
         let spectral_density_ratio =
             camera_end.spectral_density_ratio * light_end.spectral_density_ratio;
         let weight = strategy_weight(
@@ -1801,24 +1794,18 @@ impl Bidirectional<'_> {
             transmittance * light_end.extinction,
         );
         light_densities[s - 1].delta = false;
-        if s >= 3 {
+        let before = (s >= 3).then(|| {
             let before = &light[s - 3];
-            light_densities[s - 2].set_reverse(
-                area_density_from(
-                    light_end,
-                    camera_sample.wi,
-                    before.point,
-                    before.geometric_normal,
-                    TransportMode::Radiance,
-                ),
-                light_end.arrival_transmittance * before.extinction,
-            );
-        } else {
-            light_densities[s - 2].set_reverse(
-                density_towards_origin(light_end, camera_sample.wi, origin),
-                light_end.arrival_transmittance,
-            );
-        }
+            (before.point, before.geometric_normal, before.extinction)
+        });
+        let (density, free_flight) = light_vertex_reverse(
+            light_end,
+            camera_sample.wi,
+            before,
+            origin,
+            light_end.arrival_transmittance,
+        );
+        light_densities[s - 2].set_reverse(density, free_flight);
         let weight = strategy_weight(
             camera_densities,
             light_densities,
