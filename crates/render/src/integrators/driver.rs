@@ -265,6 +265,12 @@ impl PassWork<'_> {
         self.resolution
     }
 
+    /// The film's tiles, in the order [`Self::for_each_pixel_sample`]
+    /// returns their states.
+    pub fn tiles(&self) -> &[PixelBounds] {
+        self.tiles
+    }
+
     /// A sampler positioned at sample `sample_index` of `pixel`: numbers
     /// shared by the whole pass.
     pub fn sampler_at(&self, pixel: (u32, u32), sample_index: u64) -> Box<dyn PixelSampler> {
@@ -274,13 +280,14 @@ impl PassWork<'_> {
     }
 
     /// Runs `work` once per pixel sample of the pass, the sampler
-    /// positioned at it, with a state per tile (from `start`): the film's
+    /// positioned at it, with a state per tile (from `start`, given the
+    /// tile's number of pixel samples): the film's
     /// tiles in parallel, pixels in rows within a tile, a pixel's samples
     /// in order. Returns the tiles' states in tile order and the rays
     /// counted.
     pub fn for_each_pixel_sample<State: Send>(
         &self,
-        start: &(dyn Fn() -> State + Sync),
+        start: &(dyn Fn(usize) -> State + Sync),
         work: &(
              dyn Fn(&mut State, PixelSampleIndex, &mut dyn PixelSampler, &mut TraceCounters) + Sync
          ),
@@ -291,7 +298,8 @@ impl PassWork<'_> {
             .map(|bounds| {
                 let mut sampler = self.prototype.clone_sampler();
                 let mut counters = TraceCounters::default();
-                let mut state = start();
+                let pixels = (bounds.max[0] - bounds.min[0]) * (bounds.max[1] - bounds.min[1]);
+                let mut state = start(pixels * self.samples.clone().count());
                 for y in bounds.min[1]..bounds.max[1] {
                     for x in bounds.min[0]..bounds.max[0] {
                         for sample_index in self.samples.clone() {

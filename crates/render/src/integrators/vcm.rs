@@ -56,7 +56,8 @@ use crate::sampler::{PixelSampler, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec3;
-use std::sync::{Arc, RwLock};
+use rayon::prelude::*;
+use std::sync::{Arc, Mutex, RwLock};
 
 /// Which techniques a VCM render uses (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -159,12 +160,14 @@ pub(crate) struct LightVertexRecord {
     pub spectral_density_ratio: SampledSpectrum,
     /// Its densities on the subpath, as BDPT's weights see them.
     pub densities: VertexDensities,
+    /// The index of its light subpath in its tile of the light pass.
+    path: u32,
 }
 
 impl LightVertexRecord {
     /// The record of `vertex`, whose densities on its subpath are
     /// `densities`.
-    fn new(vertex: &Vertex, densities: VertexDensities) -> Self {
+    fn new(vertex: &Vertex, densities: VertexDensities, path: u32) -> Self {
         Self {
             point: vertex.point,
             geometric_normal: vertex.geometric_normal,
@@ -175,6 +178,7 @@ impl LightVertexRecord {
             extinction: vertex.extinction,
             spectral_density_ratio: vertex.spectral_density_ratio,
             densities,
+            path,
         }
     }
 }
@@ -184,9 +188,14 @@ impl LightVertexRecord {
 pub(crate) struct StoredLightPath {
     /// Its origin on the light (`None`: no light emits).
     pub origin: Option<LightOrigin>,
-    /// Its vertices: `first .. first + count` of the store's.
+    /// Its vertices' records: `first .. first + count` of its tile's
+    /// (none without merging).
     first: u32,
     count: u32,
+    /// Its vertices: `first_vertex .. first_vertex + vertex_count` of its
+    /// tile's `vertices`.
+    first_vertex: u32,
+    vertex_count: u32,
     /// Its walk dropped the secondary wavelengths.
     pub secondary_terminated: bool,
 }
@@ -194,39 +203,100 @@ pub(crate) struct StoredLightPath {
 /// An iteration's light subpaths, one per pixel sample, and a hash grid
 /// over the vertices that can be merged at.
 pub(crate) struct LightStore {
-    /// The light subpaths, in tile order.
-    paths: Vec<StoredLightPath>,
-    /// Every light subpath's vertices.
-    records: Vec<LightVertexRecord>,
-    /// Per vertex, the index of its path.
-    vertex_path: Vec<u32>,
+    /// The light pass's tiles, in tile order: their light subpaths and
+    /// vertices, where the pass left them (not copied into one array).
+    tiles: Vec<LightPassTile>,
+    /// Per tile, the store-wide index of its first record: record indices
+    /// (the grid's) count through the tiles in order.
+    first_vertices: Vec<u32>,
+    /// Per pixel (row by row), its light subpath: (tile, path in the tile).
+    pixel_paths: Vec<(u32, u32)>,
+    /// The image's width.
+    width: usize,
     /// The grid over the mergeable vertices (empty without merging).
     grid: HashGrid,
 }
 
 impl LightStore {
-    /// The vertices of `path`.
-    pub fn records_of(&self, path: &StoredLightPath) -> &[LightVertexRecord] {
-        &self.records[path.first as usize..(path.first + path.count) as usize]
+    /// The tile of record `index` and the record's index in it.
+    #[inline]
+    fn locate(&self, index: u32) -> (&LightPassTile, u32) {
+        let tile_index = self.first_vertices.partition_point(|&first| first <= index) - 1;
+        (
+            &self.tiles[tile_index],
+            index - self.first_vertices[tile_index],
+        )
     }
 
-    /// Calls `visit(path, k)` for every mergeable light vertex within the
-    /// grid's radius of `point`: vertex `k` of `path`.
-    pub fn for_each_near(&self, point: Vec3, mut visit: impl FnMut(&StoredLightPath, usize)) {
-        let radius_squared = self.grid.radius * self.grid.radius;
-        self.grid.for_each_candidate(point, |index, candidate| {
-            if (candidate - point).length_squared() <= radius_squared {
-                let path = &self.paths[self.vertex_path[index as usize] as usize];
-                visit(path, (index - path.first) as usize);
-            }
-        });
+    /// Asks the cache for what [`Self::vertex`] will read of the light
+    /// vertices `found` (from [`Self::find_near`]): their records and
+    /// paths. The loads are independent, so their misses overlap instead of
+    /// following one another merge by merge.
+    pub fn prefetch(&self, found: &[(u32, GridPoint)]) {
+        for (_, point) in found {
+            let (tile, local) = self.locate(point.vertex);
+            prefetch_bytes(&tile.records[local as usize]);
+            prefetch_bytes(&tile.paths[point.path as usize]);
+        }
+    }
+
+    /// The light vertex `point` found in the grid: its path, the path's
+    /// vertices and its place `k` on them.
+    pub fn vertex(&self, point: &GridPoint) -> (&StoredLightPath, &[LightVertexRecord], usize) {
+        let (tile, local) = self.locate(point.vertex);
+        let path = &tile.paths[point.path as usize];
+        let records = &tile.records[path.first as usize..(path.first + path.count) as usize];
+        (path, records, (local - path.first) as usize)
+    }
+
+    /// The light subpath the iteration traced for `pixel`, and its
+    /// vertices: what the pixel's camera subpath connects to.
+    pub fn pixel_path(&self, pixel: (u32, u32)) -> (&StoredLightPath, &[Vertex]) {
+        let (tile, path) = self.pixel_paths[pixel.1 as usize * self.width + pixel.0 as usize];
+        let tile = &self.tiles[tile as usize];
+        let path = &tile.paths[path as usize];
+        let first = path.first_vertex as usize;
+        (
+            path,
+            &tile.vertices[first..first + path.vertex_count as usize],
+        )
+    }
+
+    /// Asks the cache for the vertices of `pixel`'s light subpath
+    /// ([`Self::pixel_path`]), read after its camera subpath is traced.
+    pub fn prefetch_pixel_path(&self, pixel: (u32, u32)) {
+        let (path, vertices) = self.pixel_path(pixel);
+        prefetch_bytes(path);
+        for vertex in vertices {
+            prefetch_bytes(vertex);
+        }
+    }
+
+    /// Finds, for every point of `queries`, the mergeable light vertices
+    /// within the radius: `search.found` becomes the pairs (query, vertex
+    /// index), by query.
+    pub fn find_near(&self, queries: &[Vec3], search: &mut NearbySearch) {
+        self.grid.find_near(queries, search);
+    }
+
+    /// The light vertices stored.
+    fn vertex_count(&self) -> usize {
+        self.tiles.iter().map(|tile| tile.records.len()).sum()
     }
 
     /// The bytes the store holds (vertices, paths, grid).
     fn bytes(&self) -> usize {
-        self.records.capacity() * std::mem::size_of::<LightVertexRecord>()
-            + self.paths.capacity() * std::mem::size_of::<StoredLightPath>()
-            + self.vertex_path.capacity() * 4
+        self.tiles
+            .iter()
+            .map(|tile| {
+                tile.records.capacity() * std::mem::size_of::<LightVertexRecord>()
+                    + tile.vertices.capacity() * std::mem::size_of::<Vertex>()
+                    + tile.paths.capacity() * std::mem::size_of::<StoredLightPath>()
+                    + tile.mergeable.capacity() * 4
+            })
+            .sum::<usize>()
+            + self.first_vertices.capacity() * 4
+            + self.pixel_paths.capacity() * 8
             + self.grid.bytes()
     }
 }
@@ -243,43 +313,50 @@ impl LightStore {
 struct HashGrid {
     radius: f32,
     inverse_cell_size: f32,
+    /// The bits per axis of a cell's Morton code in [`Self::bucket`].
+    bits_per_axis: u32,
     /// One bit per bucket: whether it holds a point.
     occupied: Vec<u64>,
-    /// Per bucket, the end of its points in `entries` (its start is the
-    /// previous bucket's end).
-    bucket_ends: Vec<u32>,
-    /// The points (index and position), by bucket.
-    entries: Vec<(u32, Vec3)>,
+    /// Per bucket, the start of its points in `entries` (its end is the
+    /// next bucket's start; one more for the last's end).
+    bucket_starts: Vec<u32>,
+    /// The points, by bucket.
+    entries: Vec<GridPoint>,
 }
 
 impl HashGrid {
-    /// The grid of radius `radius` over `points` (index, position).
-    fn build(points: &[(u32, Vec3)], radius: f32) -> Self {
+    /// The grid of radius `radius` over `points`.
+    fn build(points: &[GridPoint], radius: f32) -> Self {
         let buckets = (4 * points.len()).max(1).next_power_of_two();
         let inverse_cell_size = 1.0 / (2.0 * radius);
         let mut grid = HashGrid {
             radius,
             inverse_cell_size,
+            bits_per_axis: (buckets.trailing_zeros() / 3).clamp(1, 10),
             occupied: vec![0; buckets.div_ceil(64)],
-            bucket_ends: vec![0; buckets],
-            entries: vec![(0, Vec3::ZERO); points.len()],
+            bucket_starts: vec![0; buckets + 1],
+            entries: vec![GridPoint::default(); points.len()],
         };
-        let bucket_of = |point: Vec3| grid.bucket(grid.cell(point));
-        let point_buckets: Vec<u32> = points.iter().map(|&(_, p)| bucket_of(p)).collect();
+        let point_buckets: Vec<u32> = points
+            .par_iter()
+            .map(|point| grid.bucket(grid.cell(point.position)))
+            .collect();
+        // A counting sort: each bucket's count, summed up to its end, then
+        // moved down to its start as its points are placed (from the back,
+        // so each bucket keeps the points' order).
         for &bucket in &point_buckets {
-            grid.bucket_ends[bucket as usize] += 1;
+            grid.bucket_starts[bucket as usize] += 1;
             grid.occupied[bucket as usize / 64] |= 1 << (bucket % 64);
         }
         let mut sum = 0;
-        for end in grid.bucket_ends.iter_mut() {
+        for end in grid.bucket_starts.iter_mut() {
             sum += *end;
             *end = sum;
         }
-        // Fill from the back, so each bucket keeps the points' order.
-        let mut next = grid.bucket_ends.clone();
         for (&point, &bucket) in points.iter().zip(&point_buckets).rev() {
-            next[bucket as usize] -= 1;
-            grid.entries[next[bucket as usize] as usize] = point;
+            let start = &mut grid.bucket_starts[bucket as usize];
+            *start -= 1;
+            grid.entries[*start as usize] = point;
         }
         grid
     }
@@ -287,29 +364,77 @@ impl HashGrid {
     /// The integer cell of `point`.
     fn cell(&self, point: Vec3) -> [i32; 3] {
         let scaled = point * self.inverse_cell_size;
-        [
-            scaled.x.floor() as i32,
-            scaled.y.floor() as i32,
-            scaled.z.floor() as i32,
-        ]
+        // ⌊x⌋ by truncation and a correction below zero: `f32::floor` is a
+        // library call on x86_64 without SSE 4.1.
+        let floor = |x: f32| {
+            let truncated = x as i32;
+            truncated - i32::from(x < truncated as f32)
+        };
+        [floor(scaled.x), floor(scaled.y), floor(scaled.z)]
     }
 
-    /// The bucket of a cell (the hash of Teschner et al. 2003, as
-    /// SmallVCM's).
+    /// The bucket of a cell. Cells are grouped in blocks of 2^b cells per
+    /// axis (b = a third of the buckets' bits): within a block a cell's
+    /// bucket is its Morton code, so cells near each other (a query's
+    /// eight, and the queries of neighbouring pixels) share cache lines of
+    /// `bucket_starts` and, the points being sorted by bucket, of `entries`;
+    /// the block's coordinates, hashed as SmallVCM's cells are (Teschner et
+    /// al. 2003), are XORed in, which permutes the block's buckets without
+    /// breaking up aligned runs of codes.
     fn bucket(&self, cell: [i32; 3]) -> u32 {
-        let hash = (cell[0] as u32).wrapping_mul(73_856_093)
-            ^ (cell[1] as u32).wrapping_mul(19_349_663)
-            ^ (cell[2] as u32).wrapping_mul(83_492_791);
+        let bits = self.bits_per_axis;
+        let mask = (1u32 << bits) - 1;
+        let morton = spread_bits(cell[0] as u32 & mask)
+            | spread_bits(cell[1] as u32 & mask) << 1
+            | spread_bits(cell[2] as u32 & mask) << 2;
+        let block = cell.map(|coordinate| (coordinate >> bits) as u32);
+        let hash = block[0].wrapping_mul(73_856_093)
+            ^ block[1].wrapping_mul(19_349_663)
+            ^ block[2].wrapping_mul(83_492_791);
         // The number of buckets is a power of two.
-        hash & (self.bucket_ends.len() as u32 - 1)
+        (morton ^ hash.rotate_left(3 * bits)) & (self.bucket_starts.len() as u32 - 2)
     }
 
-    /// Calls `visit` with every point (index, position) in the buckets of
-    /// the 2 × 2 × 2 cells nearest `point`, each bucket once.
-    fn for_each_candidate(&self, point: Vec3, mut visit: impl FnMut(u32, Vec3)) {
-        if self.entries.is_empty() {
+    /// Finds, for every point of `queries`, the points within the radius:
+    /// `search.found` becomes the pairs (query, point), by query. The
+    /// queries are answered together, stage by stage (their buckets, the
+    /// buckets' ranges, the points in them):
+    /// each stage's loads are independent of each other, so their cache
+    /// misses overlap instead of following one another.
+    pub fn find_near(&self, queries: &[Vec3], search: &mut NearbySearch) {
+        search.found.clear();
+        let grid = self;
+        if grid.entries.is_empty() {
             return;
         }
+        search.buckets.clear();
+        for (query, &point) in queries.iter().enumerate() {
+            grid.push_buckets(point, query as u32, &mut search.buckets);
+        }
+        search.ranges.clear();
+        search
+            .ranges
+            .extend(search.buckets.iter().filter_map(|&(query, bucket)| {
+                let (start, end) = grid.bucket_range(bucket);
+                // Read by the points' stage.
+                prefetch_bytes(&grid.entries[start as usize]);
+                (start < end).then_some((query, start, end))
+            }));
+        let radius_squared = grid.radius * grid.radius;
+        for &(query, start, end) in &search.ranges {
+            let point = queries[query as usize];
+            for candidate in &grid.entries[start as usize..end as usize] {
+                if (candidate.position - point).length_squared() <= radius_squared {
+                    search.found.push((query, *candidate));
+                }
+            }
+        }
+    }
+
+    /// Pushes (query, bucket) for the occupied buckets of the 2 × 2 × 2
+    /// cells nearest `point`, which hold every point within the radius,
+    /// each bucket once.
+    fn push_buckets(&self, point: Vec3, query: u32, buckets: &mut Vec<(u32, u32)>) {
         let scaled = point * self.inverse_cell_size;
         let cell = self.cell(point);
         // Per axis, the cell and its neighbour on the side of the point.
@@ -321,8 +446,7 @@ impl HashGrid {
                 cell[axis] + 1
             }
         });
-        let mut visited = [u32::MAX; 8];
-        let mut count = 0;
+        let first = buckets.len();
         for corner in 0..8 {
             let candidate = std::array::from_fn(|axis| {
                 if corner >> axis & 1 == 0 {
@@ -332,31 +456,82 @@ impl HashGrid {
                 }
             });
             let bucket = self.bucket(candidate);
-            if self.occupied[bucket as usize / 64] & (1 << (bucket % 64)) == 0
-                || visited[..count].contains(&bucket)
+            if self.occupied[bucket as usize / 64] & (1 << (bucket % 64)) != 0
+                && !buckets[first..].iter().any(|&(_, seen)| seen == bucket)
             {
-                continue;
-            }
-            visited[count] = bucket;
-            count += 1;
-            let start = if bucket == 0 {
-                0
-            } else {
-                self.bucket_ends[bucket as usize - 1]
-            };
-            for &(index, position) in
-                &self.entries[start as usize..self.bucket_ends[bucket as usize] as usize]
-            {
-                visit(index, position);
+                buckets.push((query, bucket));
+                // Read by the ranges' stage.
+                prefetch_bytes(&self.bucket_starts[bucket as usize]);
             }
         }
     }
 
-    fn bytes(&self) -> usize {
-        self.bucket_ends.capacity() * 4
-            + self.occupied.capacity() * 8
-            + self.entries.capacity() * std::mem::size_of::<(u32, Vec3)>()
+    /// The range of `entries` that holds the points of `bucket`.
+    #[inline]
+    fn bucket_range(&self, bucket: u32) -> (u32, u32) {
+        (
+            self.bucket_starts[bucket as usize],
+            self.bucket_starts[bucket as usize + 1],
+        )
     }
+
+    fn bytes(&self) -> usize {
+        self.bucket_starts.capacity() * 4
+            + self.occupied.capacity() * 8
+            + self.entries.capacity() * std::mem::size_of::<GridPoint>()
+    }
+}
+
+/// Asks the cache to load the lines of `value`: a hint, without effect on
+/// what the program computes.
+#[inline(always)]
+fn prefetch_bytes<T>(value: &T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        let start = std::ptr::from_ref(value).cast::<i8>();
+        for offset in (0..std::mem::size_of::<T>()).step_by(64) {
+            // SAFETY: a prefetch reads nothing and cannot fault (the
+            // address is within `value` anyway); SSE is part of x86_64.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(offset)) };
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = value;
+}
+
+/// The ten low bits of `value` spread to every third bit (bit i to bit
+/// 3i): one axis of a Morton code.
+fn spread_bits(value: u32) -> u32 {
+    let mut x = value & 0x3ff;
+    x = (x | x << 16) & 0x0300_00ff;
+    x = (x | x << 8) & 0x0300_f00f;
+    x = (x | x << 4) & 0x030c_30c3;
+    (x | x << 2) & 0x0924_9249
+}
+
+/// The scratch space of [`LightStore::find_near`], kept from search to
+/// search.
+#[derive(Debug, Default)]
+pub(crate) struct NearbySearch {
+    /// (query, bucket) of the queries' occupied buckets.
+    buckets: Vec<(u32, u32)>,
+    /// (query, start, end): the buckets' ranges of entries.
+    ranges: Vec<(u32, u32, u32)>,
+    /// (query, light vertex) within the radius, by query.
+    pub found: Vec<(u32, GridPoint)>,
+}
+
+/// A point of the grid: a mergeable light vertex.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct GridPoint {
+    /// Its index in the store (counted through the tiles).
+    pub vertex: u32,
+    /// Its path's index in its tile (so that a merge finds the path
+    /// without reading the vertex first).
+    pub path: u32,
+    /// Where it is.
+    pub position: Vec3,
 }
 
 /// What a camera subpath of an iteration needs of it.
@@ -373,6 +548,9 @@ pub(crate) struct MergingPass<'a> {
     pub normalisation: f32,
     /// The light subpaths.
     pub lights: &'a LightStore,
+    /// The pixel whose camera subpath merges: it connects to the light
+    /// subpath traced for it.
+    pub pixel: (u32, u32),
 }
 
 /// An iteration: its shared numbers and its light subpaths.
@@ -420,10 +598,12 @@ struct LightPassStatistics {
     last_radius: f32,
 }
 
-/// A tile's share of an iteration's light pass: its light subpaths'
-/// records (indices relative to the tile) and a scratch subpath.
+/// A tile's share of an iteration's light pass: its light subpaths, their
+/// vertices and records (indices relative to the tile), and a scratch
+/// subpath.
 #[derive(Default)]
 struct LightPassTile {
+    walk: Vec<Vertex>,
     vertices: Vec<Vertex>,
     densities: Vec<VertexDensities>,
     records: Vec<LightVertexRecord>,
@@ -571,8 +751,6 @@ impl SplatEstimator for VcmEstimator<'_> {
 
     /// Traces the iteration's light subpaths and builds its grid.
     fn begin_pass(&self, pass: &PassWork<'_>) -> TraceCounters {
-        // The last iteration's light subpaths are no longer needed.
-        *self.iteration.write().expect("no panics hold the lock") = None;
         let scene = self.bidirectional.scene();
         let sample_index = pass.samples().start;
         let iteration_number = sample_index + 1;
@@ -589,81 +767,134 @@ impl SplatEstimator for VcmEstimator<'_> {
         let strategies = self.strategies(radius);
         let light_paths = (self.resolution[0] * self.resolution[1]) as f32;
         let merging = strategies.merging.is_some();
-        let start = || LightPassTile::default();
+        // The last iteration's tiles, emptied, hold this one's: their
+        // memory is reused rather than allocated (and faulted in) again.
+        let previous = self
+            .iteration
+            .write()
+            .expect("no panics hold the lock")
+            .take();
+        let (pool, pixel_paths) = match previous.and_then(Arc::into_inner) {
+            Some(iteration) => (iteration.lights.tiles, iteration.lights.pixel_paths),
+            None => Default::default(),
+        };
+        let pool = Mutex::new(pool);
+        let start = |_pixel_samples: usize| {
+            let mut tile = pool
+                .lock()
+                .expect("no panics hold the lock")
+                .pop()
+                .unwrap_or_default();
+            tile.vertices.clear();
+            tile.records.clear();
+            tile.paths.clear();
+            tile.mergeable.clear();
+            tile
+        };
         let trace = |tile: &mut LightPassTile,
                      _: PixelSampleIndex,
                      sampler: &mut dyn PixelSampler,
                      counters: &mut TraceCounters| {
             let mut path_wavelengths = wavelengths;
-            tile.vertices.clear();
+            tile.walk.clear();
             let origin = self.bidirectional.trace_light_subpath(
                 time,
                 &mut path_wavelengths,
                 sampler,
                 counters,
-                &mut tile.vertices,
+                &mut tile.walk,
                 usize::MAX,
             );
+            let first_vertex = tile.vertices.len() as u32;
+            tile.vertices.extend_from_slice(&tile.walk);
             let first = tile.records.len() as u32;
             if let Some(origin) = &origin
                 && merging
-                && !tile.vertices.is_empty()
+                && !tile.walk.is_empty()
             {
-                let count = tile.vertices.len() + 1;
+                let count = tile.walk.len() + 1;
                 self.bidirectional.subpath_densities(
                     origin.densities,
-                    &tile.vertices,
+                    &tile.walk,
                     count,
                     &mut tile.densities,
                 );
-                for (vertex, densities) in tile.vertices.iter().zip(&tile.densities[1..]) {
+                for (vertex, densities) in tile.walk.iter().zip(&tile.densities[1..]) {
                     if matches!(vertex.scatterer, Scatterer::Surface { .. })
                         && vertex.is_connectible()
                     {
                         tile.mergeable.push(tile.records.len() as u32);
                     }
-                    tile.records
-                        .push(LightVertexRecord::new(vertex, *densities));
+                    tile.records.push(LightVertexRecord::new(
+                        vertex,
+                        *densities,
+                        tile.paths.len() as u32,
+                    ));
                 }
             }
             tile.paths.push(StoredLightPath {
                 origin,
                 first,
                 count: tile.records.len() as u32 - first,
+                first_vertex,
+                vertex_count: tile.walk.len() as u32,
                 secondary_terminated: path_wavelengths.secondary_terminated(),
             });
         };
-        let (tiles, counters) = pass.for_each_pixel_sample(&start, &trace);
-        // The tiles' records one after the other (tile order: the same
-        // store for any number of threads).
-        let total: usize = tiles.iter().map(|tile| tile.records.len()).sum();
-        let path_count: usize = tiles.iter().map(|tile| tile.paths.len()).sum();
-        let mut records = Vec::with_capacity(total);
-        let mut vertex_path = Vec::with_capacity(total);
-        let mut paths = Vec::with_capacity(path_count);
+        let (mut tiles, counters) = pass.for_each_pixel_sample(&start, &trace);
+        // Vertex indices run through the tiles in tile order: the same
+        // store for any number of threads.
+        let mut first_vertices = Vec::with_capacity(tiles.len());
         let mut mergeable = Vec::new();
-        for tile in tiles {
-            let offset = records.len() as u32;
-            for index in tile.mergeable {
-                let global = offset + index;
-                mergeable.push((global, tile.records[index as usize].point));
+        let mut count = 0u32;
+        for tile in &mut tiles {
+            // At most a tenth more room than this iteration needed (the
+            // first iteration's vectors grew by doubling): the next
+            // iteration reuses it.
+            fn trim<T>(vector: &mut Vec<T>) {
+                if vector.capacity() > vector.len() + vector.len() / 4 {
+                    vector.shrink_to(vector.len() + vector.len() / 10);
+                }
             }
-            for mut path in tile.paths {
-                path.first += offset;
-                vertex_path.extend(std::iter::repeat_n(paths.len() as u32, path.count as usize));
-                paths.push(path);
+            trim(&mut tile.vertices);
+            trim(&mut tile.records);
+            first_vertices.push(count);
+            mergeable.extend(tile.mergeable.iter().map(|&index| {
+                let record = &tile.records[index as usize];
+                GridPoint {
+                    vertex: count + index,
+                    path: record.path,
+                    position: record.point,
+                }
+            }));
+            count += tile.records.len() as u32;
+        }
+        // Each pixel's light subpath: the tiles' pixels in rows, one sample
+        // each (a pass is one iteration).
+        let width = self.resolution[0];
+        let mut pixel_paths = pixel_paths;
+        if pixel_paths.is_empty() {
+            pixel_paths = vec![(0, 0); width * self.resolution[1]];
+        }
+        for (tile_index, bounds) in pass.tiles().iter().enumerate() {
+            let mut path = 0;
+            for y in bounds.min[1]..bounds.max[1] {
+                for x in bounds.min[0]..bounds.max[0] {
+                    pixel_paths[y * width + x] = (tile_index as u32, path);
+                    path += 1;
+                }
             }
-            records.extend(tile.records);
         }
         let grid = HashGrid::build(&mergeable, radius);
         let lights = LightStore {
-            paths,
-            records,
-            vertex_path,
+            tiles,
+            first_vertices,
+            pixel_paths,
+            width,
             grid,
         };
         let bytes = lights.bytes();
-        let stored = lights.records.len() as u64;
+        let stored = lights.vertex_count() as u64;
         *self.iteration.write().expect("no panics hold the lock") = Some(Arc::new(Iteration {
             wavelengths,
             time_sample,
@@ -700,6 +931,7 @@ impl SplatEstimator for VcmEstimator<'_> {
             first_merge_only: self.vcm.mode == VcmMode::Ppm,
             normalisation: iteration.normalisation,
             lights: &iteration.lights,
+            pixel: path.pixel,
         };
         self.bidirectional.trace_merging_sample(
             &mut unit.scratch,
@@ -729,23 +961,34 @@ mod tests {
             ((state >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
         };
         for index in 0..2000u32 {
-            points.push((index, Vec3::new(next(), next(), next())));
+            points.push(GridPoint {
+                vertex: index,
+                path: index / 3,
+                position: Vec3::new(next(), next(), next()),
+            });
         }
         let radius = 0.1;
         let grid = HashGrid::build(&points, radius);
-        for query in 0..200 {
-            let point = Vec3::new(next(), next(), next()) * if query % 2 == 0 { 1.0 } else { 1.1 };
-            let mut found = Vec::new();
-            grid.for_each_candidate(point, |index, position| {
-                assert_eq!(position, points[index as usize].1);
-                if (position - point).length() <= radius {
-                    found.push(index);
-                }
-            });
+        let queries: Vec<Vec3> = (0..200)
+            .map(|query| Vec3::new(next(), next(), next()) * if query % 2 == 0 { 1.0 } else { 1.1 })
+            .collect();
+        let mut search = NearbySearch::default();
+        grid.find_near(&queries, &mut search);
+        assert!(search.found.is_sorted_by_key(|&(query, _)| query));
+        for (query, &point) in queries.iter().enumerate() {
+            let mut found: Vec<u32> = search
+                .found
+                .iter()
+                .filter(|&&(asked, _)| asked == query as u32)
+                .map(|(_, point)| {
+                    assert_eq!(point.path, point.vertex / 3);
+                    point.vertex
+                })
+                .collect();
             let mut expected: Vec<u32> = points
                 .iter()
-                .filter(|(_, p)| (*p - point).length() <= radius)
-                .map(|(index, _)| *index)
+                .filter(|p| (p.position - point).length_squared() <= radius * radius)
+                .map(|p| p.vertex)
                 .collect();
             found.sort_unstable();
             expected.sort_unstable();
@@ -753,7 +996,17 @@ mod tests {
         }
         // An empty grid finds nothing.
         let empty = HashGrid::build(&[], radius);
-        empty.for_each_candidate(Vec3::ZERO, |_, _| panic!("no points"));
+        empty.find_near(&queries, &mut search);
+        assert!(search.found.is_empty());
+    }
+
+    /// Morton bits: bit i of each axis goes to bit 3i.
+    #[test]
+    fn morton_bits_interleave() {
+        assert_eq!(spread_bits(0b1), 0b1);
+        assert_eq!(spread_bits(0b11), 0b1001);
+        assert_eq!(spread_bits(0x3ff), 0x0924_9249);
+        assert_eq!(spread_bits(0x400), 0);
     }
 
     #[test]

@@ -327,7 +327,34 @@ pub fn technique_weight(
     own: OwnTechnique,
     spectral_density_ratio: Option<&SampledSpectrum>,
 ) -> f32 {
-    const LANES: usize = SPECTRUM_SAMPLE_COUNT;
+    match spectral_density_ratio {
+        // r_j, with wavelengths the strategy cannot sample as hero left out.
+        Some(ratio) => technique_weight_in_lanes(
+            camera,
+            light,
+            delta_light,
+            techniques,
+            own,
+            std::array::from_fn::<f64, SPECTRUM_SAMPLE_COUNT, _>(|j| {
+                let r = ratio[j] as f64;
+                if r.is_finite() && r > 0.0 { r } else { 0.0 }
+            }),
+        ),
+        // Without media every wavelength has the same densities: one lane.
+        None => technique_weight_in_lanes(camera, light, delta_light, techniques, own, [1.0]),
+    }
+}
+
+/// [`technique_weight`] over `LANES` wavelengths whose `r_j` are
+/// `path_ratio` (one lane of ratio 1 without media).
+fn technique_weight_in_lanes<const LANES: usize>(
+    camera: &[VertexDensities],
+    light: &[VertexDensities],
+    delta_light: bool,
+    techniques: Strategies,
+    own: OwnTechnique,
+    path_ratio: [f64; LANES],
+) -> f32 {
     let (s, t) = (light.len(), camera.len());
     let heuristic = techniques.heuristic;
     let power = |value: f64| match heuristic {
@@ -335,25 +362,12 @@ pub fn technique_weight(
         MisHeuristic::Power => value * value,
     };
     let remap = |density: f32| if density != 0.0 { density } else { 1.0 } as f64;
-    // r_j (all 1 without media: one lane suffices, the others follow).
-    let lanes = if spectral_density_ratio.is_some() {
-        LANES
-    } else {
-        1
-    };
-    let path_ratio: [f64; LANES] = std::array::from_fn(|j| match spectral_density_ratio {
-        Some(ratio) => {
-            let r = ratio[j] as f64;
-            if r.is_finite() && r > 0.0 { r } else { 0.0 }
-        }
-        None => 1.0,
-    });
     let mean_of = |ratio: &[f64; LANES]| -> f64 {
-        (0..lanes).map(|j| path_ratio[j] * ratio[j]).sum::<f64>() / lanes as f64
+        (0..LANES).map(|j| path_ratio[j] * ratio[j]).sum::<f64>() / LANES as f64
     };
     let step = |ratio: &mut [f64; LANES], vertex: &VertexDensities| {
         let geometric = remap(vertex.reverse) / remap(vertex.forward);
-        for (j, value) in ratio.iter_mut().enumerate().take(lanes) {
+        for (j, value) in ratio.iter_mut().enumerate() {
             let forward = vertex.forward_free_flight[j] as f64;
             let reverse = vertex.reverse_free_flight[j] as f64;
             *value *= if forward > 0.0 {

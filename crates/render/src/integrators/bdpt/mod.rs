@@ -84,7 +84,7 @@ use super::path_space::{
     Scatterer, Scattering, SubpathLayout, Vertex, VertexAt, WalkObserver, WalkSettings, WalkStart,
     WalkState, random_walk, record_scattering, solid_angle_to_area, walk,
 };
-use super::vcm::{LightVertexRecord, MergingPass};
+use super::vcm::{LightVertexRecord, MergingPass, NearbySearch};
 use super::volpath::shadow_transmittance;
 use super::{AuxiliaryImage, Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
 use crate::film::{Film, ImagePlane, SplatBuffer};
@@ -300,6 +300,11 @@ pub struct BidirectionalScratch {
     strategy_splats: Option<Vec<SplatBuffer>>,
     /// Vertex merges done (VCM).
     pub(crate) merges: u64,
+    /// VCM: the camera vertices that merge (their t) and their points.
+    merge_ends: Vec<(usize, Vec3)>,
+    merge_points: Vec<Vec3>,
+    /// VCM: the light vertices near them.
+    nearby: NearbySearch,
 }
 
 pub(crate) struct Bidirectional<'a> {
@@ -852,6 +857,10 @@ impl Bidirectional<'_> {
 
         // The camera subpath.
         let pass = merging;
+        if let Some(pass) = pass {
+            // Its light subpath, read after the camera subpath is traced.
+            pass.lights.prefetch_pixel_path(pass.pixel);
+        }
         let strategies = pass.map_or(self.strategies, |pass| pass.strategies);
         let first_merge_only = pass.is_some_and(|pass| pass.first_merge_only);
         let u_lens = lens_numbers(scene, sampler, layout::LENS);
@@ -884,6 +893,9 @@ impl Bidirectional<'_> {
             light_densities,
             strategy_splats,
             merges: merge_count,
+            merge_ends,
+            merge_points,
+            nearby,
         } = scratch;
         camera_vertices.clear();
         emitters.clear();
@@ -919,21 +931,35 @@ impl Bidirectional<'_> {
         // The wavelengths as the camera subpath left them: merges combine
         // them with other light subpaths'.
         let camera_wavelengths = wavelengths;
+        if let Some(pass) = pass
+            && strategies.merging.is_some()
+        {
+            find_merge_partners(camera_vertices, pass, merge_ends, merge_points, nearby);
+        }
 
-        // The light subpath (with VCM, the pass's light subpath of this
-        // pixel sample again: the same numbers).
+        // The light subpath (with VCM, the one the pass traced for this
+        // pixel: the same numbers).
         light_vertices.clear();
-        let light_origin = if needs_light_subpath {
-            self.trace_light_subpath(
-                time,
-                &mut wavelengths,
-                sampler,
-                counters,
+        let (light_origin, light_vertices): (Option<LightOrigin>, &[Vertex]) = match pass {
+            Some(pass) => {
+                let (path, vertices) = pass.lights.pixel_path(pass.pixel);
+                if path.secondary_terminated {
+                    wavelengths.terminate_secondary();
+                }
+                (path.origin, vertices)
+            }
+            None if needs_light_subpath => (
+                self.trace_light_subpath(
+                    time,
+                    &mut wavelengths,
+                    sampler,
+                    counters,
+                    light_vertices,
+                    light_vertex_limit,
+                ),
                 light_vertices,
-                light_vertex_limit,
-            )
-        } else {
-            None
+            ),
+            None => (None, light_vertices),
         };
 
         // The camera side's strategies (t ≥ 2), summed and splatted at the
@@ -1107,9 +1133,13 @@ impl Bidirectional<'_> {
                 camera_vertices,
                 &camera_wavelengths,
                 pass,
-                camera_densities,
-                light_densities,
-                merge_count,
+                &mut MergeScratch {
+                    camera_densities,
+                    light_densities,
+                    count: merge_count,
+                    ends: merge_ends,
+                    nearby,
+                },
             );
             rgb = std::array::from_fn(|channel| rgb[channel] + merged[channel]);
         }
@@ -1165,6 +1195,46 @@ fn only_delta_before(camera: &[Vertex], count: usize) -> f32 {
     }
 }
 
+/// The camera vertices of `camera` that merge with `pass`'s light
+/// vertices (their t and points, into `ends` and `points`) and the light
+/// vertices near each (into `nearby`), asked of the cache: found before
+/// the connections, merged after them, so that the misses are waited for
+/// while the connections are traced.
+fn find_merge_partners(
+    camera: &[Vertex],
+    pass: &MergingPass<'_>,
+    ends: &mut Vec<(usize, Vec3)>,
+    points: &mut Vec<Vec3>,
+    nearby: &mut NearbySearch,
+) {
+    ends.clear();
+    for t in 2..=camera.len() + 1 {
+        let end = &camera[t - 2];
+        if matches!(end.scatterer, Scatterer::Surface { .. }) && end.is_connectible() {
+            ends.push((t, end.point));
+            if pass.first_merge_only {
+                break;
+            }
+        }
+    }
+    points.clear();
+    points.extend(ends.iter().map(|&(_, point)| point));
+    pass.lights.find_near(points, nearby);
+    pass.lights.prefetch(&nearby.found);
+}
+
+/// The scratch space of [`Bidirectional::merges`]: `ends` and `nearby` as
+/// [`find_merge_partners`] left them.
+struct MergeScratch<'a> {
+    camera_densities: &'a mut Vec<VertexDensities>,
+    light_densities: &'a mut Vec<VertexDensities>,
+    /// The merges done, counted.
+    count: &'a mut u64,
+    /// The camera vertices that merge (t, point).
+    ends: &'a Vec<(usize, Vec3)>,
+    nearby: &'a NearbySearch,
+}
+
 impl Bidirectional<'_> {
     /// Vertex merging (Georgiev et al. 2012): every surface vertex of the
     /// camera subpath `camera` that is not purely specular merges with each
@@ -1183,71 +1253,76 @@ impl Bidirectional<'_> {
         camera: &[Vertex],
         camera_wavelengths: &SampledWavelengths,
         pass: &MergingPass<'_>,
-        camera_densities: &mut Vec<VertexDensities>,
-        light_densities: &mut Vec<VertexDensities>,
-        merge_count: &mut u64,
+        scratch: &mut MergeScratch<'_>,
     ) -> [f32; 3] {
         let max_depth = self.settings.max_depth as usize;
+        let ends = scratch.ends;
         let mut rgb = [0.0f32; 3];
-        for t in 2..=camera.len() + 1 {
+        let mut densities_of = usize::MAX;
+        for (query, point) in &scratch.nearby.found {
+            let t = ends[*query as usize].0;
             let end = &camera[t - 2];
             let Scatterer::Surface { hit, bsdf, .. } = &end.scatterer else {
                 continue;
             };
-            if !end.is_connectible() {
+            let (light_path, light, k) = pass.lights.vertex(point);
+            // The light vertex y_s = light[k], s = k + 1 vertices before it.
+            let s = k + 1;
+            if s + t - 1 > max_depth {
                 continue;
             }
-            pass.lights.for_each_near(end.point, |light_path, k| {
-                // The light vertex y_s = light[k], s = k + 1 vertices before it.
-                let s = k + 1;
-                if s + t - 1 > max_depth {
-                    return;
-                }
-                let light = pass.lights.records_of(light_path);
-                let Some(origin) = &light_path.origin else {
-                    return;
-                };
-                let photon = &light[k];
-                let wi = photon.wo;
-                let cosine_geometric = wi.dot(hit.geometric_normal).abs();
-                if cosine_geometric == 0.0 {
-                    return;
-                }
-                let mut wavelengths = *camera_wavelengths;
-                if light_path.secondary_terminated {
-                    wavelengths.terminate_secondary();
-                }
-                let shading = bsdf.shading_normal_for(end.wo, wi, TransportMode::Radiance);
-                let value = end.beta
-                    * bsdf.evaluate(end.wo, wi, &wavelengths)
-                    * photon.beta
-                    * (origin.beta_scale * wi.dot(shading).abs() / cosine_geometric
-                        * pass.normalisation);
-                *merge_count += 1;
-                if value.is_black() {
-                    return;
-                }
-                let weight = if pass.first_merge_only {
-                    1.0
-                } else {
-                    self.merge_weight(
+            let Some(origin) = &light_path.origin else {
+                continue;
+            };
+            let photon = &light[k];
+            let wi = photon.wo;
+            let cosine_geometric = wi.dot(hit.geometric_normal).abs();
+            if cosine_geometric == 0.0 {
+                continue;
+            }
+            let mut wavelengths = *camera_wavelengths;
+            if light_path.secondary_terminated {
+                wavelengths.terminate_secondary();
+            }
+            let shading = bsdf.shading_normal_for(end.wo, wi, TransportMode::Radiance);
+            let value = end.beta
+                * bsdf.evaluate(end.wo, wi, &wavelengths)
+                * photon.beta
+                * (origin.beta_scale * wi.dot(shading).abs() / cosine_geometric
+                    * pass.normalisation);
+            *scratch.count += 1;
+            if value.is_black() {
+                continue;
+            }
+            let weight = if pass.first_merge_only {
+                1.0
+            } else {
+                // The camera subpath's densities up to z_{t−1}, once per
+                // camera vertex (a merge sets only the last two's reverse
+                // densities).
+                if densities_of != t {
+                    self.subpath_densities(
+                        VertexDensities::default(),
                         camera,
                         t,
-                        origin,
-                        light,
-                        k,
-                        pass.strategies,
-                        camera_densities,
-                        light_densities,
-                    )
-                };
-                let merged = to_linear_srgb(&(value * weight), &wavelengths);
-                for channel in 0..3 {
-                    rgb[channel] += merged[channel];
+                        scratch.camera_densities,
+                    );
+                    densities_of = t;
                 }
-            });
-            if pass.first_merge_only {
-                break;
+                self.merge_weight(
+                    camera,
+                    t,
+                    origin,
+                    light,
+                    k,
+                    pass.strategies,
+                    scratch.camera_densities,
+                    scratch.light_densities,
+                )
+            };
+            let merged = to_linear_srgb(&(value * weight), &wavelengths);
+            for channel in 0..3 {
+                rgb[channel] += merged[channel];
             }
         }
         rgb
@@ -1256,7 +1331,9 @@ impl Bidirectional<'_> {
     /// The weight of the merge of `z_{t−1}` (`camera[t − 2]`) with the
     /// light vertex `light[k]` (`y_s`, s = k + 1) against the strategies:
     /// the densities of the split (s, t) with `z_{t−1}` sampled from
-    /// `y_{s−1}` as the light subpath sampled `y_s`.
+    /// `y_{s−1}` as the light subpath sampled `y_s`. `camera_densities`
+    /// holds the camera subpath's t densities ([`Self::subpath_densities`]);
+    /// the last two's reverse densities are set here.
     #[allow(clippy::too_many_arguments)]
     fn merge_weight(
         &self,
@@ -1266,14 +1343,13 @@ impl Bidirectional<'_> {
         light: &[LightVertexRecord],
         k: usize,
         strategies: Strategies,
-        camera_densities: &mut Vec<VertexDensities>,
+        camera_densities: &mut [VertexDensities],
         light_densities: &mut Vec<VertexDensities>,
     ) -> f32 {
         let s = k + 1;
         let end = &camera[t - 2];
         let photon = &light[k];
         let wi = photon.wo;
-        self.subpath_densities(VertexDensities::default(), camera, t, camera_densities);
         camera_densities[t - 1].set_reverse(photon.pdf_forward, photon.arrival_transmittance);
         camera_densities[t - 1].delta = false;
         set_camera_predecessor_reverse(camera, t, wi, camera_densities);
