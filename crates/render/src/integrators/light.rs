@@ -247,6 +247,7 @@ impl SplatEstimator for LightTracer<'_> {
             media: scene.has_media(),
             null_crossings: scene.has_media(),
         };
+        vertices.clear();
         random_walk(
             scene,
             start,

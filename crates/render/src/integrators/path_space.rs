@@ -1048,6 +1048,8 @@ fn trace_segment<S: SampleSource + ?Sized, O: WalkObserver>(
 /// densities.
 struct VertexRecorder<'a> {
     vertices: &'a mut Vec<Vertex>,
+    /// Where this walk's vertices start in `vertices`.
+    first: usize,
 }
 
 impl WalkObserver for VertexRecorder<'_> {
@@ -1069,7 +1071,7 @@ impl WalkObserver for VertexRecorder<'_> {
 
     #[inline]
     fn scattered(&mut self, vertex: &VertexAt<'_>, scattering: &Scattering) -> ControlFlow<()> {
-        record_scattering(self.vertices, vertex, scattering);
+        record_scattering(&mut self.vertices[self.first..], vertex, scattering);
         ControlFlow::Continue(())
     }
 }
@@ -1096,8 +1098,9 @@ pub fn record_scattering(vertices: &mut [Vertex], vertex: &VertexAt<'_>, scatter
 }
 
 /// Walks from `start`, appending up to `settings.max_vertices` vertices
-/// with their densities to `vertices` (cleared first): the subpaths of
-/// light tracing and the bidirectional methods.
+/// with their densities to `vertices` (after those it holds, which the
+/// walk leaves alone): the subpaths of light tracing and the bidirectional
+/// methods.
 pub fn random_walk<S: SampleSource + ?Sized>(
     scene: &Scene,
     start: WalkStart,
@@ -1107,7 +1110,7 @@ pub fn random_walk<S: SampleSource + ?Sized>(
     counters: &mut TraceCounters,
     vertices: &mut Vec<Vertex>,
 ) {
-    vertices.clear();
+    let first = vertices.len();
     walk(
         scene,
         start,
@@ -1115,7 +1118,7 @@ pub fn random_walk<S: SampleSource + ?Sized>(
         wavelengths,
         sampler,
         counters,
-        &mut VertexRecorder { vertices },
+        &mut VertexRecorder { vertices, first },
     );
 }
 

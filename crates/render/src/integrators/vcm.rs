@@ -11,11 +11,24 @@
 //! 1. before the pass ([`SplatEstimator::begin_pass`]), one light subpath
 //!    per pixel is traced by the path-space walk with the pixel sample's
 //!    numbers (the light blocks of the layout, as BDPT's), and its vertices
-//!    are kept; those that can be merged at (surfaces that are not purely
-//!    specular) go into a hash grid of cell side 2r;
+//!    are kept: whole (with their BSDFs) for the pixel's own connections,
+//!    and as compact [`LightVertexRecord`]s for merges; those that can be
+//!    merged at (surfaces that are not purely specular) go into a hash grid
+//!    of cell side 2r;
 //! 2. per pixel, the camera subpath is traced, connected to the pixel's own
-//!    light subpath by every BDPT strategy, and each of its vertices merges
-//!    with the light vertices within r of it.
+//!    light subpath by every BDPT strategy (the kept vertices: the subpath
+//!    is not traced twice), and each of its vertices merges with the light
+//!    vertices within r of it.
+//!
+//! # Memory for speed
+//!
+//! The store costs about 0.8 kB per light vertex (the whole vertex and its
+//! record): at 256 × 256 pixels on the Cornell box, 154 000 vertices and
+//! about 140 MB, reused from iteration to iteration (the tiles' vectors are
+//! kept). Merges are cache misses on the grid and the records; a camera
+//! subpath's queries are answered together, stage by stage, with
+//! prefetches, before its connections are traced, so that the misses are
+//! waited for while the connections run.
 //!
 //! The radius shrinks over the iterations, r_i = r₁ · i^((α−1)/2) (Knaus
 //! & Zwicker 2011; SmallVCM's `r₁ / i^((1−α)/2)`), so the merges' bias
@@ -160,14 +173,12 @@ pub(crate) struct LightVertexRecord {
     pub spectral_density_ratio: SampledSpectrum,
     /// Its densities on the subpath, as BDPT's weights see them.
     pub densities: VertexDensities,
-    /// The index of its light subpath in its tile of the light pass.
-    path: u32,
 }
 
 impl LightVertexRecord {
     /// The record of `vertex`, whose densities on its subpath are
     /// `densities`.
-    fn new(vertex: &Vertex, densities: VertexDensities, path: u32) -> Self {
+    fn new(vertex: &Vertex, densities: VertexDensities) -> Self {
         Self {
             point: vertex.point,
             geometric_normal: vertex.geometric_normal,
@@ -178,7 +189,6 @@ impl LightVertexRecord {
             extinction: vertex.extinction,
             spectral_density_ratio: vertex.spectral_density_ratio,
             densities,
-            path,
         }
     }
 }
@@ -206,9 +216,6 @@ pub(crate) struct LightStore {
     /// The light pass's tiles, in tile order: their light subpaths and
     /// vertices, where the pass left them (not copied into one array).
     tiles: Vec<LightPassTile>,
-    /// Per tile, the store-wide index of its first record: record indices
-    /// (the grid's) count through the tiles in order.
-    first_vertices: Vec<u32>,
     /// Per pixel (row by row), its light subpath: (tile, path in the tile).
     pixel_paths: Vec<(u32, u32)>,
     /// The image's width.
@@ -218,24 +225,14 @@ pub(crate) struct LightStore {
 }
 
 impl LightStore {
-    /// The tile of record `index` and the record's index in it.
-    #[inline]
-    fn locate(&self, index: u32) -> (&LightPassTile, u32) {
-        let tile_index = self.first_vertices.partition_point(|&first| first <= index) - 1;
-        (
-            &self.tiles[tile_index],
-            index - self.first_vertices[tile_index],
-        )
-    }
-
     /// Asks the cache for what [`Self::vertex`] will read of the light
     /// vertices `found` (from [`Self::find_near`]): their records and
     /// paths. The loads are independent, so their misses overlap instead of
     /// following one another merge by merge.
     pub fn prefetch(&self, found: &[(u32, GridPoint)]) {
         for (_, point) in found {
-            let (tile, local) = self.locate(point.vertex);
-            prefetch_bytes(&tile.records[local as usize]);
+            let tile = &self.tiles[point.tile as usize];
+            prefetch_bytes(&tile.records[point.vertex as usize]);
             prefetch_bytes(&tile.paths[point.path as usize]);
         }
     }
@@ -243,10 +240,10 @@ impl LightStore {
     /// The light vertex `point` found in the grid: its path, the path's
     /// vertices and its place `k` on them.
     pub fn vertex(&self, point: &GridPoint) -> (&StoredLightPath, &[LightVertexRecord], usize) {
-        let (tile, local) = self.locate(point.vertex);
+        let tile = &self.tiles[point.tile as usize];
         let path = &tile.paths[point.path as usize];
         let records = &tile.records[path.first as usize..(path.first + path.count) as usize];
-        (path, records, (local - path.first) as usize)
+        (path, records, (point.vertex - path.first) as usize)
     }
 
     /// The light subpath the iteration traced for `pixel`, and its
@@ -292,10 +289,9 @@ impl LightStore {
                 tile.records.capacity() * std::mem::size_of::<LightVertexRecord>()
                     + tile.vertices.capacity() * std::mem::size_of::<Vertex>()
                     + tile.paths.capacity() * std::mem::size_of::<StoredLightPath>()
-                    + tile.mergeable.capacity() * 4
+                    + tile.mergeable.capacity() * std::mem::size_of::<GridPoint>()
             })
             .sum::<usize>()
-            + self.first_vertices.capacity() * 4
             + self.pixel_paths.capacity() * 8
             + self.grid.bytes()
     }
@@ -304,11 +300,12 @@ impl LightStore {
 /// A hash grid over points (SmallVCM's): cells of side 2r hashed into
 /// buckets, the points sorted by bucket; a query visits the 2 × 2 × 2 cells
 /// nearest its point, which hold every point within r. Queries are cache
-/// misses (a camera vertex's buckets are anywhere in memory), so: four
-/// buckets per point (the power of two above), few of them occupied, with a
+/// misses, so: two buckets per point (the power of two above), with a
 /// bitmap of the occupied ones small enough for the cache, checked first;
-/// and the points' positions kept with their indices, so a query reads
-/// only its buckets and touches a record only for a point within r.
+/// buckets in space order within blocks of cells ([`Self::bucket`]); and
+/// the points' positions kept with their tile, record and path indices, so
+/// a query reads only its buckets and touches a record only for a point
+/// within r.
 #[derive(Debug, Default)]
 struct HashGrid {
     radius: f32,
@@ -325,18 +322,21 @@ struct HashGrid {
 }
 
 impl HashGrid {
-    /// The grid of radius `radius` over `points`.
-    fn build(points: &[GridPoint], radius: f32) -> Self {
-        let buckets = (4 * points.len()).max(1).next_power_of_two();
+    /// The grid of radius `radius` over `points`, in the memory of
+    /// `previous` (a grid no longer needed).
+    fn build(points: &[GridPoint], radius: f32, previous: HashGrid) -> Self {
+        let buckets = (2 * points.len()).max(1).next_power_of_two();
         let inverse_cell_size = 1.0 / (2.0 * radius);
         let mut grid = HashGrid {
             radius,
             inverse_cell_size,
             bits_per_axis: (buckets.trailing_zeros() / 3).clamp(1, 10),
-            occupied: vec![0; buckets.div_ceil(64)],
-            bucket_starts: vec![0; buckets + 1],
-            entries: vec![GridPoint::default(); points.len()],
+            occupied: zeroed(previous.occupied, buckets.div_ceil(64)),
+            bucket_starts: zeroed(previous.bucket_starts, buckets + 1),
+            entries: previous.entries,
         };
+        grid.entries.clear();
+        grid.entries.resize(points.len(), GridPoint::default());
         let point_buckets: Vec<u32> = points
             .par_iter()
             .map(|point| grid.bucket(grid.cell(point.position)))
@@ -482,6 +482,13 @@ impl HashGrid {
     }
 }
 
+/// `vector` with `length` zeros, in its memory.
+fn zeroed<T: Copy + Default>(mut vector: Vec<T>, length: usize) -> Vec<T> {
+    vector.clear();
+    vector.resize(length, T::default());
+    vector
+}
+
 /// Asks the cache to load the lines of `value`: a hint, without effect on
 /// what the program computes.
 #[inline(always)]
@@ -525,7 +532,9 @@ pub(crate) struct NearbySearch {
 /// A point of the grid: a mergeable light vertex.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct GridPoint {
-    /// Its index in the store (counted through the tiles).
+    /// Its tile of the light pass.
+    pub tile: u32,
+    /// Its record's index in the tile.
     pub vertex: u32,
     /// Its path's index in its tile (so that a merge finds the path
     /// without reading the vertex first).
@@ -599,16 +608,18 @@ struct LightPassStatistics {
 }
 
 /// A tile's share of an iteration's light pass: its light subpaths, their
-/// vertices and records (indices relative to the tile), and a scratch
-/// subpath.
+/// vertices and records (indices relative to the tile), and scratch
+/// densities.
 #[derive(Default)]
 struct LightPassTile {
-    walk: Vec<Vertex>,
     vertices: Vec<Vertex>,
     densities: Vec<VertexDensities>,
     records: Vec<LightVertexRecord>,
     paths: Vec<StoredLightPath>,
-    mergeable: Vec<u32>,
+    /// Its index among the pass's tiles.
+    index: u32,
+    /// The grid points of its mergeable vertices.
+    mergeable: Vec<GridPoint>,
 }
 
 /// A work unit: the bidirectional scratch and the iteration it renders.
@@ -774,12 +785,16 @@ impl SplatEstimator for VcmEstimator<'_> {
             .write()
             .expect("no panics hold the lock")
             .take();
-        let (pool, pixel_paths) = match previous.and_then(Arc::into_inner) {
-            Some(iteration) => (iteration.lights.tiles, iteration.lights.pixel_paths),
+        let (pool, pixel_paths, grid) = match previous.and_then(Arc::into_inner) {
+            Some(iteration) => (
+                iteration.lights.tiles,
+                iteration.lights.pixel_paths,
+                iteration.lights.grid,
+            ),
             None => Default::default(),
         };
         let pool = Mutex::new(pool);
-        let start = |_pixel_samples: usize| {
+        let start = |tile_index: usize, _pixel_samples: usize| {
             let mut tile = pool
                 .lock()
                 .expect("no panics hold the lock")
@@ -789,6 +804,7 @@ impl SplatEstimator for VcmEstimator<'_> {
             tile.records.clear();
             tile.paths.clear();
             tile.mergeable.clear();
+            tile.index = tile_index as u32;
             tile
         };
         let trace = |tile: &mut LightPassTile,
@@ -796,57 +812,56 @@ impl SplatEstimator for VcmEstimator<'_> {
                      sampler: &mut dyn PixelSampler,
                      counters: &mut TraceCounters| {
             let mut path_wavelengths = wavelengths;
-            tile.walk.clear();
+            let first_vertex = tile.vertices.len();
             let origin = self.bidirectional.trace_light_subpath(
                 time,
                 &mut path_wavelengths,
                 sampler,
                 counters,
-                &mut tile.walk,
+                &mut tile.vertices,
                 usize::MAX,
             );
-            let first_vertex = tile.vertices.len() as u32;
-            tile.vertices.extend_from_slice(&tile.walk);
+            let walked = &tile.vertices[first_vertex..];
             let first = tile.records.len() as u32;
             if let Some(origin) = &origin
                 && merging
-                && !tile.walk.is_empty()
+                && !walked.is_empty()
             {
-                let count = tile.walk.len() + 1;
+                let count = walked.len() + 1;
                 self.bidirectional.subpath_densities(
                     origin.densities,
-                    &tile.walk,
+                    walked,
                     count,
                     &mut tile.densities,
                 );
-                for (vertex, densities) in tile.walk.iter().zip(&tile.densities[1..]) {
+                for (vertex, densities) in walked.iter().zip(&tile.densities[1..]) {
                     if matches!(vertex.scatterer, Scatterer::Surface { .. })
                         && vertex.is_connectible()
                     {
-                        tile.mergeable.push(tile.records.len() as u32);
+                        tile.mergeable.push(GridPoint {
+                            tile: tile.index,
+                            vertex: tile.records.len() as u32,
+                            path: tile.paths.len() as u32,
+                            position: vertex.point,
+                        });
                     }
-                    tile.records.push(LightVertexRecord::new(
-                        vertex,
-                        *densities,
-                        tile.paths.len() as u32,
-                    ));
+                    tile.records
+                        .push(LightVertexRecord::new(vertex, *densities));
                 }
             }
             tile.paths.push(StoredLightPath {
                 origin,
                 first,
                 count: tile.records.len() as u32 - first,
-                first_vertex,
-                vertex_count: tile.walk.len() as u32,
+                first_vertex: first_vertex as u32,
+                vertex_count: (tile.vertices.len() - first_vertex) as u32,
                 secondary_terminated: path_wavelengths.secondary_terminated(),
             });
         };
         let (mut tiles, counters) = pass.for_each_pixel_sample(&start, &trace);
-        // Vertex indices run through the tiles in tile order: the same
-        // store for any number of threads.
-        let mut first_vertices = Vec::with_capacity(tiles.len());
-        let mut mergeable = Vec::new();
-        let mut count = 0u32;
+        // The grid's points in tile order: the same grid for any number of
+        // threads.
+        let mut mergeable = Vec::with_capacity(tiles.iter().map(|tile| tile.mergeable.len()).sum());
         for tile in &mut tiles {
             // At most a tenth more room than this iteration needed (the
             // first iteration's vectors grew by doubling): the next
@@ -858,37 +873,27 @@ impl SplatEstimator for VcmEstimator<'_> {
             }
             trim(&mut tile.vertices);
             trim(&mut tile.records);
-            first_vertices.push(count);
-            mergeable.extend(tile.mergeable.iter().map(|&index| {
-                let record = &tile.records[index as usize];
-                GridPoint {
-                    vertex: count + index,
-                    path: record.path,
-                    position: record.point,
-                }
-            }));
-            count += tile.records.len() as u32;
+            mergeable.extend_from_slice(&tile.mergeable);
         }
         // Each pixel's light subpath: the tiles' pixels in rows, one sample
-        // each (a pass is one iteration).
+        // each (a pass is one iteration); the same tiles every pass.
         let width = self.resolution[0];
         let mut pixel_paths = pixel_paths;
         if pixel_paths.is_empty() {
             pixel_paths = vec![(0, 0); width * self.resolution[1]];
-        }
-        for (tile_index, bounds) in pass.tiles().iter().enumerate() {
-            let mut path = 0;
-            for y in bounds.min[1]..bounds.max[1] {
-                for x in bounds.min[0]..bounds.max[0] {
-                    pixel_paths[y * width + x] = (tile_index as u32, path);
-                    path += 1;
+            for (tile_index, bounds) in pass.tiles().iter().enumerate() {
+                let mut path = 0;
+                for y in bounds.min[1]..bounds.max[1] {
+                    for x in bounds.min[0]..bounds.max[0] {
+                        pixel_paths[y * width + x] = (tile_index as u32, path);
+                        path += 1;
+                    }
                 }
             }
         }
-        let grid = HashGrid::build(&mergeable, radius);
+        let grid = HashGrid::build(&mergeable, radius, grid);
         let lights = LightStore {
             tiles,
-            first_vertices,
             pixel_paths,
             width,
             grid,
@@ -935,7 +940,6 @@ impl SplatEstimator for VcmEstimator<'_> {
         };
         self.bidirectional.trace_merging_sample(
             &mut unit.scratch,
-            path.pixel,
             &pass,
             sampler,
             splats,
@@ -962,13 +966,14 @@ mod tests {
         };
         for index in 0..2000u32 {
             points.push(GridPoint {
+                tile: index % 7,
                 vertex: index,
                 path: index / 3,
                 position: Vec3::new(next(), next(), next()),
             });
         }
         let radius = 0.1;
-        let grid = HashGrid::build(&points, radius);
+        let grid = HashGrid::build(&points, radius, HashGrid::default());
         let queries: Vec<Vec3> = (0..200)
             .map(|query| Vec3::new(next(), next(), next()) * if query % 2 == 0 { 1.0 } else { 1.1 })
             .collect();
@@ -982,6 +987,7 @@ mod tests {
                 .filter(|&&(asked, _)| asked == query as u32)
                 .map(|(_, point)| {
                     assert_eq!(point.path, point.vertex / 3);
+                    assert_eq!(point.tile, point.vertex % 7);
                     point.vertex
                 })
                 .collect();
@@ -995,7 +1001,7 @@ mod tests {
             assert_eq!(found, expected, "query {point}");
         }
         // An empty grid finds nothing.
-        let empty = HashGrid::build(&[], radius);
+        let empty = HashGrid::build(&[], radius, grid);
         empty.find_near(&queries, &mut search);
         assert!(search.found.is_empty());
     }

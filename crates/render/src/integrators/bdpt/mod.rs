@@ -765,20 +765,20 @@ impl<'a> Bidirectional<'a> {
 }
 
 impl Bidirectional<'_> {
-    /// VCM's sample of `pixel`: the camera subpath from the pixel's share
-    /// of the image plane, the light subpath and merges of `merging`.
+    /// VCM's sample of `merging.pixel`: the camera subpath from the
+    /// pixel's share of the image plane, the light subpath and merges of
+    /// `merging`.
     pub(crate) fn trace_merging_sample<S: SampleSource + ?Sized>(
         &self,
         scratch: &mut BidirectionalScratch,
-        pixel: (u32, u32),
         merging: &MergingPass<'_>,
         sampler: &mut S,
         splats: &mut SplatBuffer,
         counters: &mut TraceCounters,
     ) {
-        let raster = self
-            .image_plane
-            .seed_raster(self.scene, pixel, sampler.get_2d(layout::FILM));
+        let raster =
+            self.image_plane
+                .seed_raster(self.scene, merging.pixel, sampler.get_2d(layout::FILM));
         self.trace_from(
             scratch,
             raster,
@@ -934,7 +934,14 @@ impl Bidirectional<'_> {
         if let Some(pass) = pass
             && strategies.merging.is_some()
         {
-            find_merge_partners(camera_vertices, pass, merge_ends, merge_points, nearby);
+            find_merge_partners(
+                camera_vertices,
+                max_depth,
+                pass,
+                merge_ends,
+                merge_points,
+                nearby,
+            );
         }
 
         // The light subpath (with VCM, the one the pass traced for this
@@ -1202,13 +1209,15 @@ fn only_delta_before(camera: &[Vertex], count: usize) -> f32 {
 /// while the connections are traced.
 fn find_merge_partners(
     camera: &[Vertex],
+    max_depth: usize,
     pass: &MergingPass<'_>,
     ends: &mut Vec<(usize, Vec3)>,
     points: &mut Vec<Vec3>,
     nearby: &mut NearbySearch,
 ) {
     ends.clear();
-    for t in 2..=camera.len() + 1 {
+    // A merge at z_{t−1} makes a path of at least t segments.
+    for t in 2..=(camera.len() + 1).min(max_depth) {
         let end = &camera[t - 2];
         if matches!(end.scatterer, Scatterer::Surface { .. }) && end.is_connectible() {
             ends.push((t, end.point));
@@ -1434,8 +1443,9 @@ impl Bidirectional<'_> {
         }
     }
 
-    /// Traces the light subpath into `vertices` (its walk's vertices, `y₁`
-    /// on) and returns its origin `y₀`, or `None` if no light emits. The
+    /// Traces the light subpath, appending its walk's vertices (`y₁` on)
+    /// to `vertices`, and returns its origin `y₀`, or `None` if no light
+    /// emits. The
     /// vertices' throughputs include the emission: `β(y₁) = Le |cos| /
     /// (p_choice p_position p_direction)`.
     pub(crate) fn trace_light_subpath<S: SampleSource + ?Sized>(
@@ -1448,6 +1458,7 @@ impl Bidirectional<'_> {
         vertex_limit: usize,
     ) -> Option<LightOrigin> {
         let scene = self.scene;
+        let first = vertices.len();
         let (light_index, choice, u_primitive) = scene
             .light_sampler
             .sample(sampler.get(layout::LIGHT_CHOICE))?;
@@ -1539,6 +1550,7 @@ impl Bidirectional<'_> {
             counters,
             vertices,
         );
+        let vertices = &mut vertices[first..];
         // From the sky, y₁'s density is the disk's over its cosine (no
         // distance: the disk is at infinity).
         if at_infinity && let Some(first) = vertices.first_mut() {
