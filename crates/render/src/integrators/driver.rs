@@ -281,13 +281,13 @@ impl PassWork<'_> {
 
     /// Runs `work` once per pixel sample of the pass, the sampler
     /// positioned at it, with a state per tile (from `start`, given the
-    /// tile's index and number of pixel samples): the film's
+    /// tile's index): the film's
     /// tiles in parallel, pixels in rows within a tile, a pixel's samples
     /// in order. Returns the tiles' states in tile order and the rays
     /// counted.
     pub fn for_each_pixel_sample<State: Send>(
         &self,
-        start: &(dyn Fn(usize, usize) -> State + Sync),
+        start: &(dyn Fn(usize) -> State + Sync),
         work: &(
              dyn Fn(&mut State, PixelSampleIndex, &mut dyn PixelSampler, &mut TraceCounters) + Sync
          ),
@@ -299,8 +299,7 @@ impl PassWork<'_> {
             .map(|(tile_index, bounds)| {
                 let mut sampler = self.prototype.clone_sampler();
                 let mut counters = TraceCounters::default();
-                let pixels = (bounds.max[0] - bounds.min[0]) * (bounds.max[1] - bounds.min[1]);
-                let mut state = start(tile_index, pixels * self.samples.clone().count());
+                let mut state = start(tile_index);
                 for y in bounds.min[1]..bounds.max[1] {
                     for x in bounds.min[0]..bounds.max[0] {
                         for sample_index in self.samples.clone() {

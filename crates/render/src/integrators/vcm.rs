@@ -794,7 +794,7 @@ impl SplatEstimator for VcmEstimator<'_> {
             None => Default::default(),
         };
         let pool = Mutex::new(pool);
-        let start = |tile_index: usize, _pixel_samples: usize| {
+        let start = |tile_index: usize| {
             let mut tile = pool
                 .lock()
                 .expect("no panics hold the lock")

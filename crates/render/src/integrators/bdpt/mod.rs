@@ -301,7 +301,7 @@ pub struct BidirectionalScratch {
     /// Vertex merges done (VCM).
     pub(crate) merges: u64,
     /// VCM: the camera vertices that merge (their t) and their points.
-    merge_ends: Vec<(usize, Vec3)>,
+    merge_ends: Vec<usize>,
     merge_points: Vec<Vec3>,
     /// VCM: the light vertices near them.
     nearby: NearbySearch,
@@ -1203,7 +1203,7 @@ fn only_delta_before(camera: &[Vertex], count: usize) -> f32 {
 }
 
 /// The camera vertices of `camera` that merge with `pass`'s light
-/// vertices (their t and points, into `ends` and `points`) and the light
+/// vertices (their t into `ends`, their points into `points`) and the light
 /// vertices near each (into `nearby`), asked of the cache: found before
 /// the connections, merged after them, so that the misses are waited for
 /// while the connections are traced.
@@ -1211,23 +1211,23 @@ fn find_merge_partners(
     camera: &[Vertex],
     max_depth: usize,
     pass: &MergingPass<'_>,
-    ends: &mut Vec<(usize, Vec3)>,
+    ends: &mut Vec<usize>,
     points: &mut Vec<Vec3>,
     nearby: &mut NearbySearch,
 ) {
     ends.clear();
+    points.clear();
     // A merge at z_{t−1} makes a path of at least t segments.
     for t in 2..=(camera.len() + 1).min(max_depth) {
         let end = &camera[t - 2];
         if matches!(end.scatterer, Scatterer::Surface { .. }) && end.is_connectible() {
-            ends.push((t, end.point));
+            ends.push(t);
+            points.push(end.point);
             if pass.first_merge_only {
                 break;
             }
         }
     }
-    points.clear();
-    points.extend(ends.iter().map(|&(_, point)| point));
     pass.lights.find_near(points, nearby);
     pass.lights.prefetch(&nearby.found);
 }
@@ -1239,8 +1239,8 @@ struct MergeScratch<'a> {
     light_densities: &'a mut Vec<VertexDensities>,
     /// The merges done, counted.
     count: &'a mut u64,
-    /// The camera vertices that merge (t, point).
-    ends: &'a Vec<(usize, Vec3)>,
+    /// The t of each camera vertex that merges (a query of `nearby`).
+    ends: &'a [usize],
     nearby: &'a NearbySearch,
 }
 
@@ -1269,7 +1269,7 @@ impl Bidirectional<'_> {
         let mut rgb = [0.0f32; 3];
         let mut densities_of = usize::MAX;
         for (query, point) in &scratch.nearby.found {
-            let t = ends[*query as usize].0;
+            let t = ends[*query as usize];
             let end = &camera[t - 2];
             let Scatterer::Surface { hit, bsdf, .. } = &end.scatterer else {
                 continue;
@@ -1445,9 +1445,8 @@ impl Bidirectional<'_> {
 
     /// Traces the light subpath, appending its walk's vertices (`y₁` on)
     /// to `vertices`, and returns its origin `y₀`, or `None` if no light
-    /// emits. The
-    /// vertices' throughputs include the emission: `β(y₁) = Le |cos| /
-    /// (p_choice p_position p_direction)`.
+    /// emits. The vertices' throughputs include the emission: `β(y₁) = Le
+    /// |cos| / (p_choice p_position p_direction)`.
     pub(crate) fn trace_light_subpath<S: SampleSource + ?Sized>(
         &self,
         time: f32,
