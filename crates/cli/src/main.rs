@@ -8,10 +8,12 @@ mod compare_command;
 mod error;
 mod json;
 mod lattice_command;
+mod merge_command;
 mod plot;
 mod plot_font;
 mod points_command;
 mod render_command;
+mod replications;
 mod study;
 mod study_command;
 
@@ -30,6 +32,9 @@ struct Cli {
 enum Command {
     /// Render a scene to EXR (or PFM) and PNG.
     Render(Box<render_command::RenderArgs>),
+    /// Merge replication parts (`lqmc render --replication I/R`) into
+    /// their mean with the variance of the mean and the error estimate.
+    Merge(merge_command::MergeArgs),
     /// List the built-in scenes.
     Scenes,
     /// Compare an image with a reference: RMSE, relative MSE, mean absolute
@@ -54,6 +59,7 @@ fn main() -> ExitCode {
     };
     let result = match cli.command {
         Command::Render(args) => render_command::run(&args),
+        Command::Merge(args) => merge_command::run(&args),
         Command::Scenes => render_command::list_scenes(),
         Command::Compare(args) => compare_command::run(&args),
         Command::Points(args) => points_command::run(&args),

@@ -10,6 +10,7 @@ macro_rules! say {
 }
 
 use crate::error::{CliError, usage};
+use crate::replications::{ReplicationOptions, ReplicationRequest, replication_request};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use render::image::{Metadata, write_png};
@@ -160,10 +161,33 @@ pub struct RenderArgs {
     /// lattice, hammersley, padded, latin-supercube.
     #[arg(long, value_name = "M")]
     pub pattern_size: Option<u64>,
-    /// Render this many replications (r): spp = r × the pattern size (or,
-    /// with --spp, the pattern size is spp / r).
+    /// Render R independent replications (whole renders whose seeds
+    /// derive from --seed), each of spp / R samples per pixel, and write
+    /// their mean with the variance of the mean from their spread; works
+    /// for every integrator and sampler. With --pattern-size: Kollig &
+    /// Keller's replications inside one render, spp = R × the pattern size.
     #[arg(long, value_name = "R")]
     pub replications: Option<u64>,
+    /// Render only replication I (0 ≤ I < R) of the R replications
+    /// `--replications R` would render: spp / R samples per pixel with
+    /// replication I's seed, to an EXR file that `lqmc merge` combines
+    /// with the others (a farm's array job).
+    #[arg(long, value_name = "I/R", value_parser = crate::replications::parse_replication)]
+    pub replication: Option<(u64, u64)>,
+    /// Render replications (of spp / R samples per pixel, R from
+    /// --replications, default 4, the least rendered) until the estimated
+    /// relative standard error of the image's mean luminance (or of
+    /// --target-region's) is at most E (0.01 is 1 %), or --time runs out.
+    #[arg(long, value_name = "E")]
+    pub target_error: Option<f64>,
+    /// The pixels whose mean luminance the error is measured over:
+    /// x,y,width,height (default: the whole image).
+    #[arg(long, value_name = "X,Y,W,H", value_parser = crate::replications::parse_region)]
+    pub target_region: Option<[usize; 4]>,
+    /// With --target-error: render at most this many replications
+    /// (default 1000).
+    #[arg(long, value_name = "N")]
+    pub max_replications: Option<u64>,
     /// Seed of every random choice; with the default `--randomize seeded`
     /// also of the sampler's randomization (different seeds give
     /// independent renders with every sampler).
@@ -941,17 +965,9 @@ fn replication_plan(args: &RenderArgs) -> Result<(Option<u64>, Option<u64>), Cli
             }
             Ok((Some(pattern), Some(product)))
         }
-        (None, Some(replications), Some(spp)) => {
-            if !spp.is_multiple_of(replications) {
-                return Err(usage(format!(
-                    "--spp {spp} is not a multiple of --replications {replications}"
-                )));
-            }
-            Ok((Some(spp / replications), Some(spp)))
-        }
-        (None, Some(_), None) => Err(usage(
-            "--replications needs --pattern-size or --spp (spp = replications × pattern size)",
-        )),
+        // Without a pattern size, replications are whole renders
+        // ([`crate::replications`]).
+        (None, Some(_), spp) => Ok((None, spp)),
     }
 }
 
@@ -1023,17 +1039,38 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         .kind()
         .check_pattern_size(pattern_size)
         .map_err(|error| usage(error.to_string()))?;
+    let randomization = match args.randomize {
+        RandomizeName::Seeded => Randomization::Seeded,
+        RandomizeName::None => Randomization::None,
+    };
+    let replications = replications_of(args, &scene, integrator_kind, randomization)?;
+    if replications.is_some() && (args.lqmc.density.is_some() || args.strategy_images.is_some()) {
+        return Err(usage(
+            "--density and --strategy-images are images of one render: not with replications",
+        ));
+    }
+    if replications
+        .as_ref()
+        .is_some_and(|request| request.is_part())
+        && extension.as_deref() != Some("exr")
+    {
+        return Err(usage(format!(
+            "a replication part is written as EXR (its metadata ties it to its set for lqmc merge), not {}",
+            args.output.display()
+        )));
+    }
+    check_writable(&args.output)?;
     let request = RenderRequest {
         integrator,
         sampler: args.sampler.kind(),
         pattern_size,
-        samples_per_pixel,
+        samples_per_pixel: match &replications {
+            Some(request) => request.samples_per_replication,
+            None => samples_per_pixel,
+        },
         time_budget,
         seed: args.seed,
-        randomization: match args.randomize {
-            RandomizeName::Seeded => Randomization::Seeded,
-            RandomizeName::None => Randomization::None,
-        },
+        randomization,
         max_depth: args.max_depth,
         russian_roulette_depth: args.rr_depth,
         heuristic: match args.mis {
@@ -1064,6 +1101,18 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         );
         bar
     };
+    if let Some(request) = replications {
+        return run_replications(
+            args,
+            scene_name,
+            &scene,
+            &settings,
+            &request,
+            &stop,
+            &bar,
+            extension.as_deref(),
+        );
+    }
     let started = std::time::Instant::now();
     let progress = |done: u64, total: u64| {
         let fraction = match time_budget {
@@ -1168,6 +1217,297 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             settings.threads
         };
         say!("{}", details.report(seconds, threads));
+    }
+    say!(
+        "{}",
+        crate::replications::describe_single_render_error(
+            &output.image(),
+            &output.variance_image()
+        )
+    );
+    say!("wrote {}", written.join(" and "));
+    Ok(())
+}
+
+/// The independent replications the options ask for (`None`: one render),
+/// checked against the other options.
+fn replications_of(
+    args: &RenderArgs,
+    scene: &Scene,
+    integrator: IntegratorKind,
+    randomization: Randomization,
+) -> Result<Option<ReplicationRequest>, CliError> {
+    if args.pattern_size.is_some() {
+        if args.replication.is_some() || args.target_error.is_some() {
+            return Err(usage(
+                "--pattern-size replicates inside one render (Kollig & Keller's passes); --replication and --target-error split the render into whole renders: use one or the other",
+            ));
+        }
+        return Ok(None);
+    }
+    let request = replication_request(
+        &ReplicationOptions {
+            replications: args.replications,
+            replication: args.replication,
+            target_error: args.target_error,
+            samples_per_pixel: args.spp,
+            timed: args.time.is_some(),
+        },
+        scene.samples_per_pixel.unwrap_or(16),
+    )?;
+    if request.is_none() {
+        for (given, option) in [
+            (args.target_region.is_some(), "--target-region"),
+            (args.max_replications.is_some(), "--max-replications"),
+        ] {
+            if given {
+                return Err(usage(format!(
+                    "{option} is for renders of replications (--replications, --target-error)"
+                )));
+            }
+        }
+    }
+    if args.max_replications == Some(0) {
+        return Err(usage("--max-replications must be at least 1"));
+    }
+    if request.is_some()
+        && randomization == Randomization::None
+        && args.sampler.kind() != SamplerKind::Independent
+        && !integrator.runs_markov_chains()
+    {
+        return Err(usage(
+            "replications need --randomize seeded: with --randomize none every replication has the same QMC points",
+        ));
+    }
+    if let (Some(region), Some(_)) = (args.target_region, &request) {
+        let [width, height] = scene.camera.resolution();
+        let [x, y, region_width, region_height] = region;
+        if x + region_width > width as usize || y + region_height > height as usize {
+            return Err(usage(format!(
+                "--target-region {x},{y},{region_width},{region_height} reaches outside the {width}x{height} image"
+            )));
+        }
+    }
+    Ok(request)
+}
+
+/// Reports an output file that cannot be written before anything is
+/// rendered: its directory must exist and take a new file.
+fn check_writable(path: &Path) -> Result<(), CliError> {
+    let directory = match path.parent() {
+        Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    if !directory.is_dir() {
+        return Err(usage(format!(
+            "cannot write {}: the directory {} does not exist",
+            path.display(),
+            directory.display()
+        )));
+    }
+    let probe = directory.join(format!(".lqmc-write-check-{}", std::process::id()));
+    match std::fs::File::create(&probe) {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            Ok(())
+        }
+        Err(error) => Err(usage(format!("cannot write {}: {error}", path.display()))),
+    }
+}
+
+/// Renders the independent replications `request` asks for and writes
+/// their mean, the variance of the mean and the error estimate.
+#[allow(clippy::too_many_arguments)]
+fn run_replications(
+    args: &RenderArgs,
+    scene_name: &str,
+    scene: &Scene,
+    settings: &RenderSettings,
+    request: &ReplicationRequest,
+    stop: &AtomicBool,
+    bar: &ProgressBar,
+    extension: Option<&str>,
+) -> Result<(), CliError> {
+    use crate::replications::{
+        describe_estimate, fingerprint_hash, format_indices, insert_estimate, keys,
+        settings_fingerprint,
+    };
+    use render::replication::{
+        ErrorTarget, ReplicationPlan, ReplicationProgress, render_replications, replication_seed,
+    };
+    let plan = ReplicationPlan {
+        first: request.first,
+        count: request.count,
+        region: args.target_region,
+        target: request.target_error.map(|relative_error| ErrorTarget {
+            relative_error,
+            max_replications: args.max_replications.unwrap_or(1000),
+        }),
+        time_budget: settings.time_budget,
+    };
+    let started = std::time::Instant::now();
+    let timed = settings.time_budget.is_some()
+        && (request.samples_per_replication.is_none() || plan.target.is_some());
+    let progress = |state: ReplicationProgress| {
+        let fraction = match settings.time_budget {
+            Some(budget) if timed => started.elapsed().as_secs_f64() / budget.as_secs_f64(),
+            _ => {
+                (state.finished as f64
+                    + state.samples_done as f64 / state.samples_total.max(1) as f64)
+                    / state.planned.max(1) as f64
+            }
+        };
+        bar.set_position((fraction.min(1.0) * 100.0) as u64);
+        let error = match state.estimate {
+            Some(estimate) => format!(", error {:.3} %", 100.0 * estimate.relative_error()),
+            None => String::new(),
+        };
+        let target = match request.target_error {
+            Some(target) => format!(" (target {:.3} %)", 100.0 * target),
+            None => String::new(),
+        };
+        bar.set_message(format!(
+            "replication {} of {}{error}{target}",
+            state.finished + 1,
+            state.planned
+        ));
+    };
+    let rendered = render_replications(scene, settings, &plan, stop, &progress, None, &mut |_| {})
+        .map_err(|error| match error {
+            render::integrators::RenderError::Unsupported(message) => usage(message),
+            render::integrators::RenderError::Sampler(error) => usage(error.to_string()),
+            other => CliError::Failure(other.to_string()),
+        })?;
+    bar.finish_and_clear();
+
+    let accumulator = &rendered.accumulator;
+    let statistics = rendered.statistics;
+    let estimate = accumulator.estimate();
+    let [width, height] = scene.camera.resolution();
+    let indices = accumulator.indices();
+    let mut metadata = render_metadata(scene_name, settings, &statistics);
+    metadata.insert(
+        keys::SET.into(),
+        request
+            .set_size
+            .map_or_else(|| "open".to_string(), |size| size.to_string()),
+    );
+    metadata.insert(keys::INDICES.into(), format_indices(&indices));
+    metadata.insert(
+        keys::SAMPLES_PER_REPLICATION.into(),
+        request
+            .samples_per_replication
+            .map_or_else(|| "time".to_string(), |spp| spp.to_string()),
+    );
+    if let [index] = indices.as_slice() {
+        metadata.insert(
+            keys::REPLICATION_SEED.into(),
+            replication_seed(settings.seed, *index).to_string(),
+        );
+    }
+    let fingerprint = settings_fingerprint(scene_name, &args.define, [width, height], settings);
+    metadata.insert(keys::SETTINGS_HASH.into(), fingerprint_hash(&fingerprint));
+    metadata.insert(keys::SETTINGS.into(), fingerprint);
+    let region = args
+        .target_region
+        .unwrap_or([0, 0, width as usize, height as usize]);
+    insert_estimate(&mut metadata, &estimate, region);
+    let image = accumulator.mean_image();
+    // One replication: its own within-render estimate; several: their spread.
+    let variance = if accumulator.count() >= 2 {
+        accumulator.variance_image()
+    } else {
+        rendered.last.variance_image()
+    };
+    let written_error = |error: render::image::ImageError| CliError::Failure(error.to_string());
+    match extension {
+        Some("exr") => render::image::write_exr(
+            &args.output,
+            &image,
+            &[(render::image::VARIANCE_LAYER, &variance)],
+            &metadata,
+        )
+        .map_err(written_error)?,
+        _ => render::image::write_image(&args.output, &image, &metadata).map_err(written_error)?,
+    }
+    let mut written = vec![args.output.display().to_string()];
+    if extension != Some("png") {
+        let png = args.output.with_extension("png");
+        write_png(&png, &image, args.exposure, &metadata).map_err(written_error)?;
+        written.push(png.display().to_string());
+    }
+
+    let seconds = statistics.elapsed.as_secs_f64().max(1e-9);
+    let stopped = if stop.load(Ordering::Relaxed) {
+        " (interrupted)"
+    } else {
+        ""
+    };
+    let per_replication = request
+        .samples_per_replication
+        .map_or_else(|| "time-limited".to_string(), |spp| spp.to_string());
+    let set = match request.set_size {
+        Some(size) if request.is_part() => format!(" of a set of {size}"),
+        _ => String::new(),
+    };
+    say!(
+        "rendered {scene_name} {width}x{height} with {} / {}: {} replication{} ({}){set} of {per_replication} samples per pixel, {} in all{stopped}",
+        settings.integrator.name(),
+        settings.sampler.name(),
+        indices.len(),
+        if indices.len() == 1 { "" } else { "s" },
+        format_indices(&indices),
+        statistics.completed_samples_per_pixel,
+    );
+    if rendered.dropped > 0 {
+        say!(
+            "{} replication cut short and left out (its samples are not in the image)",
+            rendered.dropped
+        );
+    }
+    say!(
+        "time {seconds:.3} s, {:.3} M samples/s, {:.3} M rays/s, {} NaN/Inf samples dropped",
+        statistics.samples as f64 / seconds / 1e6,
+        statistics.rays as f64 / seconds / 1e6,
+        statistics.nonfinite_samples,
+    );
+    if let Some(memory) = statistics.memory {
+        say!("{}", memory.describe());
+    }
+    say!("{}", describe_estimate(&estimate, args.target_region));
+    match (request.target_error, rendered.target_reached) {
+        (Some(target), Some(true)) => say!(
+            "target {:.3} % reached after {} replications",
+            100.0 * target,
+            indices.len()
+        ),
+        (Some(target), _) => say!(
+            "target {:.3} % not reached: {:.3} % after {} replications ({})",
+            100.0 * target,
+            100.0 * estimate.relative_error(),
+            indices.len(),
+            if stop.load(Ordering::Relaxed) {
+                "interrupted"
+            } else if settings
+                .time_budget
+                .is_some_and(|budget| statistics.elapsed >= budget)
+            {
+                "time budget reached"
+            } else {
+                "--max-replications reached"
+            }
+        ),
+        _ => {}
+    }
+    let kind = settings.integrator.kind();
+    let always = kind.is_metropolis() || kind == IntegratorKind::Vcm;
+    if let (true, Some(details)) = (args.lqmc.stats || always, &rendered.last.details) {
+        let threads = if settings.threads == 0 {
+            std::thread::available_parallelism().map_or(1, |count| count.get())
+        } else {
+            settings.threads
+        };
+        say!("last replication: {}", details.report(seconds, threads));
     }
     say!("wrote {}", written.join(" and "));
     Ok(())

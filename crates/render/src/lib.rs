@@ -12,6 +12,7 @@ pub mod material;
 pub mod medium;
 pub mod memory;
 pub mod renderer;
+pub mod replication;
 pub mod sampler;
 pub mod scene;
 pub mod spectrum;

@@ -192,6 +192,18 @@ pub fn render(
     stop: &AtomicBool,
     progress: &(dyn Fn(u64, u64) + Sync),
 ) -> Result<RenderOutput, RenderError> {
+    render_observed(scene, settings, stop, progress, None)
+}
+
+/// [`render`], showing `observer` the film after each whole pass with the
+/// splat scale of the passes so far (a live view).
+pub fn render_observed(
+    scene: &Scene,
+    settings: &RenderSettings,
+    stop: &AtomicBool,
+    progress: &(dyn Fn(u64, u64) + Sync),
+    observer: Option<&(dyn Fn(&Film, f64) + Sync)>,
+) -> Result<RenderOutput, RenderError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(settings.threads)
         .build()
@@ -211,6 +223,7 @@ pub fn render(
         tile_size: settings.tile_size,
         stop,
         progress,
+        observer,
         start: Instant::now(),
     };
     let rendered = pool.install(|| integrator.render(scene, &run))?;

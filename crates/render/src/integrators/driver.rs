@@ -68,6 +68,9 @@ pub struct RunControl<'a> {
     pub stop: &'a AtomicBool,
     /// Receives the number of pixel samples done and the total.
     pub progress: &'a (dyn Fn(u64, u64) + Sync),
+    /// Shown the film after each whole pass, with the splat scale of the
+    /// passes so far (a live view: `lqmc render --tev`).
+    pub observer: Option<&'a (dyn Fn(&Film, f64) + Sync)>,
     /// When the render started (the time budget counts from here).
     pub start: Instant,
 }
@@ -433,6 +436,9 @@ pub fn render_pixel_samples<E: PixelSampleEstimator>(
         }
         if complete {
             statistics.completed_samples_per_pixel = end_sample;
+            if let Some(observe) = run.observer {
+                observe(&film, 1.0 / end_sample as f64);
+            }
         }
         (run.progress)(statistics.samples, all_samples);
         first_sample = end_sample;

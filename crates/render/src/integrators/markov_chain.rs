@@ -572,6 +572,9 @@ pub fn render_markov_chains_onto<C: PathContribution>(
         );
         pass += 1;
         statistics.completed_samples_per_pixel = pass;
+        if let Some(observe) = run.observer {
+            observe(&film, 1.0 / pass as f64);
+        }
         (run.progress)(pass * pixels, pixels.saturating_mul(run.samples_per_pixel));
     }
     chain_statistics.chain_seconds = clock.elapsed().as_secs_f64();

@@ -136,6 +136,7 @@ impl PssmltIntegrator {
             tile_size: run.tile_size,
             stop: run.stop,
             progress: &|_, _| {},
+            observer: None,
             start: run.start,
         };
         let integrator: Box<dyn Integrator> = if scene.has_media() {

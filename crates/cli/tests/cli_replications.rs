@@ -1,0 +1,314 @@
+//! End-to-end tests of renders made of independent replications: `lqmc
+//! render --replications R`, `--replication I/R` parts rendered by separate
+//! processes, `lqmc merge`, and `--target-error`.
+
+#[path = "../../render/tests/support/scratch_directory.rs"]
+mod scratch_directory;
+use scratch_directory::ScratchDirectory;
+
+use render::image::{ExrContents, VARIANCE_LAYER, read_exr};
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn lqmc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lqmc"))
+        .args(args)
+        .output()
+        .expect("the lqmc binary runs")
+}
+
+fn succeed(args: &[&str]) -> String {
+    let output = lqmc(args);
+    assert!(
+        output.status.success(),
+        "lqmc {args:?} failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    String::from_utf8(output.stdout).unwrap()
+}
+
+/// The error message of a command that must fail with status 2.
+fn refuse(args: &[&str]) -> String {
+    let output = lqmc(args);
+    assert_eq!(
+        output.status.code(),
+        Some(2),
+        "lqmc {args:?} should fail with status 2: {}",
+        String::from_utf8_lossy(&output.stdout)
+    );
+    String::from_utf8(output.stderr).unwrap()
+}
+
+/// Pixels and variance layers as bit patterns.
+fn bits(contents: &ExrContents) -> (Vec<u32>, Vec<u32>) {
+    let flatten = |image: &render::image::Image| -> Vec<u32> {
+        image
+            .pixels()
+            .iter()
+            .flatten()
+            .map(|value| value.to_bits())
+            .collect()
+    };
+    (
+        flatten(&contents.image),
+        flatten(&contents.layers[VARIANCE_LAYER]),
+    )
+}
+
+fn path(directory: &Path, name: &str) -> String {
+    directory.join(name).to_str().unwrap().to_string()
+}
+
+/// The render settings of the merge tests: BDPT (camera samples and
+/// splats) with the default Halton sampler, randomized per replication.
+const SETTINGS: [&str; 8] = [
+    "builtin:cornell-box",
+    "--integrator",
+    "bdpt",
+    "--resolution",
+    "24x24",
+    "--spp",
+    "16",
+    "--quiet",
+];
+
+/// Four parts rendered by four processes (two of them with another thread
+/// count) and merged equal one process's render of the four replications,
+/// bit for bit, in the image and in the variance layer; a subset merges
+/// too and says what is missing.
+#[test]
+fn merged_parts_equal_one_render_of_the_replications_bit_for_bit() {
+    let directory = ScratchDirectory::new("replication_merge");
+    let whole = path(&directory, "whole.exr");
+    let mut args = vec!["render"];
+    args.extend(SETTINGS);
+    args.extend(["--replications", "4", "--seed", "3", "-o", &whole]);
+    let text = succeed(&args);
+    assert!(text.contains("4 replications (0-3)"), "{text}");
+    assert!(
+        text.contains("relative standard error of the image mean"),
+        "{text}"
+    );
+
+    let parts: Vec<String> = (0..4)
+        .map(|index| path(&directory, &format!("part_{index}.exr")))
+        .collect();
+    let handles: Vec<_> = (0..4)
+        .map(|index| {
+            let replication = format!("{index}/4");
+            let threads = if index % 2 == 0 { "1" } else { "2" };
+            let mut args: Vec<String> = vec!["render".into()];
+            args.extend(SETTINGS.iter().map(|s| s.to_string()));
+            args.extend(
+                [
+                    "--replication",
+                    &replication,
+                    "--seed",
+                    "3",
+                    "--threads",
+                    threads,
+                    "-o",
+                    &parts[index],
+                ]
+                .map(String::from),
+            );
+            Command::new(env!("CARGO_BIN_EXE_lqmc"))
+                .args(&args)
+                .spawn()
+                .expect("the lqmc binary starts")
+        })
+        .collect();
+    for mut handle in handles {
+        assert!(handle.wait().unwrap().success());
+    }
+    let part = read_exr(&parts[2]).unwrap();
+    assert_eq!(part.metadata["replicationIndices"], "2");
+    assert_eq!(part.metadata["replicationSet"], "4");
+    assert_eq!(part.metadata["replicationSpp"], "4");
+    assert_eq!(part.metadata["seed"], "3");
+
+    let merged = path(&directory, "merged.exr");
+    // Given out of order: the merge sorts by replication index.
+    let text = succeed(&[
+        "merge", &parts[3], &parts[1], &parts[0], &parts[2], "-o", &merged,
+    ]);
+    assert!(
+        text.contains("merged 4 replications (0-3) of a set of 4"),
+        "{text}"
+    );
+    let (merged, whole) = (read_exr(&merged).unwrap(), read_exr(&whole).unwrap());
+    assert_eq!(
+        bits(&merged),
+        bits(&whole),
+        "the merge differs from the render"
+    );
+    assert_eq!(merged.metadata["spp"], "16");
+    assert_eq!(
+        merged.metadata["relativeStandardError"],
+        whole.metadata["relativeStandardError"]
+    );
+
+    let subset = path(&directory, "subset.exr");
+    let text = succeed(&["merge", &parts[0], &parts[3], "-o", &subset]);
+    assert!(text.contains("not merged: 1-2"), "{text}");
+    assert_eq!(
+        read_exr(&subset).unwrap().metadata["replicationIndices"],
+        "0,3"
+    );
+}
+
+/// Parts of different renders, a part twice, a merged file and a plain
+/// render are refused with a message that names the files and the reason.
+#[test]
+fn merge_refuses_to_mix_renders() {
+    let directory = ScratchDirectory::new("replication_mixing");
+    let render_part = |name: &str, extra: &[&str]| -> String {
+        let output = path(&directory, name);
+        let mut args = vec![
+            "render",
+            "builtin:cornell-box",
+            "--resolution",
+            "8x8",
+            "--spp",
+            "4",
+            "--quiet",
+            "-o",
+            &output,
+        ];
+        args.extend(extra);
+        succeed(&args);
+        output
+    };
+    let first = render_part("a0.exr", &["--replication", "0/2"]);
+    let second = render_part("a1.exr", &["--replication", "1/2"]);
+    let other_seed = render_part("b1.exr", &["--replication", "1/2", "--seed", "9"]);
+    let other_depth = render_part("c1.exr", &["--replication", "1/2", "--max-depth", "3"]);
+    let other_set = render_part("d1.exr", &["--replication", "1/4"]);
+    let plain = render_part("plain.exr", &[]);
+    let merged = path(&directory, "merged.exr");
+
+    let message = refuse(&["merge", &first, &other_seed, "-o", &merged]);
+    assert!(message.contains("seed 0 vs 9"), "{message}");
+    assert!(
+        message.contains("a0.exr") && message.contains("b1.exr"),
+        "{message}"
+    );
+    let message = refuse(&["merge", &first, &other_depth, "-o", &merged]);
+    assert!(message.contains("max_depth=6 vs max_depth=3"), "{message}");
+    let message = refuse(&["merge", &first, &other_set, "-o", &merged]);
+    assert!(
+        message.contains("not replications of one render"),
+        "{message}"
+    );
+    let message = refuse(&["merge", &first, &first, "-o", &merged]);
+    assert!(
+        message.contains("replication 0 is given twice"),
+        "{message}"
+    );
+    let message = refuse(&["merge", &first, &plain, "-o", &merged]);
+    assert!(
+        message.contains("plain.exr is not a replication part"),
+        "{message}"
+    );
+    succeed(&["merge", &first, &second, "-o", &merged]);
+    let message = refuse(&[
+        "merge",
+        &merged,
+        &second,
+        "-o",
+        &path(&directory, "again.exr"),
+    ]);
+    assert!(message.contains("a merged render"), "{message}");
+    let message = refuse(&["merge", &first, "-o", &path(&directory, "merged.png")]);
+    assert!(message.contains("EXR"), "{message}");
+    let message = refuse(&["merge", &path(&directory, "missing.exr"), "-o", &merged]);
+    assert!(message.contains("missing.exr"), "{message}");
+}
+
+/// Options that cannot go together are refused before rendering.
+#[test]
+fn replication_options_are_checked() {
+    for (args, expected) in [
+        (
+            vec!["--replication", "1/4", "--spp", "6"],
+            "do not split into 4 replications",
+        ),
+        (vec!["--replication", "4/4"], "does not exist"),
+        (
+            vec!["--replication", "1/4", "--replications", "4"],
+            "give one",
+        ),
+        (
+            vec![
+                "--replication",
+                "1/2",
+                "--pattern-size",
+                "2",
+                "--sampler",
+                "sobol",
+            ],
+            "one or the other",
+        ),
+        (
+            vec!["--replications", "2", "--randomize", "none"],
+            "--randomize seeded",
+        ),
+        (vec!["--target-error", "0"], "positive relative error"),
+        (
+            vec!["--target-region", "0,0,4,4"],
+            "for renders of replications",
+        ),
+        (
+            vec!["--target-error", "0.1", "--target-region", "6,0,4,4"],
+            "reaches outside",
+        ),
+        (
+            vec!["--replication", "0/2", "-o", "part.png"],
+            "written as EXR",
+        ),
+        (vec!["-o", "/nonexistent-directory/x.exr"], "does not exist"),
+    ] {
+        let mut all = vec![
+            "render",
+            "builtin:cornell-box",
+            "--resolution",
+            "8x8",
+            "--quiet",
+        ];
+        all.extend(args.iter().copied());
+        let message = refuse(&all);
+        assert!(message.contains(expected), "{args:?}: {message}");
+    }
+}
+
+/// `--target-error` renders replications until the printed estimate is at
+/// most the target, and writes it into the metadata.
+#[test]
+fn target_error_stops_at_the_target() {
+    let directory = ScratchDirectory::new("target_error");
+    let output = path(&directory, "target.exr");
+    let text = succeed(&[
+        "render",
+        "builtin:cornell-box",
+        "--resolution",
+        "16x16",
+        "--spp",
+        "4",
+        "--target-error",
+        "0.02",
+        "--target-region",
+        "4,4,8,8",
+        "--quiet",
+        "-o",
+        &output,
+    ]);
+    assert!(text.contains("target 2.000 % reached after"), "{text}");
+    let contents = read_exr(&output).unwrap();
+    let estimate: f64 = contents.metadata["relativeStandardError"].parse().unwrap();
+    assert!(estimate <= 0.02, "{estimate}");
+    assert_eq!(contents.metadata["replicationSet"], "open");
+    assert_eq!(contents.metadata["errorRegion"], "4,4,8,8");
+    let replications =
+        render::image::read_exr(&output).unwrap().metadata["replicationIndices"].clone();
+    assert!(replications.starts_with("0-"), "{replications}");
+}
