@@ -14,6 +14,7 @@ mod points_command;
 mod render_command;
 mod study;
 mod study_command;
+mod tev;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
