@@ -16,6 +16,7 @@ mod render_command;
 mod replications;
 mod study;
 mod study_command;
+mod tev;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
