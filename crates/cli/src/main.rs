@@ -8,6 +8,7 @@ mod compare_command;
 mod error;
 mod json;
 mod lattice_command;
+mod live_view;
 mod merge_command;
 mod plot;
 mod plot_font;

@@ -186,6 +186,7 @@ pub fn run(args: &MergeArgs) -> Result<(), CliError> {
     for key in [
         keys::REPLICATION_SEED,
         keys::RELATIVE_ERROR,
+        keys::RELATIVE_RMSE,
         keys::STANDARD_ERROR,
         keys::REGION_MEAN,
         keys::REGION,

@@ -15,7 +15,7 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use render::image::{Metadata, write_png};
 use render::integrators::{IntegratorKind, IntegratorSettings, MisHeuristic};
-use render::renderer::{RenderSettings, RenderStatistics, render};
+use render::renderer::{RenderSettings, RenderStatistics, render_observed};
 use render::sampler::{Randomization, SamplerKind};
 use render::scene::Scene;
 use render::scene::builtin::{BUILTIN_SCENES, DEFAULT_SCENE, builtin_scene};
@@ -188,6 +188,11 @@ pub struct RenderArgs {
     /// (default 1000).
     #[arg(long, value_name = "N")]
     pub max_replications: Option<u64>,
+    /// The error --target-error stops on: `mean` (the relative standard
+    /// error of the region's mean luminance; default) or `rmse` (the
+    /// expected relative RMSE of the region's pixels, the per-pixel noise).
+    #[arg(long, value_name = "mean|rmse")]
+    pub error_measure: Option<String>,
     /// Seed of every random choice; with the default `--randomize seeded`
     /// also of the sampler's randomization (different seeds give
     /// independent renders with every sampler).
@@ -245,6 +250,10 @@ pub struct RenderArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Show the image in the viewer tev while it renders, over tev's TCP
+    /// protocol (`--tev` alone: tev's default address, 127.0.0.1:14158).
+    #[arg(long, value_name = "HOST:PORT", num_args = 0..=1, default_missing_value = crate::tev::DEFAULT_ADDRESS)]
+    pub tev: Option<String>,
     /// A scene-file parameter, NAME=VALUE (Mitsuba's `$NAME`, as
     /// `mitsuba -D`); may be repeated.
     #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_definition)]
@@ -1060,6 +1069,20 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         )));
     }
     check_writable(&args.output)?;
+    let live_view = match &args.tev {
+        Some(address) => {
+            let [width, height] = scene.camera.resolution();
+            let name = args.output.file_name().map_or_else(
+                || "lqmc".to_string(),
+                |name| name.to_string_lossy().into_owned(),
+            );
+            Some(
+                crate::live_view::LiveView::open(address, &name, width, height)
+                    .map_err(|error| usage(format!("--tev: {error}")))?,
+            )
+        }
+        None => None,
+    };
     let request = RenderRequest {
         integrator,
         sampler: args.sampler.kind(),
@@ -1111,6 +1134,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             &stop,
             &bar,
             extension.as_deref(),
+            live_view.as_ref(),
         );
     }
     let started = std::time::Instant::now();
@@ -1125,13 +1149,25 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         let seconds = started.elapsed().as_secs_f64().max(1e-9);
         bar.set_message(format!("{:.3} M samples/s", done as f64 / seconds / 1e6));
     };
-    let output = render(&scene, &settings, &stop, &progress).map_err(|error| match error {
-        // The integrator cannot render this scene: bad input, status 2.
-        render::integrators::RenderError::Unsupported(message) => usage(message),
-        render::integrators::RenderError::Sampler(error) => usage(error.to_string()),
-        other => CliError::Failure(other.to_string()),
-    })?;
+    let observe = |film: &render::film::Film, splat_scale: f64| {
+        if let Some(view) = &live_view {
+            view.show_film(film, splat_scale);
+        }
+    };
+    let observer: Option<&(dyn Fn(&render::film::Film, f64) + Sync)> =
+        live_view.as_ref().map(|_| &observe as _);
+    let output = render_observed(&scene, &settings, &stop, &progress, observer).map_err(
+        |error| match error {
+            // The integrator cannot render this scene: bad input, status 2.
+            render::integrators::RenderError::Unsupported(message) => usage(message),
+            render::integrators::RenderError::Sampler(error) => usage(error.to_string()),
+            other => CliError::Failure(other.to_string()),
+        },
+    )?;
     bar.finish_and_clear();
+    if let Some(view) = &live_view {
+        view.show(&output.image(), Some(&output.variance_image()));
+    }
 
     let statistics = output.statistics;
     let seconds = statistics.elapsed.as_secs_f64().max(1e-9);
@@ -1259,6 +1295,7 @@ fn replications_of(
         for (given, option) in [
             (args.target_region.is_some(), "--target-region"),
             (args.max_replications.is_some(), "--max-replications"),
+            (args.error_measure.is_some(), "--error-measure"),
         ] {
             if given {
                 return Err(usage(format!(
@@ -1327,13 +1364,23 @@ fn run_replications(
     stop: &AtomicBool,
     bar: &ProgressBar,
     extension: Option<&str>,
+    live_view: Option<&crate::live_view::LiveView>,
 ) -> Result<(), CliError> {
     use crate::replications::{
         describe_estimate, fingerprint_hash, format_indices, insert_estimate, keys,
         settings_fingerprint,
     };
     use render::replication::{
-        ErrorTarget, ReplicationPlan, ReplicationProgress, render_replications, replication_seed,
+        ErrorMeasure, ErrorTarget, ReplicationPlan, ReplicationProgress, render_replications,
+        replication_seed,
+    };
+    let measure = match args.error_measure.as_deref() {
+        None => ErrorMeasure::default(),
+        Some(name) => ErrorMeasure::ALL
+            .iter()
+            .find(|(_, known)| *known == name)
+            .map(|(measure, _)| *measure)
+            .ok_or_else(|| usage(format!("--error-measure: `{name}` is not mean or rmse")))?,
     };
     let plan = ReplicationPlan {
         first: request.first,
@@ -1341,6 +1388,7 @@ fn run_replications(
         region: args.target_region,
         target: request.target_error.map(|relative_error| ErrorTarget {
             relative_error,
+            measure,
             max_replications: args.max_replications.unwrap_or(1000),
         }),
         time_budget: settings.time_budget,
@@ -1359,7 +1407,11 @@ fn run_replications(
         };
         bar.set_position((fraction.min(1.0) * 100.0) as u64);
         let error = match state.estimate {
-            Some(estimate) => format!(", error {:.3} %", 100.0 * estimate.relative_error()),
+            Some(estimate) => format!(
+                ", error ({}) {:.3} %",
+                measure.name(),
+                100.0 * estimate.relative(measure)
+            ),
             None => String::new(),
         };
         let target = match request.target_error {
@@ -1372,12 +1424,38 @@ fn run_replications(
             state.planned
         ));
     };
-    let rendered = render_replications(scene, settings, &plan, stop, &progress, None, &mut |_| {})
-        .map_err(|error| match error {
-            render::integrators::RenderError::Unsupported(message) => usage(message),
-            render::integrators::RenderError::Sampler(error) => usage(error.to_string()),
-            other => CliError::Failure(other.to_string()),
-        })?;
+    // The first replication as it renders, then the mean of the finished.
+    let first_finished = AtomicBool::new(false);
+    let observe = |film: &render::film::Film, splat_scale: f64| {
+        if let (Some(view), false) = (live_view, first_finished.load(Ordering::Relaxed)) {
+            view.show_film(film, splat_scale);
+        }
+    };
+    let observer: Option<&(dyn Fn(&render::film::Film, f64) + Sync)> =
+        live_view.map(|_| &observe as _);
+    let mut show_mean = |accumulator: &render::replication::ReplicationAccumulator| {
+        first_finished.store(true, Ordering::Relaxed);
+        if let Some(view) = live_view {
+            view.show(
+                &accumulator.mean_image(),
+                Some(&accumulator.variance_image()),
+            );
+        }
+    };
+    let rendered = render_replications(
+        scene,
+        settings,
+        &plan,
+        stop,
+        &progress,
+        observer,
+        &mut show_mean,
+    )
+    .map_err(|error| match error {
+        render::integrators::RenderError::Unsupported(message) => usage(message),
+        render::integrators::RenderError::Sampler(error) => usage(error.to_string()),
+        other => CliError::Failure(other.to_string()),
+    })?;
     bar.finish_and_clear();
 
     let accumulator = &rendered.accumulator;
@@ -1477,14 +1555,16 @@ fn run_replications(
     say!("{}", describe_estimate(&estimate, args.target_region));
     match (request.target_error, rendered.target_reached) {
         (Some(target), Some(true)) => say!(
-            "target {:.3} % reached after {} replications",
+            "target {:.3} % ({}) reached after {} replications",
             100.0 * target,
+            measure.name(),
             indices.len()
         ),
         (Some(target), _) => say!(
-            "target {:.3} % not reached: {:.3} % after {} replications ({})",
+            "target {:.3} % ({}) not reached: {:.3} % after {} replications ({})",
             100.0 * target,
-            100.0 * estimate.relative_error(),
+            measure.name(),
+            100.0 * estimate.relative(measure),
             indices.len(),
             if stop.load(Ordering::Relaxed) {
                 "interrupted"

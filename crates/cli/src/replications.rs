@@ -26,6 +26,8 @@ pub mod keys {
     pub const SETTINGS_HASH: &str = "replicationSettingsHash";
     /// The estimated relative standard error of the region's mean.
     pub const RELATIVE_ERROR: &str = "relativeStandardError";
+    /// The expected relative RMSE of the region's pixels.
+    pub const RELATIVE_RMSE: &str = "relativeRmse";
     /// The region's mean luminance and its standard error.
     pub const REGION_MEAN: &str = "regionMeanLuminance";
     /// Its standard error.
@@ -255,6 +257,10 @@ pub fn insert_estimate(metadata: &mut Metadata, estimate: &ErrorEstimate, region
             keys::STANDARD_ERROR.into(),
             format!("{:.6e}", estimate.standard_error),
         );
+        metadata.insert(
+            keys::RELATIVE_RMSE.into(),
+            format!("{:.6e}", estimate.pixel_relative_error),
+        );
     }
     metadata.insert(
         keys::REGION_MEAN.into(),
@@ -279,7 +285,7 @@ pub fn describe_estimate(estimate: &ErrorEstimate, region: Option<PixelRegion>) 
         );
     }
     format!(
-        "error: relative standard error of {what} {:.3} % (mean luminance {:.6} ± {:.6}, from {} independent replications); per pixel {:.2} % (root mean square)",
+        "error: relative standard error of {what} {:.3} % (mean luminance {:.6} ± {:.6}, from {} independent replications); per pixel {:.2} % (expected relative RMSE)",
         100.0 * estimate.relative_error(),
         estimate.region_mean,
         estimate.standard_error,
@@ -316,7 +322,7 @@ pub fn describe_single_render_error(
         format!("{:.2} %", 100.0 * variance_mean.sqrt() / mean.abs())
     };
     format!(
-        "error: per pixel {per_pixel} (root mean square, the render's own variance layer); the image mean's error needs independent replications (--replications R or --target-error E)"
+        "error: per pixel {per_pixel} (expected relative RMSE from the render's own variance layer); the image mean's error needs independent replications (--replications R or --target-error E)"
     )
 }
 

@@ -1,6 +1,3 @@
-// Wired into lqmc render by the lead; remove then.
-#![allow(dead_code)]
-
 //! A client for the TCP protocol of the image viewer
 //! [tev](https://github.com/Tom94/tev), so that `lqmc render --tev HOST:PORT`
 //! can show the image while it renders, as pbrt-v4's `--display-server` does.
@@ -84,6 +81,7 @@ pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(3);
 /// given up.
 pub const WRITE_TIMEOUT: Duration = Duration::from_secs(5);
 
+#[cfg(test)]
 /// The channels of a plain RGB image.
 pub const RGB_CHANNELS: [&str; 3] = ["R", "G", "B"];
 
@@ -92,6 +90,7 @@ pub const RGB_CHANNELS: [&str; 3] = ["R", "G", "B"];
 pub const RGB_AND_VARIANCE_CHANNELS: [&str; 6] =
     ["R", "G", "B", "variance.R", "variance.G", "variance.B"];
 
+#[cfg(test)]
 /// Type code of `CloseImage` (tev `include/tev/Ipc.h`, `IpcPacket::EType`).
 const CLOSE_IMAGE_TYPE: u8 = 2;
 /// Type code of `CreateImage` (tev `include/tev/Ipc.h`, `IpcPacket::EType`).
@@ -217,6 +216,7 @@ pub fn encode_update_block(
     packet.finish()
 }
 
+#[cfg(test)]
 /// The update packets that send a whole `width` × `height` image in blocks
 /// of at most `block_size` × `block_size` pixels (see [`image_blocks`] and
 /// [`encode_update_block`]).
@@ -233,6 +233,7 @@ pub fn encode_update_image(
         .collect()
 }
 
+#[cfg(test)]
 /// The bytes of a `CloseImage` packet: tev closes the image of that name.
 pub fn encode_close_image(name: &str) -> Result<Vec<u8>, TevError> {
     let mut packet = PacketBuilder::new(CLOSE_IMAGE_TYPE, name.len() + 8);
@@ -367,6 +368,7 @@ impl TevClient {
         Err(connect_error(source))
     }
 
+    #[cfg(test)]
     /// The address as given to [`TevClient::connect`].
     pub fn address(&self) -> &str {
         &self.address
@@ -419,6 +421,7 @@ impl TevClient {
         Ok(())
     }
 
+    #[cfg(test)]
     /// Closes the image `name` in tev.
     pub fn close_image(&mut self, name: &str) -> Result<(), TevError> {
         let packet = encode_close_image(name)?;

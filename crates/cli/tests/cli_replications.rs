@@ -312,3 +312,178 @@ fn target_error_stops_at_the_target() {
         render::image::read_exr(&output).unwrap().metadata["replicationIndices"].clone();
     assert!(replications.starts_with("0-"), "{replications}");
 }
+
+/// The region mean, its estimated standard error and the expected relative
+/// RMSE a render wrote into its metadata.
+fn written_estimate(path: &str) -> (f64, f64, f64, u64) {
+    let metadata = read_exr(path).unwrap().metadata;
+    let number = |key: &str| -> f64 { metadata[key].parse().unwrap() };
+    let replications = metadata["replicationIndices"]
+        .split(['-', ','])
+        .last()
+        .unwrap()
+        .parse::<u64>()
+        .unwrap()
+        + 1;
+    (
+        number("regionMeanLuminance"),
+        number("regionStandardError"),
+        number("relativeRmse"),
+        replications,
+    )
+}
+
+/// `Σ estimated² / Σ (observed² − reference variance)` and its jackknife
+/// error over the runs.
+fn ratio_and_error(runs: &[(f64, f64)], reference_variance: f64) -> (f64, f64) {
+    let ratio = |kept: &[&(f64, f64)]| -> f64 {
+        let estimated: f64 = kept.iter().map(|(_, estimate)| estimate).sum();
+        let observed: f64 = kept
+            .iter()
+            .map(|(observed, _)| observed - reference_variance)
+            .sum();
+        estimated / observed
+    };
+    let all: Vec<_> = runs.iter().collect();
+    let count = runs.len() as f64;
+    let leave_one_out: Vec<f64> = (0..runs.len())
+        .map(|left_out| {
+            let kept: Vec<_> = runs
+                .iter()
+                .enumerate()
+                .filter(|(index, _)| *index != left_out)
+                .map(|(_, run)| run)
+                .collect();
+            ratio(&kept)
+        })
+        .collect();
+    let mean = leave_one_out.iter().sum::<f64>() / count;
+    let variance = leave_one_out
+        .iter()
+        .map(|value| (value - mean).powi(2))
+        .sum::<f64>()
+        * (count - 1.0)
+        / count;
+    (ratio(&all), variance.sqrt())
+}
+
+/// `--target-error` on the whole `builtin:cornell-box` (256², 16 spp in 4
+/// replications to start with) against a long reference of the same
+/// renderer (1024 spp in 16 replications, seed 99): every run stops with
+/// its estimate at most the target, and the estimates predict the errors
+/// measured against the reference — for the image mean (`--target-error
+/// 0.01`) and for the per-pixel relative RMSE (`--target-error 0.3
+/// --error-measure rmse`): the ratio of the summed estimated variances to
+/// the summed squared measured errors (less the reference's own variance)
+/// lies within four jackknife errors of 1; for the image mean also the
+/// runs' t statistics fall in the 95 % interval of Student's t with 3
+/// degrees of freedom as often as they should. Takes about 4 minutes on two
+/// cores: `cargo test --release -p lqmc-cli --test cli_replications --
+/// --ignored --nocapture`.
+#[test]
+#[ignore]
+fn target_error_agrees_with_the_error_measured_against_a_long_reference() {
+    let directory = ScratchDirectory::new("target_error_reference");
+    let reference = path(&directory, "reference.exr");
+    succeed(&[
+        "render",
+        "builtin:cornell-box",
+        "--spp",
+        "1024",
+        "--replications",
+        "16",
+        "--seed",
+        "99",
+        "--quiet",
+        "-o",
+        &reference,
+    ]);
+    let (reference_mean, reference_error, reference_rmse, _) = written_estimate(&reference);
+    let reference_image = read_exr(&reference).unwrap().image;
+    let reference_value_mean = reference_image
+        .pixels()
+        .iter()
+        .flatten()
+        .map(|v| f64::from(*v))
+        .sum::<f64>()
+        / (3 * reference_image.pixels().len()) as f64;
+
+    let (runs, rmse_runs_count) = (64, 16);
+    let mut mean_runs = Vec::new();
+    let mut rmse_runs = Vec::new();
+    let mut within = 0;
+    for seed in 0..runs {
+        let output = path(&directory, &format!("mean_{seed}.exr"));
+        let seed_text = seed.to_string();
+        succeed(&[
+            "render",
+            "builtin:cornell-box",
+            "--target-error",
+            "0.01",
+            "--seed",
+            &seed_text,
+            "--quiet",
+            "-o",
+            &output,
+        ]);
+        let (mean, error, _, replications) = written_estimate(&output);
+        assert!(error / mean <= 0.01);
+        eprintln!(
+            "mean, seed {seed}: {replications} replications, estimate {:.4} %, measured {:+.4} %",
+            100.0 * error / mean,
+            100.0 * (mean - reference_mean) / reference_mean
+        );
+        mean_runs.push(((mean - reference_mean).powi(2), error.powi(2)));
+        // Student's t with 3 degrees of freedom: |t| < 3.182 in 95 % of runs.
+        let t = (mean - reference_mean) / (error.powi(2) + reference_error.powi(2)).sqrt();
+        within += u32::from(t.abs() < 3.182);
+        if seed >= rmse_runs_count {
+            continue;
+        }
+
+        let output = path(&directory, &format!("rmse_{seed}.exr"));
+        succeed(&[
+            "render",
+            "builtin:cornell-box",
+            "--target-error",
+            "0.3",
+            "--error-measure",
+            "rmse",
+            "--seed",
+            &seed_text,
+            "--quiet",
+            "-o",
+            &output,
+        ]);
+        let (_, _, rmse, replications) = written_estimate(&output);
+        assert!(rmse <= 0.3);
+        let image = read_exr(&output).unwrap().image;
+        let squared: f64 = image
+            .pixels()
+            .iter()
+            .flatten()
+            .zip(reference_image.pixels().iter().flatten())
+            .map(|(value, reference)| (f64::from(*value) - f64::from(*reference)).powi(2))
+            .sum::<f64>()
+            / (3 * image.pixels().len()) as f64;
+        let measured = squared.sqrt() / reference_value_mean;
+        eprintln!(
+            "rmse, seed {seed}: {replications} replications, estimate {:.2} %, measured {:.2} %",
+            100.0 * rmse,
+            100.0 * measured
+        );
+        rmse_runs.push((measured.powi(2), rmse.powi(2)));
+    }
+    let (ratio, error) = ratio_and_error(&mean_runs, reference_error.powi(2));
+    eprintln!(
+        "image mean: estimated / measured variance {ratio:.3} ± {error:.3} ({runs} runs); |t| < 3.182 (95 % of t with 3 degrees of freedom) in {within} of {runs}"
+    );
+    assert!((ratio - 1.0).abs() < 4.0 * error, "{ratio} ± {error}");
+    // Binomial(64, 0.95) is at least 56 with probability 0.99.
+    assert!(within >= 56, "{within} of {runs} within the 95 % interval");
+    let (ratio, error) = ratio_and_error(&rmse_runs, reference_rmse.powi(2));
+    eprintln!(
+        "pixel RMSE: estimated / measured squared error {ratio:.3} ± {error:.3} ({rmse_runs_count} runs)"
+    );
+    assert!((ratio - 1.0).abs() < 4.0 * error, "{ratio} ± {error}");
+}

@@ -250,10 +250,11 @@ pub fn render_observed(
             (auxiliary.name, layers)
         })
         .collect();
-    // Independent replications describe any integrator's error.
+    // The driver's batches (independent replications, a splatting
+    // integrator's passes) describe any integrator's error.
     let variance = rendered
         .film
-        .replication_variance()
+        .batch_variance()
         .cloned()
         .or(rendered.variance);
     Ok(RenderOutput {

@@ -93,10 +93,39 @@ pub struct ErrorEstimate {
     /// The estimated standard error of that mean: the standard deviation
     /// of the replications' region means over `√r` (0 with one replication).
     pub standard_error: f64,
-    /// The root mean square over the image's pixel channels of the
-    /// estimated standard error of the pixel value, over the mean pixel
-    /// channel value: the typical relative error of one pixel.
+    /// The root mean square over the region's pixel channels of the
+    /// estimated standard error of the pixel value, over the region's mean
+    /// pixel channel value: the expected relative RMSE of the region's
+    /// pixels (what `lqmc compare` measures against a reference).
     pub pixel_relative_error: f64,
+}
+
+/// Which error a render to a target stops on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ErrorMeasure {
+    /// The relative standard error of the region's mean luminance.
+    #[default]
+    Mean,
+    /// The expected relative RMSE of the region's pixels
+    /// ([`ErrorEstimate::pixel_relative_error`]).
+    PixelRmse,
+}
+
+impl ErrorMeasure {
+    /// Both, with their command-line names.
+    pub const ALL: [(ErrorMeasure, &'static str); 2] = [
+        (ErrorMeasure::Mean, "mean"),
+        (ErrorMeasure::PixelRmse, "rmse"),
+    ];
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        Self::ALL
+            .iter()
+            .find(|(measure, _)| *measure == self)
+            .unwrap()
+            .1
+    }
 }
 
 impl ErrorEstimate {
@@ -113,6 +142,14 @@ impl ErrorEstimate {
     /// True when it comes from at least two replications.
     pub fn is_estimated(&self) -> bool {
         self.replications >= 2
+    }
+
+    /// The relative error by `measure`.
+    pub fn relative(&self, measure: ErrorMeasure) -> f64 {
+        match measure {
+            ErrorMeasure::Mean => self.relative_error(),
+            ErrorMeasure::PixelRmse => self.pixel_relative_error,
+        }
     }
 }
 
@@ -258,18 +295,23 @@ impl ReplicationAccumulator {
         let pixel_relative_error = if count < 2 {
             0.0
         } else {
-            let channels = (3 * self.mean.len()) as f64;
-            let variance_sum: f64 = self
-                .squared_deviations
-                .iter()
-                .flatten()
-                .map(|value| value / (count - 1) as f64 / count as f64)
-                .sum();
-            let mean_value: f64 = self.mean.iter().flatten().sum::<f64>() / channels;
-            if mean_value == 0.0 {
+            let [x0, y0, region_width, region_height] = self.region;
+            let (mut variance_sum, mut value_sum) = (0.0, 0.0);
+            for y in y0..y0 + region_height {
+                let row = y * self.width + x0..y * self.width + x0 + region_width;
+                for (squared, mean) in self.squared_deviations[row.clone()]
+                    .iter()
+                    .zip(&self.mean[row])
+                {
+                    variance_sum += squared.iter().sum::<f64>() / (count - 1) as f64 / count as f64;
+                    value_sum += mean.iter().sum::<f64>();
+                }
+            }
+            if value_sum == 0.0 {
                 f64::INFINITY
             } else {
-                (variance_sum / channels).sqrt() / mean_value.abs()
+                variance_sum.max(0.0).sqrt() / value_sum.abs()
+                    * ((3 * region_width * region_height) as f64).sqrt()
             }
         };
         ErrorEstimate {
@@ -290,9 +332,10 @@ impl ReplicationAccumulator {
 /// standard error (`lqmc render --target-error`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ErrorTarget {
-    /// Stop once the estimated relative standard error of the region's
-    /// mean is at most this.
+    /// Stop once the estimated relative error is at most this.
     pub relative_error: f64,
+    /// Which error.
+    pub measure: ErrorMeasure,
     /// Render at most this many replications.
     pub max_replications: u64,
 }
@@ -376,7 +419,7 @@ pub fn render_replications(
         let estimate = (done >= 2).then(|| accumulator.estimate());
         if let (Some(target), Some(estimate)) = (plan.target, estimate)
             && done >= plan.count
-            && estimate.relative_error() <= target.relative_error
+            && estimate.relative(target.measure) <= target.relative_error
         {
             target_reached = Some(true);
             break;
@@ -396,8 +439,8 @@ pub fn render_replications(
         let planned = match (plan.target, estimate) {
             (Some(target), Some(estimate)) => {
                 // r × (error / target)² replications reach the target.
-                let needed =
-                    done as f64 * (estimate.relative_error() / target.relative_error).powi(2);
+                let needed = done as f64
+                    * (estimate.relative(target.measure) / target.relative_error).powi(2);
                 (needed.ceil() as u64).clamp(done + 1, limit)
             }
             _ => limit,
@@ -514,6 +557,16 @@ mod tests {
         assert!((estimate.region_mean - mean).abs() < 1e-12);
         assert!((estimate.standard_error - error).abs() < 1e-12);
         assert!((estimate.relative_error() - error / mean).abs() < 1e-12);
+        // Pixel 1's expected relative RMSE: √(mean channel variance) over
+        // its mean channel value.
+        let variance = variance_image.pixels()[1].map(f64::from);
+        let value = mean_image.pixels()[1].map(f64::from);
+        let rmse = (variance.iter().sum::<f64>() / 3.0).sqrt() / (value.iter().sum::<f64>() / 3.0);
+        assert!((estimate.pixel_relative_error - rmse).abs() < 1e-6 * rmse);
+        assert_eq!(
+            estimate.relative(ErrorMeasure::PixelRmse),
+            estimate.pixel_relative_error
+        );
         assert_eq!(accumulator.indices(), vec![0, 1, 2]);
     }
 

@@ -24,6 +24,9 @@ use std::sync::atomic::AtomicBool;
 
 mod path_comparison;
 use path_comparison::{builtin, values};
+#[path = "support/variance_spread.rs"]
+mod variance_spread;
+use variance_spread::ratio_with_error;
 
 /// Independent renders per case.
 const RENDERS: u64 = 64;
@@ -53,53 +56,6 @@ fn renders(
             )
         })
         .collect()
-}
-
-/// `Σ_i mean_k v_{i,k} / Σ_i V_i` over the renders `renders`.
-fn variance_ratio(renders: &[&(Vec<f64>, Vec<f64>)]) -> f64 {
-    let count = renders.len() as f64;
-    let channels = renders[0].0.len();
-    let (mut estimated, mut observed) = (0.0, 0.0);
-    for channel in 0..channels {
-        let mean = renders.iter().map(|(image, _)| image[channel]).sum::<f64>() / count;
-        observed += renders
-            .iter()
-            .map(|(image, _)| (image[channel] - mean).powi(2))
-            .sum::<f64>()
-            / (count - 1.0);
-        estimated += renders
-            .iter()
-            .map(|(_, variance)| variance[channel])
-            .sum::<f64>()
-            / count;
-    }
-    estimated / observed
-}
-
-/// The ratio and its jackknife standard error.
-fn ratio_with_error(renders: &[(Vec<f64>, Vec<f64>)]) -> (f64, f64) {
-    let all: Vec<_> = renders.iter().collect();
-    let ratio = variance_ratio(&all);
-    let count = renders.len();
-    let leave_one_out: Vec<f64> = (0..count)
-        .map(|left_out| {
-            let kept: Vec<_> = renders
-                .iter()
-                .enumerate()
-                .filter(|(index, _)| *index != left_out)
-                .map(|(_, render)| render)
-                .collect();
-            variance_ratio(&kept)
-        })
-        .collect();
-    let mean = leave_one_out.iter().sum::<f64>() / count as f64;
-    let variance = leave_one_out
-        .iter()
-        .map(|value| (value - mean).powi(2))
-        .sum::<f64>()
-        * (count as f64 - 1.0)
-        / count as f64;
-    (ratio, variance.sqrt())
 }
 
 fn assert_predicts_spread(

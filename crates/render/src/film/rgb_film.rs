@@ -65,9 +65,10 @@ pub struct Film {
     /// with compare-exchange.
     splats: Vec<[AtomicU64; 3]>,
     nonfinite_samples: AtomicU64,
-    /// The variance of each pixel's value estimated from independent
-    /// replications (Kollig & Keller's Eq. 6), when the render had them.
-    replication_variance: Option<Image>,
+    /// The variance of each pixel's value estimated by the driver from
+    /// batches: independent replications (Kollig & Keller's Eq. 6), or the
+    /// passes of a splatting integrator.
+    batch_variance: Option<Image>,
 }
 
 /// Adds `value` to the `f64` stored as bits in `cell`, atomically.
@@ -98,21 +99,32 @@ impl Film {
                 .map(|_| [0.0f64; 3].map(|zero| AtomicU64::new(zero.to_bits())))
                 .collect(),
             nonfinite_samples: AtomicU64::new(0),
-            replication_variance: None,
+            batch_variance: None,
         })
     }
 
-    /// Records the variance of each pixel's value estimated from the
-    /// render's independent replications (set by the drivers).
-    pub fn set_replication_variance(&mut self, variance: Image) {
-        self.replication_variance = Some(variance);
+    /// Records the variance of each pixel's value estimated from batches
+    /// of the render (set by the drivers: see [`Self::batch_variance`]).
+    pub fn set_batch_variance(&mut self, variance: Image) {
+        self.batch_variance = Some(variance);
     }
 
-    /// The variance of each pixel's value from independent replications,
-    /// if the render had them: the best variance layer there is, for any
-    /// integrator.
-    pub fn replication_variance(&self) -> Option<&Image> {
-        self.replication_variance.as_ref()
+    /// The variance of each pixel's value estimated from batches of the
+    /// render, when the driver made them: independent replications
+    /// (`pattern_size`), or the passes of an integrator whose every
+    /// contribution is a splat, for which the per-pixel sample variance
+    /// says nothing.
+    pub fn batch_variance(&self) -> Option<&Image> {
+        self.batch_variance.as_ref()
+    }
+
+    /// Sets every splat to zero (camera samples stay).
+    pub fn clear_splats(&mut self) {
+        for splat in &mut self.splats {
+            for channel in splat.iter_mut() {
+                *channel.get_mut() = 0f64.to_bits();
+            }
+        }
     }
 
     /// `[width, height]` in pixels.

@@ -245,6 +245,14 @@ pub trait PixelSampleEstimator: Sync {
     fn begin_pass(&self, _pass: &PassWork<'_>) -> TraceCounters {
         TraceCounters::default()
     }
+
+    /// Whether the driver estimates the variance layer from the passes'
+    /// images (each pass a batch; see [`super::progression_variance`]):
+    /// for integrators whose contributions are splats, where the film's
+    /// per-pixel sample variance says nothing. Default: no.
+    fn variance_from_passes(&self) -> bool {
+        false
+    }
 }
 
 /// What [`PixelSampleEstimator::begin_pass`] can do: work over the pass's
@@ -351,9 +359,10 @@ pub fn render_pixel_samples<E: PixelSampleEstimator>(
     let pass_size = run
         .pattern_size
         .unwrap_or_else(|| estimator.pass_size(run.samples_per_pixel, run.time_budget.is_some()));
-    let mut replications = run
-        .pattern_size
-        .map(|_| super::progression_variance::ProgressionVariance::new(resolution));
+    // Batches of the variance layer: Kollig & Keller's replications, else
+    // the passes of a splatting integrator.
+    let mut batches = (run.pattern_size.is_some() || estimator.variance_from_passes())
+        .then(|| super::progression_variance::ProgressionVariance::new(resolution));
     let pixel_count = width as u64 * height as u64;
     let all_samples = pixel_count * run.samples_per_pixel;
     let mut statistics = DriverStatistics::default();
@@ -428,11 +437,11 @@ pub fn render_pixel_samples<E: PixelSampleEstimator>(
             film.merge_splat_buffers(&splat_buffers.iter().collect::<Vec<_>>());
         }
         estimator.end_pass(&mut total, &film, complete);
-        if let Some(replications) = &mut replications {
-            // A replication cut short by the samples per pixel (not a
-            // multiple of the pattern size) is not a replication either.
+        if let Some(batches) = &mut batches {
+            // A batch cut short by the samples per pixel (not a multiple of
+            // the pass size) is not like the others: it is left out.
             let whole = end_sample - first_sample == pass_size;
-            replications.end_progression_of(&film, complete && whole, pass_size);
+            batches.end_progression_of(&film, complete && whole, pass_size);
         }
         if complete {
             statistics.completed_samples_per_pixel = end_sample;
@@ -444,8 +453,8 @@ pub fn render_pixel_samples<E: PixelSampleEstimator>(
         first_sample = end_sample;
     }
     statistics.stopped_early = statistics.completed_samples_per_pixel < run.samples_per_pixel;
-    if let Some(replications) = replications {
-        film.set_replication_variance(replications.variance_image());
+    if let Some(batches) = batches {
+        film.set_batch_variance(batches.variance_image());
     }
     Ok(DriverOutput {
         film,
@@ -568,13 +577,11 @@ pub trait SplatEstimator: Sync {
         TraceCounters::default()
     }
 
-    /// [`PixelSampleEstimator::pass_size`] (the same default).
-    fn pass_size(&self, samples_per_pixel: u64, timed: bool) -> u64 {
-        if timed {
-            1
-        } else {
-            samples_per_pixel.clamp(1, 4)
-        }
+    /// [`PixelSampleEstimator::pass_size`]; default one sample per pixel:
+    /// each pass is a batch of the variance layer
+    /// ([`PixelSampleEstimator::variance_from_passes`]).
+    fn pass_size(&self, _samples_per_pixel: u64, _timed: bool) -> u64 {
+        1
     }
 }
 
@@ -622,6 +629,11 @@ impl<E: SplatEstimator> PixelSampleEstimator for SplatsOnly<'_, E> {
 
     fn pass_size(&self, samples_per_pixel: u64, timed: bool) -> u64 {
         self.0.pass_size(samples_per_pixel, timed)
+    }
+
+    /// Every contribution is a splat: the passes give the variance layer.
+    fn variance_from_passes(&self) -> bool {
+        true
     }
 }
 

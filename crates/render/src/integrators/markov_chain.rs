@@ -537,6 +537,7 @@ pub fn render_markov_chains_onto<C: PathContribution>(
 
     // 3. The passes: one mutation per pixel each (over all targets).
     let clock = std::time::Instant::now();
+    let mut batches = ChainBatches::new(film.resolution(), *film.filter(), chains.len())?;
     let mut pass = 0;
     while pass < run.samples_per_pixel && !run.out_of_time() {
         let outputs: Vec<(ChainWork, bool)> = chains
@@ -570,6 +571,9 @@ pub fn render_markov_chains_onto<C: PathContribution>(
                 .map(|(work, _)| &work.splats)
                 .collect::<Vec<_>>(),
         );
+        if let Some(batches) = &mut batches {
+            batches.add_pass(&outputs);
+        }
         pass += 1;
         statistics.completed_samples_per_pixel = pass;
         if let Some(observe) = run.observer {
@@ -579,11 +583,107 @@ pub fn render_markov_chains_onto<C: PathContribution>(
     }
     chain_statistics.chain_seconds = clock.elapsed().as_secs_f64();
     statistics.stopped_early = statistics.completed_samples_per_pixel < run.samples_per_pixel;
+    if let Some(batches) = batches {
+        // The chains' variance and that of the film's own camera samples
+        // (PSSMLT's separate direct light), independent of each other.
+        let mut variance = film.variance_image();
+        let chains = batches.variance_of_mean(1.0 / pass.max(1) as f64);
+        for (pixel, chain) in variance.pixels_mut().iter_mut().zip(chains) {
+            for channel in 0..3 {
+                pixel[channel] += chain[channel] as f32;
+            }
+        }
+        film.set_batch_variance(variance);
+    }
     Ok(ChainOutput {
         film,
         statistics,
         chains: chain_statistics,
     })
+}
+
+/// Batches of chains for the variance layer: chain `i` (in the fixed chain
+/// order) belongs to batch `i mod B`, and each batch's splats are summed
+/// apart. Each batch renders the image from its share of the chains; with
+/// `B` batches of equally many chains of each target, the image is their
+/// mean, and `s² / B` over the batches' images estimates its variance.
+///
+/// The chains are independent given the bootstrap (their own streams and
+/// starts); the estimate leaves out the bootstrap's own error (the
+/// normalisation `b` and the starts, shared by every batch), which
+/// independent replications (`lqmc render --replications R`) include.
+struct ChainBatches {
+    /// Splat sums per batch and pixel.
+    sums: Vec<Vec<[f64; 3]>>,
+    /// A film the batches' splats are filtered in, one batch at a time.
+    scratch: Film,
+}
+
+impl ChainBatches {
+    /// Batches (at most).
+    const BATCHES: usize = 8;
+
+    /// Batches for a film of `resolution` with `filter`, over `chains`
+    /// chains: eight, or one per chain when there are fewer than eight
+    /// (none with fewer than two chains).
+    fn new(
+        resolution: [usize; 2],
+        filter: crate::film::Filter,
+        chains: usize,
+    ) -> Result<Option<Self>, RenderError> {
+        let batches = chains.min(Self::BATCHES);
+        if batches < 2 {
+            return Ok(None);
+        }
+        Ok(Some(Self {
+            sums: vec![vec![[0.0; 3]; resolution[0] * resolution[1]]; batches],
+            scratch: Film::new(resolution, filter)?,
+        }))
+    }
+
+    /// Adds a whole pass's chain outputs (in chain order).
+    fn add_pass(&mut self, outputs: &[(ChainWork, bool)]) {
+        let count = self.sums.len();
+        let [width, _] = self.scratch.resolution();
+        for (batch, sums) in self.sums.iter_mut().enumerate() {
+            self.scratch.clear_splats();
+            let buffers: Vec<&SplatBuffer> = outputs
+                .iter()
+                .skip(batch)
+                .step_by(count)
+                .map(|(work, _)| &work.splats)
+                .collect();
+            self.scratch.merge_splat_buffers(&buffers);
+            for (index, sum) in sums.iter_mut().enumerate() {
+                let splat = self
+                    .scratch
+                    .splat(index % width, index / width)
+                    .unwrap_or([0.0; 3]);
+                for channel in 0..3 {
+                    sum[channel] += splat[channel];
+                }
+            }
+        }
+    }
+
+    /// Per pixel, the variance of the mean of the batches' images, each
+    /// `B · sums · splat_scale`.
+    fn variance_of_mean(&self, splat_scale: f64) -> Vec<[f64; 3]> {
+        let count = self.sums.len() as f64;
+        let scale = count * splat_scale;
+        (0..self.sums[0].len())
+            .map(|pixel| {
+                let mut variance = [0.0; 3];
+                for (channel, value) in variance.iter_mut().enumerate() {
+                    let images = self.sums.iter().map(|sums| sums[pixel][channel] * scale);
+                    let mean = images.clone().sum::<f64>() / count;
+                    let squared: f64 = images.map(|image| (image - mean).powi(2)).sum();
+                    *value = squared / (count - 1.0) / count;
+                }
+                variance
+            })
+            .collect()
+    }
 }
 
 /// What one chain does per pass.

@@ -1,0 +1,84 @@
+//! The variance layer of one render of an integrator whose contributions
+//! are splats — estimated by the driver from batches: the passes of BDPT,
+//! light tracing and VCM (an iteration per pass), batches of chains for
+//! PSSMLT — predicts the spread of independent renders. With the
+//! `independent` sampler the passes are independent and identically
+//! distributed (VCM's iterations up to the shrinking radius, whose bias is
+//! far below the noise here); PSSMLT's chain batches are independent given
+//! the bootstrap, whose own error the estimate leaves out (`lqmc render
+//! --replications R` includes it).
+//!
+//! Statistic: the ratio of the mean estimated variance to the observed
+//! variance over `RENDERS` renders, summed over pixel channels, with its
+//! jackknife error over the renders (`support/variance_spread.rs`); it
+//! must lie within four errors of 1.
+
+use render::integrators::IntegratorKind;
+use render::renderer::{RenderSettings, render};
+use render::sampler::SamplerKind;
+use std::sync::atomic::AtomicBool;
+
+mod path_comparison;
+use path_comparison::{builtin, values};
+#[path = "support/variance_spread.rs"]
+mod variance_spread;
+use variance_spread::ratio_with_error;
+
+/// Independent renders per case.
+const RENDERS: u64 = 96;
+
+fn assert_predicts_spread(integrator: IntegratorKind, samples_per_pixel: u64) {
+    let scene = builtin("cornell-box");
+    let renders: Vec<_> = (0..RENDERS)
+        .map(|seed| {
+            let settings = RenderSettings {
+                integrator: integrator.into(),
+                sampler: SamplerKind::Independent,
+                samples_per_pixel,
+                seed: 300 + seed,
+                ..RenderSettings::default()
+            };
+            let output = render(&scene, &settings, &AtomicBool::new(false), &|_, _| {}).unwrap();
+            (
+                values(&output.image()).collect::<Vec<_>>(),
+                values(&output.variance_image()).collect::<Vec<_>>(),
+            )
+        })
+        .collect();
+    assert!(
+        renders[0].1.iter().any(|variance| *variance > 0.0),
+        "{}: no variance layer",
+        integrator.name()
+    );
+    let (ratio, error) = ratio_with_error(&renders);
+    eprintln!(
+        "{} ({samples_per_pixel} spp): estimated / observed variance {ratio:.3} ± {error:.3}",
+        integrator.name()
+    );
+    assert!(error < 0.15, "the test is too weak: error {error}");
+    assert!(
+        (ratio - 1.0).abs() < 4.0 * error,
+        "{}: estimated / observed = {ratio} ± {error}",
+        integrator.name()
+    );
+}
+
+#[test]
+fn bdpt_pass_variance_predicts_the_spread() {
+    assert_predicts_spread(IntegratorKind::Bdpt, 16);
+}
+
+#[test]
+fn light_tracing_pass_variance_predicts_the_spread() {
+    assert_predicts_spread(IntegratorKind::Light, 16);
+}
+
+#[test]
+fn vcm_iteration_variance_predicts_the_spread() {
+    assert_predicts_spread(IntegratorKind::Vcm, 16);
+}
+
+#[test]
+fn pssmlt_chain_batch_variance_predicts_the_spread() {
+    assert_predicts_spread(IntegratorKind::Pssmlt, 64);
+}
