@@ -28,9 +28,10 @@ pub struct CompareArgs {
     #[arg(long)]
     pub variance: Option<PathBuf>,
     /// Run the z-test with IMAGE's own `variance` layer instead: the
-    /// estimated variance of each pixel's value, which `lqmc render` writes
-    /// into EXR files for path, volpath and lqmc renders (the test then
-    /// reports 1 spp, as the layer is already divided by the sample count).
+    /// estimated variance of each pixel's value, which `lqmc render` and
+    /// `lqmc merge` write into EXR files for every integrator (the test
+    /// then reports 1 spp, as the layer is already divided by the sample
+    /// count).
     #[arg(long, conflicts_with_all = ["variance", "spp"])]
     pub image_variance: bool,
     /// Samples per pixel of IMAGE for the z-test (default: the `spp`

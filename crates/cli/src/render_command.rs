@@ -1154,7 +1154,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             view.show_film(film, splat_scale);
         }
     };
-    let observer: Option<&(dyn Fn(&render::film::Film, f64) + Sync)> =
+    let observer: Option<render::integrators::FilmObserver<'_>> =
         live_view.as_ref().map(|_| &observe as _);
     let output = render_observed(&scene, &settings, &stop, &progress, observer).map_err(
         |error| match error {
@@ -1431,8 +1431,7 @@ fn run_replications(
             view.show_film(film, splat_scale);
         }
     };
-    let observer: Option<&(dyn Fn(&render::film::Film, f64) + Sync)> =
-        live_view.map(|_| &observe as _);
+    let observer: Option<render::integrators::FilmObserver<'_>> = live_view.map(|_| &observe as _);
     let mut show_mean = |accumulator: &render::replication::ReplicationAccumulator| {
         first_finished.store(true, Ordering::Relaxed);
         if let Some(view) = live_view {

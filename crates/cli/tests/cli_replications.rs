@@ -320,7 +320,7 @@ fn written_estimate(path: &str) -> (f64, f64, f64, u64) {
     let number = |key: &str| -> f64 { metadata[key].parse().unwrap() };
     let replications = metadata["replicationIndices"]
         .split(['-', ','])
-        .last()
+        .next_back()
         .unwrap()
         .parse::<u64>()
         .unwrap()
@@ -479,7 +479,7 @@ fn target_error_agrees_with_the_error_measured_against_a_long_reference() {
         "image mean: estimated / measured variance {ratio:.3} ± {error:.3} ({runs} runs); |t| < 3.182 (95 % of t with 3 degrees of freedom) in {within} of {runs}"
     );
     assert!((ratio - 1.0).abs() < 4.0 * error, "{ratio} ± {error}");
-    // Binomial(64, 0.95) is at least 56 with probability 0.99.
+    // Binomial(64, 0.95) is at least 56 with probability 0.996.
     assert!(within >= 56, "{within} of {runs} within the 95 % interval");
     let (ratio, error) = ratio_and_error(&rmse_runs, reference_rmse.powi(2));
     eprintln!(

@@ -936,17 +936,12 @@ fn slurm_array_job_parts_merge_to_the_single_process_render() {
             .all(|value| value.is_finite() && *value >= 0.0),
         "the variance of the mean is finite and non-negative"
     );
-    // The same variance estimate from the same replication means; summed
-    // in another order it may differ in the last bits.
-    if let Some(whole_variance) = whole.layers.get("variance") {
-        for (a, b) in variance.pixels().iter().zip(whole_variance.pixels()) {
-            for (x, y) in a.iter().zip(b) {
-                assert!(
-                    (x - y).abs() <= 1e-5 * x.abs().max(y.abs()) + 1e-12,
-                    "variance {a:?} vs {b:?}"
-                );
-            }
-        }
-    }
+    // The same variance estimate from the same replication images, added
+    // in the same order: bit for bit.
+    let whole_variance = whole
+        .layers
+        .get("variance")
+        .expect("the one-process render has a variance layer");
+    assert_same_pixels("the variance of the mean", variance, whole_variance);
     eprintln!("whole test: {:.2} s", started.elapsed().as_secs_f64());
 }

@@ -202,7 +202,7 @@ pub fn render_observed(
     settings: &RenderSettings,
     stop: &AtomicBool,
     progress: &(dyn Fn(u64, u64) + Sync),
-    observer: Option<&(dyn Fn(&Film, f64) + Sync)>,
+    observer: Option<crate::integrators::FilmObserver<'_>>,
 ) -> Result<RenderOutput, RenderError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(settings.threads)

@@ -402,7 +402,7 @@ pub fn render_replications(
     plan: &ReplicationPlan,
     stop: &AtomicBool,
     progress: &(dyn Fn(ReplicationProgress) + Sync),
-    observer: Option<&(dyn Fn(&crate::film::Film, f64) + Sync)>,
+    observer: Option<crate::integrators::FilmObserver<'_>>,
     finished: &mut dyn FnMut(&ReplicationAccumulator),
 ) -> Result<ReplicationRender, RenderError> {
     let started = Instant::now();

@@ -32,7 +32,7 @@ pub mod pssmlt;
 pub mod vcm;
 pub mod volpath;
 
-pub use driver::{DriverStatistics, RenderError, RunControl};
+pub use driver::{DriverStatistics, FilmObserver, RenderError, RunControl};
 
 use crate::film::Film;
 use crate::image::Image;

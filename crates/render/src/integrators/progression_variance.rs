@@ -83,45 +83,48 @@ impl ProgressionVariance {
     /// Ends a progression of `samples` samples per pixel (a replication)
     /// that `film` has just merged: its image is, per pixel, the mean of the
     /// camera samples it added plus its splats over `samples`.
+    /// Rows in parallel: per pixel, nothing depends on another pixel.
     #[allow(clippy::needless_range_loop)] // channel indexes parallel arrays
     pub fn end_progression_of(&mut self, film: &Film, complete: bool, samples: u64) {
+        use rayon::prelude::*;
         if complete {
             self.progressions += 1;
         }
         let count = self.progressions as f64;
         let splat_scale = 1.0 / samples.max(1) as f64;
         let width = self.resolution[0];
-        for (index, (((previous, previous_camera), mean), squared)) in self
-            .previous
-            .iter_mut()
-            .zip(&mut self.previous_camera)
-            .zip(&mut self.mean)
-            .zip(&mut self.squared_deviations)
+        self.previous
+            .par_chunks_mut(width)
+            .zip(self.previous_camera.par_chunks_mut(width))
+            .zip(self.mean.par_chunks_mut(width))
+            .zip(self.squared_deviations.par_chunks_mut(width))
             .enumerate()
-        {
-            let (x, y) = (index % width, index / width);
-            let sums = film.splat(x, y).unwrap_or([0.0; 3]);
-            let camera = film
-                .pixel(x, y)
-                .map(|pixel| (pixel.weighted_sum(), pixel.weight_sum()))
-                .unwrap_or(([0.0; 3], 0.0));
-            if complete {
-                let camera_weight = camera.1 - previous_camera.1;
-                for channel in 0..3 {
-                    let camera_mean = if camera_weight != 0.0 {
-                        (camera.0[channel] - previous_camera.0[channel]) / camera_weight
-                    } else {
-                        0.0
-                    };
-                    let value = camera_mean + (sums[channel] - previous[channel]) * splat_scale;
-                    let deviation = value - mean[channel];
-                    mean[channel] += deviation / count;
-                    squared[channel] += deviation * (value - mean[channel]);
+            .for_each(|(y, (((previous, previous_camera), mean), squared))| {
+                for x in 0..width {
+                    let sums = film.splat(x, y).unwrap_or([0.0; 3]);
+                    let camera = film
+                        .pixel(x, y)
+                        .map(|pixel| (pixel.weighted_sum(), pixel.weight_sum()))
+                        .unwrap_or(([0.0; 3], 0.0));
+                    if complete {
+                        let camera_weight = camera.1 - previous_camera[x].1;
+                        for channel in 0..3 {
+                            let camera_mean = if camera_weight != 0.0 {
+                                (camera.0[channel] - previous_camera[x].0[channel]) / camera_weight
+                            } else {
+                                0.0
+                            };
+                            let value =
+                                camera_mean + (sums[channel] - previous[x][channel]) * splat_scale;
+                            let deviation = value - mean[x][channel];
+                            mean[x][channel] += deviation / count;
+                            squared[x][channel] += deviation * (value - mean[x][channel]);
+                        }
+                    }
+                    previous[x] = sums;
+                    previous_camera[x] = camera;
                 }
-            }
-            *previous = sums;
-            *previous_camera = camera;
-        }
+            });
     }
 
     /// Number of finished progressions `M`.
