@@ -302,7 +302,10 @@ fn target_error_stops_at_the_target() {
         "-o",
         &output,
     ]);
-    assert!(text.contains("target 2.000 % reached after"), "{text}");
+    assert!(
+        text.contains("target 2.000 % (mean) reached after"),
+        "{text}"
+    );
     let contents = read_exr(&output).unwrap();
     let estimate: f64 = contents.metadata["relativeStandardError"].parse().unwrap();
     assert!(estimate <= 0.02, "{estimate}");

@@ -13,7 +13,11 @@
 //! jackknife error over the renders (`support/variance_spread.rs`); it
 //! must lie within four errors of 1.
 
-use render::integrators::IntegratorKind;
+use render::integrators::erpt::ErptSettings;
+use render::integrators::markov_chain::ChainSettings;
+use render::integrators::mmlt::MmltSettings;
+use render::integrators::pssmlt::PssmltSettings;
+use render::integrators::{IntegratorKind, IntegratorSettings};
 use render::renderer::{RenderSettings, render};
 use render::sampler::SamplerKind;
 use std::sync::atomic::AtomicBool;
@@ -27,12 +31,13 @@ use variance_spread::ratio_with_error;
 /// Independent renders per case.
 const RENDERS: u64 = 96;
 
-fn assert_predicts_spread(integrator: IntegratorKind, samples_per_pixel: u64) {
+fn assert_predicts_spread(integrator: impl Into<IntegratorSettings>, samples_per_pixel: u64) {
+    let integrator: IntegratorSettings = integrator.into();
     let scene = builtin("cornell-box");
     let renders: Vec<_> = (0..RENDERS)
         .map(|seed| {
             let settings = RenderSettings {
-                integrator: integrator.into(),
+                integrator: integrator.clone(),
                 sampler: SamplerKind::Independent,
                 samples_per_pixel,
                 seed: 300 + seed,
@@ -78,7 +83,39 @@ fn vcm_iteration_variance_predicts_the_spread() {
     assert_predicts_spread(IntegratorKind::Vcm, 16);
 }
 
+/// A bootstrap of 10 000 samples (of 100 000 by default) keeps the 96
+/// renders short; the chains are the defaults.
+fn short_bootstrap() -> ChainSettings {
+    ChainSettings {
+        bootstrap_samples: 10_000,
+        ..ChainSettings::default()
+    }
+}
+
 #[test]
 fn pssmlt_chain_batch_variance_predicts_the_spread() {
-    assert_predicts_spread(IntegratorKind::Pssmlt, 64);
+    let settings = PssmltSettings {
+        chains: short_bootstrap(),
+        ..PssmltSettings::default()
+    };
+    assert_predicts_spread(IntegratorSettings::Pssmlt(settings), 64);
+}
+
+#[test]
+fn mmlt_chain_batch_variance_predicts_the_spread() {
+    let settings = MmltSettings {
+        chains: short_bootstrap(),
+    };
+    assert_predicts_spread(IntegratorSettings::Mmlt(settings), 64);
+}
+
+/// Chains of 20 mutations (100 by default) keep the renders short.
+#[test]
+fn erpt_pass_variance_predicts_the_spread() {
+    let settings = ErptSettings {
+        chain_length: 20,
+        bootstrap_samples: 10_000,
+        ..ErptSettings::default()
+    };
+    assert_predicts_spread(IntegratorSettings::Erpt(settings), 16);
 }

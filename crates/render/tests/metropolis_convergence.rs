@@ -267,6 +267,42 @@ fn the_image_does_not_depend_on_the_threads() {
     }
 }
 
+/// A live view (`lqmc render --tev`: an observer shown the film after
+/// every pass) does not change the image: the chain groups' sums make the
+/// film's splats either way. It sees the film after every pass.
+#[test]
+fn a_live_view_does_not_change_the_image() {
+    let scene = builtin("cornell-box");
+    for integrator in [pssmlt(MltBase::Path, SmallStep::KELEMEN), erpt()] {
+        let settings = RenderSettings {
+            integrator: integrator.clone(),
+            samples_per_pixel: 4,
+            seed: 5,
+            ..RenderSettings::default()
+        };
+        let stop = AtomicBool::new(false);
+        let plain = render(&scene, &settings, &stop, &|_, _| {}).unwrap();
+        let shown = std::sync::atomic::AtomicU64::new(0);
+        let observe = |_: &render::film::Film, _: f64| {
+            shown.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        };
+        let viewed =
+            render::renderer::render_observed(&scene, &settings, &stop, &|_, _| {}, Some(&observe))
+                .unwrap();
+        assert_eq!(shown.into_inner(), 4, "{}", integrator.name());
+        assert_eq!(
+            plain.image().pixels(),
+            viewed.image().pixels(),
+            "{}",
+            integrator.name()
+        );
+        assert_eq!(
+            plain.variance_image().pixels(),
+            viewed.variance_image().pixels()
+        );
+    }
+}
+
 /// The integrator's name on the command line.
 #[test]
 fn pssmlt_is_named() {

@@ -118,13 +118,39 @@ impl Film {
         self.batch_variance.as_ref()
     }
 
-    /// Sets every splat to zero (camera samples stay).
-    pub fn clear_splats(&mut self) {
-        for splat in &mut self.splats {
-            for channel in splat.iter_mut() {
-                *channel.get_mut() = 0f64.to_bits();
+    /// The splat sums, one per pixel (row-major).
+    pub(crate) fn splat_sums(&self) -> Vec<[f64; 3]> {
+        self.splats
+            .iter()
+            .map(|splat| {
+                splat
+                    .each_ref()
+                    .map(|cell| f64::from_bits(cell.load(Ordering::Relaxed)))
+            })
+            .collect()
+    }
+
+    /// Replaces the splat sums with `sums`, one per pixel (row-major).
+    pub(crate) fn set_splat_sums(&mut self, sums: &[[f64; 3]]) {
+        for (splat, sum) in self.splats.iter_mut().zip(sums) {
+            for (cell, value) in splat.iter_mut().zip(sum) {
+                *cell.get_mut() = value.to_bits();
             }
         }
+    }
+
+    /// Adds already filtered splat sums, one per pixel (row-major), and a
+    /// count of dropped non-finite splats: what [`Film::merge_splats`]
+    /// would have added for splats filtered elsewhere with
+    /// [`Film::for_each_splat_pixel`].
+    pub(crate) fn add_splat_sums(&mut self, sums: &[[f64; 3]], rejected_samples: u64) {
+        for (splat, sum) in self.splats.iter_mut().zip(sums) {
+            for (cell, value) in splat.iter_mut().zip(sum) {
+                let cell = cell.get_mut();
+                *cell = (f64::from_bits(*cell) + value).to_bits();
+            }
+        }
+        *self.nonfinite_samples.get_mut() += rejected_samples;
     }
 
     /// `[width, height]` in pixels.
@@ -209,7 +235,7 @@ impl Film {
     /// Calls `add` with the index and filter weight of every film pixel
     /// whose centre `c` satisfies `c − p ∈ (−r, r]` per axis for the splat
     /// at `p` (half-open, so that the box filter's pixels tile the plane).
-    fn for_each_splat_pixel(&self, position: [f32; 2], add: impl FnMut(usize, f64)) {
+    pub(crate) fn for_each_splat_pixel(&self, position: [f32; 2], add: impl FnMut(usize, f64)) {
         self.for_each_splat_pixel_in_rows(position, 0..self.resolution[1], add);
     }
 

@@ -4,12 +4,19 @@
 //! sample space contributes to the film, as splats — and the driver runs
 //! the chains over it:
 //!
-//! 1. **Bootstrap**: `bootstrap_samples` independent points (each the first
-//!    iteration of a [`MetropolisSampler`] keyed by the seed and the
-//!    sample's index, i.e. uniform numbers); the normalisation
-//!    `b = mean I(u)`, `I` the target ([`importance`]: the luminance of the
-//!    contribution summed over its splats).
-//! 2. **Chain starts**: each of `chains` chains picks a bootstrap sample
+//! 0. **Groups**: the chains are split into eight independent groups
+//!    (fewer with fewer than eight chains), each with its own bootstrap
+//!    and its share of the chains and of the mutations per pass; each
+//!    group renders the image on its own and the film holds their mean, so
+//!    the spread of the groups' images gives the variance layer, the
+//!    normalisation's error included ([`ChainBatches`]).
+//! 1. **Bootstrap**: per group, its share of the `bootstrap_samples`
+//!    independent points (each the first iteration of a
+//!    [`MetropolisSampler`] keyed by the seed, the group and the sample's
+//!    index, i.e. uniform numbers); the normalisation `b = mean I(u)`, `I`
+//!    the target ([`importance`]: the luminance of the contribution summed
+//!    over its splats).
+//! 2. **Chain starts**: each chain picks a sample of its group's bootstrap
 //!    with probability proportional to its `I`, replays it, and continues
 //!    on a random stream of its own (two chains that pick one sample do not
 //!    run one chain twice).
@@ -130,7 +137,7 @@ impl MutationCount {
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct ChainStatistics {
     /// The normalisation `b`: the mean target over the bootstrap (summed
-    /// over the targets).
+    /// over the targets), averaged over the groups of chains.
     pub normalization: f64,
     /// Bootstrap samples evaluated (over all targets).
     pub bootstrap_samples: u64,
@@ -446,35 +453,49 @@ pub fn render_markov_chains_onto<C: PathContribution>(
     let mut statistics = DriverStatistics::default();
     let mut chain_statistics = ChainStatistics::default();
 
-    // 1. The bootstraps, one per target.
+    // 1. The bootstraps: per group of chains, one per target (see
+    //    [`ChainBatches`]: the groups are independent renders).
     let clock = std::time::Instant::now();
-    let bootstraps: Vec<Bootstrap> = targets
-        .iter()
-        .enumerate()
-        .map(|(index, target)| {
-            Bootstrap::run(
-                target,
-                target_key(run.seed, index),
-                settings.bootstrap_samples,
-                &settings.mutation,
-            )
+    let groups = ChainBatches::groups(settings.chains);
+    let bootstraps: Vec<Vec<Bootstrap>> = (0..groups)
+        .map(|group| {
+            let share = |total: u64| {
+                total * (group + 1) as u64 / groups as u64 - total * group as u64 / groups as u64
+            };
+            targets
+                .iter()
+                .enumerate()
+                .map(|(index, target)| {
+                    Bootstrap::run(
+                        target,
+                        group_key(run.seed, index, group),
+                        share(settings.bootstrap_samples),
+                        &settings.mutation,
+                    )
+                })
+                .collect()
         })
         .collect();
-    let mut total = 0.0;
-    for bootstrap in &bootstraps {
-        statistics.rays += bootstrap.counters.rays();
-        statistics.samples += bootstrap.samples();
-        chain_statistics.bootstrap_samples += bootstrap.samples();
-        chain_statistics.bootstrap_nonzero += bootstrap.nonzero;
-        let normalization = bootstrap.normalization();
-        if normalization > 0.0 && normalization.is_finite() {
-            total += normalization;
+    let mut group_totals = vec![0.0; groups];
+    for (group, group_bootstraps) in bootstraps.iter().enumerate() {
+        for bootstrap in group_bootstraps {
+            statistics.rays += bootstrap.counters.rays();
+            statistics.samples += bootstrap.samples();
+            chain_statistics.bootstrap_samples += bootstrap.samples();
+            chain_statistics.bootstrap_nonzero += bootstrap.nonzero;
+            let normalization = bootstrap.normalization();
+            if normalization > 0.0 && normalization.is_finite() {
+                group_totals[group] += normalization;
+            }
         }
     }
-    chain_statistics.normalization = total;
+    chain_statistics.normalization = group_totals.iter().sum::<f64>() / groups as f64;
     chain_statistics.bootstrap_seconds = clock.elapsed().as_secs_f64();
     (run.progress)(0, pixels.saturating_mul(run.samples_per_pixel));
-    if !(total > 0.0 && total.is_finite()) {
+    if !group_totals
+        .iter()
+        .any(|total| *total > 0.0 && total.is_finite())
+    {
         // No light found: the image is black (all passes "done").
         statistics.completed_samples_per_pixel = run.samples_per_pixel;
         return Ok(ChainOutput {
@@ -484,24 +505,38 @@ pub fn render_markov_chains_onto<C: PathContribution>(
         });
     }
 
-    // 2. The chains' starts: per target, its share of the chains.
-    let chain_total = settings.chains.max(1);
+    // 2. The chains' starts: per group its share of the chains and of the
+    //    mutations per pass, per target in proportion to its normalisation.
+    //    A group renders the image on its own; the film gets each group's
+    //    over the number of groups (a group that found no light renders
+    //    black, as it should).
     let mut plans = Vec::new();
-    for (target, bootstrap) in bootstraps.iter().enumerate() {
-        let normalization = bootstrap.normalization();
-        if !(normalization > 0.0 && normalization.is_finite()) {
+    for (group, group_bootstraps) in bootstraps.iter().enumerate() {
+        let total = group_totals[group];
+        if !(total > 0.0 && total.is_finite()) {
             continue;
         }
-        let share = normalization / total;
-        let chains = ((chain_total as f64 * share).round() as u64).max(1);
-        let mutations = ((pixels as f64 * share).round() as u64).max(1);
-        for chain in 0..chains {
-            plans.push(ChainPlan {
-                target,
-                index: chain,
-                mutations: mutations * (chain + 1) / chains - mutations * chain / chains,
-                energy: normalization * pixels as f64 / mutations as f64,
-            });
+        let share = |count: u64| {
+            count * (group + 1) as u64 / groups as u64 - count * group as u64 / groups as u64
+        };
+        let (chain_total, group_pixels) = (share(settings.chains.max(1)).max(1), share(pixels));
+        for (target, bootstrap) in group_bootstraps.iter().enumerate() {
+            let normalization = bootstrap.normalization();
+            if !(normalization > 0.0 && normalization.is_finite()) {
+                continue;
+            }
+            let target_share = normalization / total;
+            let chains = ((chain_total as f64 * target_share).round() as u64).max(1);
+            let mutations = ((group_pixels as f64 * target_share).round() as u64).max(1);
+            for chain in 0..chains {
+                plans.push(ChainPlan {
+                    group,
+                    target,
+                    index: chain,
+                    mutations: mutations * (chain + 1) / chains - mutations * chain / chains,
+                    energy: normalization * pixels as f64 / (mutations * groups as u64) as f64,
+                });
+            }
         }
     }
     chain_statistics.chains = plans.len() as u64;
@@ -516,8 +551,8 @@ pub fn render_markov_chains_onto<C: PathContribution>(
         .into_par_iter()
         .map_init(new_scratches, |scratches, plan| {
             let target = &targets[plan.target];
-            let key = target_key(run.seed, plan.target);
-            let start = bootstraps[plan.target]
+            let key = group_key(run.seed, plan.target, plan.group);
+            let start = bootstraps[plan.group][plan.target]
                 .pick(SeekablePcg::new(key ^ CHAIN_START_KEY, plan.index).next_f64());
             let mut sampler = MetropolisSampler::new(key, start, settings.mutation.clone());
             let mut current = SplatBuffer::new();
@@ -537,7 +572,12 @@ pub fn render_markov_chains_onto<C: PathContribution>(
 
     // 3. The passes: one mutation per pixel each (over all targets).
     let clock = std::time::Instant::now();
-    let mut batches = ChainBatches::new(film.resolution(), *film.filter(), chains.len())?;
+    let mut batches = ChainBatches::new(
+        film.resolution(),
+        groups,
+        chains.iter().map(|(plan, _)| plan.group).collect(),
+    );
+    let splats_before = (batches.is_some() && run.observer.is_some()).then(|| film.splat_sums());
     let mut pass = 0;
     while pass < run.samples_per_pixel && !run.out_of_time() {
         let outputs: Vec<(ChainWork, bool)> = chains
@@ -565,14 +605,18 @@ pub fn render_markov_chains_onto<C: PathContribution>(
         if !complete {
             break;
         }
-        film.merge_splat_buffers(
-            &outputs
-                .iter()
-                .map(|(work, _)| &work.splats)
-                .collect::<Vec<_>>(),
-        );
+        // With groups, their sums make the film's splats at the end (each
+        // splat filtered once); a live view needs the film every pass.
+        if batches.is_none() || run.observer.is_some() {
+            film.merge_splat_buffers(
+                &outputs
+                    .iter()
+                    .map(|(work, _)| &work.splats)
+                    .collect::<Vec<_>>(),
+            );
+        }
         if let Some(batches) = &mut batches {
-            batches.add_pass(&outputs);
+            batches.add_pass(&film, &outputs);
         }
         pass += 1;
         statistics.completed_samples_per_pixel = pass;
@@ -583,6 +627,19 @@ pub fn render_markov_chains_onto<C: PathContribution>(
     }
     chain_statistics.chain_seconds = clock.elapsed().as_secs_f64();
     statistics.stopped_early = statistics.completed_samples_per_pixel < run.samples_per_pixel;
+    if let Some(batches) = &batches {
+        // A live view's passes were merged into the film: back to its
+        // splats before the chains, so that the image is the same bit for
+        // bit with or without one.
+        let rejected = match &splats_before {
+            Some(before) => {
+                film.set_splat_sums(before);
+                0
+            }
+            None => batches.rejected_samples,
+        };
+        film.add_splat_sums(&batches.total(), rejected);
+    }
     if let Some(batches) = batches {
         // The chains' variance and that of the film's own camera samples
         // (PSSMLT's separate direct light), independent of each other.
@@ -602,72 +659,90 @@ pub fn render_markov_chains_onto<C: PathContribution>(
     })
 }
 
-/// Batches of chains for the variance layer: chain `i` (in the fixed chain
-/// order) belongs to batch `i mod B`, and each batch's splats are summed
-/// apart. Each batch renders the image from its share of the chains; with
-/// `B` batches of equally many chains of each target, the image is their
-/// mean, and `s² / B` over the batches' images estimates its variance.
-///
-/// The chains are independent given the bootstrap (their own streams and
-/// starts); the estimate leaves out the bootstrap's own error (the
-/// normalisation `b` and the starts, shared by every batch), which
-/// independent replications (`lqmc render --replications R`) include.
+/// Independent groups of chains, the batches of the variance layer: the
+/// chains are split into `G` groups (eight, fewer with fewer chains), each
+/// with its own bootstraps (1/G of the samples, keyed by the group), its
+/// share of the chains and of the mutations per pass: each group renders
+/// the image on its own, as an independent replication would, and the film
+/// holds their mean. Each group's splats are summed apart, so `s² / G` over
+/// the groups' images estimates the variance of the pixel's value — the
+/// normalisation's error included, which batches of chains sharing one
+/// bootstrap would miss (with a bootstrap of 10 000 samples on a 16-pixel
+/// Cornell box, that error was half the variance).
 struct ChainBatches {
-    /// Splat sums per batch and pixel.
+    /// Each chain's group, in the fixed chain order.
+    group_of_chain: Vec<usize>,
+    /// Splat sums per group and pixel.
     sums: Vec<Vec<[f64; 3]>>,
-    /// A film the batches' splats are filtered in, one batch at a time.
-    scratch: Film,
+    /// Splats dropped as not finite.
+    rejected_samples: u64,
 }
 
 impl ChainBatches {
-    /// Batches (at most).
-    const BATCHES: usize = 8;
+    /// Groups (at most).
+    const GROUPS: u64 = 8;
 
-    /// Batches for a film of `resolution` with `filter`, over `chains`
-    /// chains: eight, or one per chain when there are fewer than eight
-    /// (none with fewer than two chains).
-    fn new(
-        resolution: [usize; 2],
-        filter: crate::film::Filter,
-        chains: usize,
-    ) -> Result<Option<Self>, RenderError> {
-        let batches = chains.min(Self::BATCHES);
-        if batches < 2 {
-            return Ok(None);
-        }
-        Ok(Some(Self {
-            sums: vec![vec![[0.0; 3]; resolution[0] * resolution[1]]; batches],
-            scratch: Film::new(resolution, filter)?,
-        }))
+    /// The number of groups for `chains` chains: eight, or one per chain
+    /// when there are fewer.
+    fn groups(chains: u64) -> usize {
+        chains.clamp(1, Self::GROUPS) as usize
     }
 
-    /// Adds a whole pass's chain outputs (in chain order).
-    fn add_pass(&mut self, outputs: &[(ChainWork, bool)]) {
-        let count = self.sums.len();
-        let [width, _] = self.scratch.resolution();
-        for (batch, sums) in self.sums.iter_mut().enumerate() {
-            self.scratch.clear_splats();
-            let buffers: Vec<&SplatBuffer> = outputs
-                .iter()
-                .skip(batch)
-                .step_by(count)
-                .map(|(work, _)| &work.splats)
-                .collect();
-            self.scratch.merge_splat_buffers(&buffers);
-            for (index, sum) in sums.iter_mut().enumerate() {
-                let splat = self
-                    .scratch
-                    .splat(index % width, index / width)
-                    .unwrap_or([0.0; 3]);
+    /// Sums for a film of `resolution` over `groups` groups (none with one
+    /// group: no variance to estimate).
+    fn new(resolution: [usize; 2], groups: usize, group_of_chain: Vec<usize>) -> Option<Self> {
+        (groups >= 2).then(|| Self {
+            group_of_chain,
+            sums: vec![vec![[0.0; 3]; resolution[0] * resolution[1]]; groups],
+            rejected_samples: 0,
+        })
+    }
+
+    /// Per pixel, the sum over the groups, in group order: the film's
+    /// splats.
+    fn total(&self) -> Vec<[f64; 3]> {
+        let mut total = self.sums[0].clone();
+        for sums in &self.sums[1..] {
+            for (pixel, sum) in total.iter_mut().zip(sums) {
                 for channel in 0..3 {
-                    sum[channel] += splat[channel];
+                    pixel[channel] += sum[channel];
                 }
             }
         }
+        total
     }
 
-    /// Per pixel, the variance of the mean of the batches' images, each
-    /// `B · sums · splat_scale`.
+    /// Adds a whole pass's chain outputs (in chain order), filtered as
+    /// `film` filters splats; the groups in parallel, each in chain order.
+    fn add_pass(&mut self, film: &Film, outputs: &[(ChainWork, bool)]) {
+        self.rejected_samples += outputs
+            .iter()
+            .map(|(work, _)| work.splats.rejected_samples())
+            .sum::<u64>();
+        let group_of_chain = &self.group_of_chain;
+        self.sums
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(group, sums)| {
+                for ((work, _), _) in outputs
+                    .iter()
+                    .zip(group_of_chain)
+                    .filter(|(_, own)| **own == group)
+                {
+                    for splat in work.splats.splats() {
+                        let rgb = splat.rgb.map(f64::from);
+                        film.for_each_splat_pixel(splat.raster_position, |index, weight| {
+                            for channel in 0..3 {
+                                sums[index][channel] += weight * rgb[channel];
+                            }
+                        });
+                    }
+                }
+            });
+    }
+
+    /// Per pixel, the variance of the mean of the groups' images, each
+    /// `G · sums · splat_scale`.
     fn variance_of_mean(&self, splat_scale: f64) -> Vec<[f64; 3]> {
         let count = self.sums.len() as f64;
         let scale = count * splat_scale;
@@ -688,6 +763,8 @@ impl ChainBatches {
 
 /// What one chain does per pass.
 struct ChainPlan {
+    /// Its group ([`ChainBatches`]).
+    group: usize,
     /// Its target.
     target: usize,
     /// Its number among the target's chains.
@@ -705,6 +782,17 @@ fn target_key(seed: u64, index: usize) -> u64 {
         seed
     } else {
         qmc::hash::hash2(seed, index as u64)
+    }
+}
+
+/// The random key of target `index` in chain group `group`: the target's
+/// key for the first group, a hash of it for the others.
+fn group_key(seed: u64, index: usize, group: usize) -> u64 {
+    let key = target_key(seed, index);
+    if group == 0 {
+        key
+    } else {
+        qmc::hash::hash3(key, group as u64, 0x0067_726f_7570)
     }
 }
 
