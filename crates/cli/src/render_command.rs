@@ -1254,11 +1254,24 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         };
         say!("{}", details.report(seconds, threads));
     }
+    // What the render's batches are, and whether they are independent.
+    let (batches, independent) = if settings.pattern_size.is_some() {
+        ("independent replications (Kollig & Keller)", true)
+    } else if kind.runs_markov_chains() {
+        ("independent groups of chains", true)
+    } else if settings.sampler == SamplerKind::Independent {
+        ("independent passes", true)
+    } else {
+        ("passes", false)
+    };
     say!(
         "{}",
         crate::replications::describe_single_render_error(
             &output.image(),
-            &output.variance_image()
+            &output.variance_image(),
+            &output.batch_image_means,
+            batches,
+            independent,
         )
     );
     say!("wrote {}", written.join(" and "));

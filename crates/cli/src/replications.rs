@@ -294,12 +294,33 @@ pub fn describe_estimate(estimate: &ErrorEstimate, region: Option<PixelRegion>) 
     )
 }
 
-/// The line printed about the error of one render (no replications): the
-/// root mean square of the per-pixel standard errors its variance layer
-/// estimates, over the mean pixel value.
+/// The relative standard error of the mean of `values` (their standard
+/// deviation over `√n`, over their mean), if there are at least two.
+pub fn relative_standard_error(values: &[f64]) -> Option<f64> {
+    let count = values.len() as f64;
+    if values.len() < 2 {
+        return None;
+    }
+    let mean = values.iter().sum::<f64>() / count;
+    let variance = values
+        .iter()
+        .map(|value| (value - mean).powi(2))
+        .sum::<f64>()
+        / (count - 1.0);
+    Some((variance / count).sqrt() / mean.abs())
+}
+
+/// The line printed about the error of one render (no `--replications`):
+/// the image mean's relative standard error from the render's batches
+/// (`batch_means`, described by `batches`; `independent` says whether they
+/// are), and the root mean square of the per-pixel standard errors its
+/// variance layer estimates, over the mean pixel value.
 pub fn describe_single_render_error(
     image: &render::image::Image,
     variance: &render::image::Image,
+    batch_means: &[f64],
+    batches: &str,
+    independent: bool,
 ) -> String {
     let channels = (3 * image.pixels().len()).max(1) as f64;
     let mean = image
@@ -321,8 +342,21 @@ pub fn describe_single_render_error(
     } else {
         format!("{:.2} %", 100.0 * variance_mean.sqrt() / mean.abs())
     };
+    let image_mean = match relative_standard_error(batch_means) {
+        Some(error) if independent => format!(
+            "relative standard error of the image mean {:.3} % (from {} {batches})",
+            100.0 * error,
+            batch_means.len()
+        ),
+        Some(error) => format!(
+            "relative standard error of the image mean about {:.3} % (from {} {batches}, which the sampler's QMC points correlate: --replications R gives an unbiased estimate)",
+            100.0 * error,
+            batch_means.len()
+        ),
+        None => "the image mean's error needs independent replications (--replications R or --target-error E)".to_string(),
+    };
     format!(
-        "error: per pixel {per_pixel} (expected relative RMSE from the render's own variance layer); the image mean's error needs independent replications (--replications R or --target-error E)"
+        "error: {image_mean}; per pixel {per_pixel} (expected relative RMSE from the variance layer)"
     )
 }
 
@@ -397,6 +431,14 @@ mod tests {
         ] {
             assert!(replication_request(&bad, 16).is_err());
         }
+    }
+
+    #[test]
+    fn relative_standard_error_of_a_mean() {
+        assert_eq!(relative_standard_error(&[1.0]), None);
+        // Mean 2, sample variance 1, over √3.
+        let error = relative_standard_error(&[1.0, 2.0, 3.0]).unwrap();
+        assert!((error - (1.0f64 / 3.0).sqrt() / 2.0).abs() < 1e-12);
     }
 
     #[test]

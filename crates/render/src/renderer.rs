@@ -126,6 +126,10 @@ pub struct RenderOutput {
     pub auxiliary_images: Vec<(&'static str, Vec<(&'static str, Image)>)>,
     /// The integrator's own statistics, if any.
     pub details: Option<Box<dyn IntegratorDetails>>,
+    /// Per batch of the driver's variance estimate (Kollig & Keller's
+    /// replications, a splatting integrator's passes, Metropolis chain
+    /// groups), its image's mean luminance; empty without batches.
+    pub batch_image_means: Vec<f64>,
 }
 
 impl RenderOutput {
@@ -257,7 +261,9 @@ pub fn render_observed(
         .batch_variance()
         .cloned()
         .or(rendered.variance);
+    let batch_image_means = rendered.film.batch_image_means().to_vec();
     Ok(RenderOutput {
+        batch_image_means,
         film: rendered.film,
         statistics,
         splat_scale,

@@ -11,7 +11,9 @@
 //! Statistic: the ratio of the mean estimated variance to the observed
 //! variance over `RENDERS` renders, summed over pixel channels, with its
 //! jackknife error over the renders (`support/variance_spread.rs`); it
-//! must lie within four errors of 1.
+//! must lie within four errors of 1. The same for the image's mean
+//! luminance, whose estimate comes from the batches' image means (what
+//! `lqmc render` prints), which must average to the image's.
 
 use render::integrators::erpt::ErptSettings;
 use render::integrators::markov_chain::ChainSettings;
@@ -19,6 +21,7 @@ use render::integrators::mmlt::MmltSettings;
 use render::integrators::pssmlt::PssmltSettings;
 use render::integrators::{IntegratorKind, IntegratorSettings};
 use render::renderer::{RenderSettings, render};
+use render::replication::luminance;
 use render::sampler::SamplerKind;
 use std::sync::atomic::AtomicBool;
 
@@ -44,12 +47,46 @@ fn assert_predicts_spread(integrator: impl Into<IntegratorSettings>, samples_per
                 ..RenderSettings::default()
             };
             let output = render(&scene, &settings, &AtomicBool::new(false), &|_, _| {}).unwrap();
+            let means = &output.batch_image_means;
+            let count = means.len() as f64;
+            let mean = means.iter().sum::<f64>() / count;
+            let variance = means
+                .iter()
+                .map(|value| (value - mean).powi(2))
+                .sum::<f64>()
+                / (count - 1.0)
+                / count;
+            let image = output.image();
+            let image_mean = image
+                .pixels()
+                .iter()
+                .map(|pixel| luminance(pixel.map(f64::from)))
+                .sum::<f64>()
+                / image.pixels().len() as f64;
+            assert!(
+                (image_mean - mean).abs() <= 1e-5 * mean.abs(),
+                "the batches' mean {mean} is the image's {image_mean}"
+            );
             (
-                values(&output.image()).collect::<Vec<_>>(),
-                values(&output.variance_image()).collect::<Vec<_>>(),
+                (
+                    values(&output.image()).collect::<Vec<_>>(),
+                    values(&output.variance_image()).collect::<Vec<_>>(),
+                ),
+                (vec![mean], vec![variance]),
             )
         })
         .collect();
+    let (renders, image_means): (Vec<_>, Vec<_>) = renders.into_iter().unzip();
+    let (ratio, error) = ratio_with_error(&image_means);
+    eprintln!(
+        "{} ({samples_per_pixel} spp), image mean: estimated / observed variance {ratio:.3} ± {error:.3}",
+        integrator.name()
+    );
+    assert!(
+        (ratio - 1.0).abs() < 4.0 * error,
+        "{}, image mean: estimated / observed = {ratio} ± {error}",
+        integrator.name()
+    );
     assert!(
         renders[0].1.iter().any(|variance| *variance > 0.0),
         "{}: no variance layer",

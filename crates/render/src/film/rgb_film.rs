@@ -69,6 +69,8 @@ pub struct Film {
     /// batches: independent replications (Kollig & Keller's Eq. 6), or the
     /// passes of a splatting integrator.
     batch_variance: Option<Image>,
+    /// Per batch, its image's mean luminance.
+    batch_image_means: Vec<f64>,
 }
 
 /// Adds `value` to the `f64` stored as bits in `cell`, atomically.
@@ -100,13 +102,22 @@ impl Film {
                 .collect(),
             nonfinite_samples: AtomicU64::new(0),
             batch_variance: None,
+            batch_image_means: Vec::new(),
         })
     }
 
     /// Records the variance of each pixel's value estimated from batches
     /// of the render (set by the drivers: see [`Self::batch_variance`]).
-    pub fn set_batch_variance(&mut self, variance: Image) {
+    /// `image_means` are the batches' image mean luminances.
+    pub fn set_batch_variance(&mut self, variance: Image, image_means: Vec<f64>) {
         self.batch_variance = Some(variance);
+        self.batch_image_means = image_means;
+    }
+
+    /// Per batch of [`Self::batch_variance`], its image's mean luminance
+    /// (empty without batches): their spread is the image mean's error.
+    pub fn batch_image_means(&self) -> &[f64] {
+        &self.batch_image_means
     }
 
     /// The variance of each pixel's value estimated from batches of the

@@ -458,7 +458,7 @@ pub fn render_pixel_samples<E: PixelSampleEstimator>(
     }
     statistics.stopped_early = statistics.completed_samples_per_pixel < run.samples_per_pixel;
     if let Some(batches) = batches {
-        film.set_batch_variance(batches.variance_image());
+        film.set_batch_variance(batches.variance_image(), batches.image_means().to_vec());
     }
     Ok(DriverOutput {
         film,

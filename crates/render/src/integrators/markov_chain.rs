@@ -644,13 +644,29 @@ pub fn render_markov_chains_onto<C: PathContribution>(
         // The chains' variance and that of the film's own camera samples
         // (PSSMLT's separate direct light), independent of each other.
         let mut variance = film.variance_image();
-        let chains = batches.variance_of_mean(1.0 / pass.max(1) as f64);
+        let splat_scale = 1.0 / pass.max(1) as f64;
+        let chains = batches.variance_of_mean(splat_scale);
         for (pixel, chain) in variance.pixels_mut().iter_mut().zip(chains) {
             for channel in 0..3 {
                 pixel[channel] += chain[channel] as f32;
             }
         }
-        film.set_batch_variance(variance);
+        // The camera samples' share of the image mean (PSSMLT's separate
+        // direct light) is the same in every group's image; its own error
+        // is not in their spread.
+        let camera = film.image(0.0);
+        let camera_mean = camera
+            .pixels()
+            .iter()
+            .map(|pixel| crate::replication::luminance(pixel.map(f64::from)))
+            .sum::<f64>()
+            / camera.pixels().len().max(1) as f64;
+        let image_means = batches
+            .image_means(splat_scale)
+            .into_iter()
+            .map(|mean| mean + camera_mean)
+            .collect();
+        film.set_batch_variance(variance, image_means);
     }
     Ok(ChainOutput {
         film,
@@ -739,6 +755,21 @@ impl ChainBatches {
                     }
                 }
             });
+    }
+
+    /// Per group, the mean luminance of its image (`G · sums ·
+    /// splat_scale`).
+    fn image_means(&self, splat_scale: f64) -> Vec<f64> {
+        let scale = self.sums.len() as f64 * splat_scale;
+        self.sums
+            .iter()
+            .map(|sums| {
+                sums.iter()
+                    .map(|sum| crate::replication::luminance(sum.map(|value| value * scale)))
+                    .sum::<f64>()
+                    / sums.len().max(1) as f64
+            })
+            .collect()
     }
 
     /// Per pixel, the variance of the mean of the groups' images, each

@@ -56,6 +56,8 @@ pub struct ProgressionVariance {
     /// Running sum of squared deviations from the mean.
     squared_deviations: Vec<[f64; 3]>,
     progressions: u64,
+    /// Per finished progression, its image's mean luminance.
+    image_means: Vec<f64>,
 }
 
 impl ProgressionVariance {
@@ -69,6 +71,7 @@ impl ProgressionVariance {
             mean: vec![[0.0; 3]; pixel_count],
             squared_deviations: vec![[0.0; 3]; pixel_count],
             progressions: 0,
+            image_means: Vec::new(),
         }
     }
 
@@ -93,13 +96,15 @@ impl ProgressionVariance {
         let count = self.progressions as f64;
         let splat_scale = 1.0 / samples.max(1) as f64;
         let width = self.resolution[0];
-        self.previous
+        let luminance_sum: f64 = self
+            .previous
             .par_chunks_mut(width)
             .zip(self.previous_camera.par_chunks_mut(width))
             .zip(self.mean.par_chunks_mut(width))
             .zip(self.squared_deviations.par_chunks_mut(width))
             .enumerate()
-            .for_each(|(y, (((previous, previous_camera), mean), squared))| {
+            .map(|(y, (((previous, previous_camera), mean), squared))| {
+                let mut row_luminance = 0.0;
                 for x in 0..width {
                     let sums = film.splat(x, y).unwrap_or([0.0; 3]);
                     let camera = film
@@ -108,6 +113,7 @@ impl ProgressionVariance {
                         .unwrap_or(([0.0; 3], 0.0));
                     if complete {
                         let camera_weight = camera.1 - previous_camera[x].1;
+                        let mut values = [0.0; 3];
                         for channel in 0..3 {
                             let camera_mean = if camera_weight != 0.0 {
                                 (camera.0[channel] - previous_camera[x].0[channel]) / camera_weight
@@ -116,15 +122,31 @@ impl ProgressionVariance {
                             };
                             let value =
                                 camera_mean + (sums[channel] - previous[x][channel]) * splat_scale;
+                            values[channel] = value;
                             let deviation = value - mean[x][channel];
                             mean[x][channel] += deviation / count;
                             squared[x][channel] += deviation * (value - mean[x][channel]);
                         }
+                        row_luminance += crate::replication::luminance(values);
                     }
                     previous[x] = sums;
                     previous_camera[x] = camera;
                 }
-            });
+                row_luminance
+            })
+            .collect::<Vec<f64>>()
+            .iter()
+            .sum();
+        if complete {
+            let pixels = (self.resolution[0] * self.resolution[1]).max(1) as f64;
+            self.image_means.push(luminance_sum / pixels);
+        }
+    }
+
+    /// Per finished progression, the mean luminance of its image (the
+    /// image mean's error comes from their spread).
+    pub fn image_means(&self) -> &[f64] {
+        &self.image_means
     }
 
     /// Number of finished progressions `M`.
