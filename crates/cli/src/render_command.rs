@@ -1156,21 +1156,14 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     };
     let observer: Option<render::integrators::FilmObserver<'_>> =
         live_view.as_ref().map(|_| &observe as _);
-    let output = render_observed(&scene, &settings, &stop, &progress, observer).map_err(
-        |error| match error {
-            // The integrator cannot render this scene: bad input, status 2.
-            render::integrators::RenderError::Unsupported(message) => usage(message),
-            render::integrators::RenderError::Sampler(error) => usage(error.to_string()),
-            other => CliError::Failure(other.to_string()),
-        },
-    )?;
+    let output =
+        render_observed(&scene, &settings, &stop, &progress, observer).map_err(render_failure)?;
     bar.finish_and_clear();
     if let Some(view) = &live_view {
         view.show(&output.image(), Some(&output.variance_image()));
     }
 
     let statistics = output.statistics;
-    let seconds = statistics.elapsed.as_secs_f64().max(1e-9);
     let metadata = render_metadata(scene_name, &settings, &statistics);
     let spp = traced_samples_per_pixel(&scene, &statistics);
     output
@@ -1233,27 +1226,9 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             spp,
         );
     }
-    say!(
-        "time {seconds:.3} s, {:.3} M samples/s, {:.3} M rays/s, {} NaN/Inf samples dropped",
-        statistics.samples as f64 / seconds / 1e6,
-        statistics.rays as f64 / seconds / 1e6,
-        statistics.nonfinite_samples,
-    );
-    if let Some(memory) = statistics.memory {
-        say!("{}", memory.describe());
-    }
-    // The Metropolis integrators' chains and VCM's iterations and merges
-    // are always reported.
+    report_rates(&statistics);
+    report_details(args, &settings, &statistics, output.details.as_deref(), "");
     let kind = settings.integrator.kind();
-    let always = kind.is_metropolis() || kind == IntegratorKind::Vcm;
-    if let (true, Some(details)) = (args.lqmc.stats || always, &output.details) {
-        let threads = if settings.threads == 0 {
-            std::thread::available_parallelism().map_or(1, |count| count.get())
-        } else {
-            settings.threads
-        };
-        say!("{}", details.report(seconds, threads));
-    }
     // What the render's batches are, and whether they are independent.
     let (batches, independent) = if settings.pattern_size.is_some() {
         ("independent replications (Kollig & Keller)", true)
@@ -1463,11 +1438,7 @@ fn run_replications(
         observer,
         &mut show_mean,
     )
-    .map_err(|error| match error {
-        render::integrators::RenderError::Unsupported(message) => usage(message),
-        render::integrators::RenderError::Sampler(error) => usage(error.to_string()),
-        other => CliError::Failure(other.to_string()),
-    })?;
+    .map_err(render_failure)?;
     bar.finish_and_clear();
 
     let accumulator = &rendered.accumulator;
@@ -1527,7 +1498,6 @@ fn run_replications(
         written.push(png.display().to_string());
     }
 
-    let seconds = statistics.elapsed.as_secs_f64().max(1e-9);
     let stopped = if stop.load(Ordering::Relaxed) {
         " (interrupted)"
     } else {
@@ -1555,15 +1525,7 @@ fn run_replications(
             rendered.dropped
         );
     }
-    say!(
-        "time {seconds:.3} s, {:.3} M samples/s, {:.3} M rays/s, {} NaN/Inf samples dropped",
-        statistics.samples as f64 / seconds / 1e6,
-        statistics.rays as f64 / seconds / 1e6,
-        statistics.nonfinite_samples,
-    );
-    if let Some(memory) = statistics.memory {
-        say!("{}", memory.describe());
-    }
+    report_rates(&statistics);
     say!("{}", describe_estimate(&estimate, args.target_region));
     match (request.target_error, rendered.target_reached) {
         (Some(target), Some(true)) => say!(
@@ -1591,16 +1553,62 @@ fn run_replications(
         ),
         _ => {}
     }
+    report_details(
+        args,
+        settings,
+        &statistics,
+        rendered.last.details.as_deref(),
+        "last replication: ",
+    );
+    say!("wrote {}", written.join(" and "));
+    Ok(())
+}
+
+/// A render's failure as a command-line error: an integrator that cannot
+/// render the scene or a sampler that cannot be built is bad input
+/// (status 2), anything else a failure.
+fn render_failure(error: render::integrators::RenderError) -> CliError {
+    match error {
+        render::integrators::RenderError::Unsupported(message) => usage(message),
+        render::integrators::RenderError::Sampler(error) => usage(error.to_string()),
+        other => CliError::Failure(other.to_string()),
+    }
+}
+
+/// Prints a render's time, samples/s, rays/s, dropped NaN/Inf samples and
+/// peak memory.
+fn report_rates(statistics: &RenderStatistics) {
+    let seconds = statistics.elapsed.as_secs_f64().max(1e-9);
+    say!(
+        "time {seconds:.3} s, {:.3} M samples/s, {:.3} M rays/s, {} NaN/Inf samples dropped",
+        statistics.samples as f64 / seconds / 1e6,
+        statistics.rays as f64 / seconds / 1e6,
+        statistics.nonfinite_samples,
+    );
+    if let Some(memory) = statistics.memory {
+        say!("{}", memory.describe());
+    }
+}
+
+/// Prints the integrator's own statistics after `prefix`: with `--stats`,
+/// and always for the Metropolis integrators' chains and VCM's iterations
+/// and merges.
+fn report_details(
+    args: &RenderArgs,
+    settings: &RenderSettings,
+    statistics: &RenderStatistics,
+    details: Option<&dyn render::integrators::IntegratorDetails>,
+    prefix: &str,
+) {
     let kind = settings.integrator.kind();
     let always = kind.is_metropolis() || kind == IntegratorKind::Vcm;
-    if let (true, Some(details)) = (args.lqmc.stats || always, &rendered.last.details) {
+    if let (true, Some(details)) = (args.lqmc.stats || always, details) {
         let threads = if settings.threads == 0 {
             std::thread::available_parallelism().map_or(1, |count| count.get())
         } else {
             settings.threads
         };
-        say!("last replication: {}", details.report(seconds, threads));
+        let seconds = statistics.elapsed.as_secs_f64().max(1e-9);
+        say!("{prefix}{}", details.report(seconds, threads));
     }
-    say!("wrote {}", written.join(" and "));
-    Ok(())
 }

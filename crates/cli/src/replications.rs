@@ -322,21 +322,16 @@ pub fn describe_single_render_error(
     batches: &str,
     independent: bool,
 ) -> String {
-    let channels = (3 * image.pixels().len()).max(1) as f64;
-    let mean = image
-        .pixels()
-        .iter()
-        .flatten()
-        .map(|value| f64::from(*value))
-        .sum::<f64>()
-        / channels;
-    let variance_mean = variance
-        .pixels()
-        .iter()
-        .flatten()
-        .map(|value| f64::from(*value))
-        .sum::<f64>()
-        / channels;
+    let channel_mean = |image: &render::image::Image| {
+        image
+            .pixels()
+            .iter()
+            .flatten()
+            .map(|value| f64::from(*value))
+            .sum::<f64>()
+            / (3 * image.pixels().len()).max(1) as f64
+    };
+    let (mean, variance_mean) = (channel_mean(image), channel_mean(variance));
     let per_pixel = if mean == 0.0 {
         "n/a (black image)".to_string()
     } else {

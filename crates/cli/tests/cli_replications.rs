@@ -5,6 +5,8 @@
 #[path = "../../render/tests/support/scratch_directory.rs"]
 mod scratch_directory;
 use scratch_directory::ScratchDirectory;
+#[path = "../../render/tests/support/variance_spread.rs"]
+mod variance_spread;
 
 use render::image::{ExrContents, VARIANCE_LAYER, read_exr};
 use std::path::Path;
@@ -336,38 +338,17 @@ fn written_estimate(path: &str) -> (f64, f64, f64, u64) {
     )
 }
 
-/// `Σ estimated² / Σ (observed² − reference variance)` and its jackknife
-/// error over the runs.
+/// `Σ estimated² / Σ (observed² − reference variance)` over the runs'
+/// (observed², estimated²) and its jackknife error.
 fn ratio_and_error(runs: &[(f64, f64)], reference_variance: f64) -> (f64, f64) {
-    let ratio = |kept: &[&(f64, f64)]| -> f64 {
+    variance_spread::jackknife(runs, |kept| {
         let estimated: f64 = kept.iter().map(|(_, estimate)| estimate).sum();
         let observed: f64 = kept
             .iter()
             .map(|(observed, _)| observed - reference_variance)
             .sum();
         estimated / observed
-    };
-    let all: Vec<_> = runs.iter().collect();
-    let count = runs.len() as f64;
-    let leave_one_out: Vec<f64> = (0..runs.len())
-        .map(|left_out| {
-            let kept: Vec<_> = runs
-                .iter()
-                .enumerate()
-                .filter(|(index, _)| *index != left_out)
-                .map(|(_, run)| run)
-                .collect();
-            ratio(&kept)
-        })
-        .collect();
-    let mean = leave_one_out.iter().sum::<f64>() / count;
-    let variance = leave_one_out
-        .iter()
-        .map(|value| (value - mean).powi(2))
-        .sum::<f64>()
-        * (count - 1.0)
-        / count;
-    (ratio(&all), variance.sqrt())
+    })
 }
 
 /// `--target-error` on the whole `builtin:cornell-box` (256², 16 spp in 4

@@ -48,11 +48,7 @@ pub fn replication_seed(seed: u64, index: u64) -> u64 {
 /// left pixel (row 0 is the top row).
 pub type PixelRegion = [usize; 4];
 
-/// Rec. 709 luminance (pbrt-v4's and Mitsuba's `Y`) of a linear RGB value.
-#[inline]
-pub fn luminance(rgb: [f64; 3]) -> f64 {
-    0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
-}
+pub use crate::spectrum::linear_srgb_luminance_f64 as luminance;
 
 /// What went wrong adding a replication.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -466,10 +462,10 @@ pub fn render_replications(
         statistics.samples += output_statistics.samples;
         statistics.rays += output_statistics.rays;
         statistics.nonfinite_samples += output_statistics.nonfinite_samples;
-        statistics.memory = match (statistics.memory, output_statistics.memory) {
-            (Some(a), Some(b)) if a.peak_resident_bytes >= b.peak_resident_bytes => Some(a),
-            (_, other) => other.or(statistics.memory),
-        };
+        statistics.memory = [statistics.memory, output_statistics.memory]
+            .into_iter()
+            .flatten()
+            .max_by_key(|memory| memory.peak_resident_bytes);
         // Cut short by Ctrl-C, or by the deadline of a render to a target:
         // not a whole replication.
         let interrupted = stop.load(Ordering::Relaxed)

@@ -78,9 +78,9 @@ pub fn importance(splats: &[Splat]) -> f64 {
     splats
         .iter()
         .map(|splat| {
-            let [r, g, b] = splat.rgb.map(f64::from);
-            let luminance = 0.2126 * r + 0.7152 * g + 0.0722 * b;
-            luminance.max(0.0) + 1e-3 * (r.abs() + g.abs() + b.abs())
+            let rgb = splat.rgb.map(f64::from);
+            let luminance = crate::spectrum::linear_srgb_luminance_f64(rgb);
+            luminance.max(0.0) + 1e-3 * rgb.iter().map(|value| value.abs()).sum::<f64>()
         })
         .sum()
 }
@@ -459,9 +459,7 @@ pub fn render_markov_chains_onto<C: PathContribution>(
     let groups = ChainBatches::groups(settings.chains);
     let bootstraps: Vec<Vec<Bootstrap>> = (0..groups)
         .map(|group| {
-            let share = |total: u64| {
-                total * (group + 1) as u64 / groups as u64 - total * group as u64 / groups as u64
-            };
+            let share = |total: u64| group_share(total, group, groups);
             targets
                 .iter()
                 .enumerate()
@@ -516,9 +514,7 @@ pub fn render_markov_chains_onto<C: PathContribution>(
         if !(total > 0.0 && total.is_finite()) {
             continue;
         }
-        let share = |count: u64| {
-            count * (group + 1) as u64 / groups as u64 - count * group as u64 / groups as u64
-        };
+        let share = |count: u64| group_share(count, group, groups);
         let (chain_total, group_pixels) = (share(settings.chains.max(1)).max(1), share(pixels));
         for (target, bootstrap) in group_bootstraps.iter().enumerate() {
             let normalization = bootstrap.normalization();
@@ -658,7 +654,7 @@ pub fn render_markov_chains_onto<C: PathContribution>(
         let camera_mean = camera
             .pixels()
             .iter()
-            .map(|pixel| crate::replication::luminance(pixel.map(f64::from)))
+            .map(|pixel| crate::spectrum::linear_srgb_luminance_f64(pixel.map(f64::from)))
             .sum::<f64>()
             / camera.pixels().len().max(1) as f64;
         let image_means = batches
@@ -765,7 +761,9 @@ impl ChainBatches {
             .iter()
             .map(|sums| {
                 sums.iter()
-                    .map(|sum| crate::replication::luminance(sum.map(|value| value * scale)))
+                    .map(|sum| {
+                        crate::spectrum::linear_srgb_luminance_f64(sum.map(|value| value * scale))
+                    })
                     .sum::<f64>()
                     / sums.len().max(1) as f64
             })
@@ -814,6 +812,14 @@ fn target_key(seed: u64, index: usize) -> u64 {
     } else {
         qmc::hash::hash2(seed, index as u64)
     }
+}
+
+/// Group `group`'s share of `total` (bootstrap samples, chains, mutations)
+/// split over `groups` groups: the shares differ by at most one and sum to
+/// `total`.
+fn group_share(total: u64, group: usize, groups: usize) -> u64 {
+    let (group, groups) = (group as u64, groups as u64);
+    total * (group + 1) / groups - total * group / groups
 }
 
 /// The random key of target `index` in chain group `group`: the target's

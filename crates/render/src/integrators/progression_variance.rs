@@ -127,13 +127,15 @@ impl ProgressionVariance {
                             mean[x][channel] += deviation / count;
                             squared[x][channel] += deviation * (value - mean[x][channel]);
                         }
-                        row_luminance += crate::replication::luminance(values);
+                        row_luminance += crate::spectrum::linear_srgb_luminance_f64(values);
                     }
                     previous[x] = sums;
                     previous_camera[x] = camera;
                 }
                 row_luminance
             })
+            // Summed in row order, not as the threads finish: the same
+            // bits for any number of threads.
             .collect::<Vec<f64>>()
             .iter()
             .sum();

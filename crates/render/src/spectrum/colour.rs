@@ -44,6 +44,13 @@ pub fn linear_srgb_luminance(rgb: [f32; 3]) -> f32 {
     row[0] * rgb[0] + row[1] * rgb[1] + row[2] * rgb[2]
 }
 
+/// [`linear_srgb_luminance`] in `f64` (Rec. 709 Y, pbrt-v4's and
+/// Mitsuba's), for sums over images and the Metropolis target.
+#[inline]
+pub fn linear_srgb_luminance_f64(rgb: [f64; 3]) -> f64 {
+    0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
+}
+
 /// sRGB transfer function (IEC 61966-2-1): linear value → encoded value, for
 /// writing 8-bit images. Negative inputs give 0; values above 1 follow the
 /// curve (clamp afterwards if needed).

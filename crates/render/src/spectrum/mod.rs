@@ -37,8 +37,8 @@ pub use cie::{
 };
 pub use colour::{
     LINEAR_SRGB_TO_XYZ, XYZ_TO_LINEAR_SRGB, apply_matrix, linear_srgb_luminance,
-    linear_srgb_to_xyz, srgb_decode, srgb_encode, to_linear_srgb, to_luminance, to_xyz,
-    xyz_to_linear_srgb,
+    linear_srgb_luminance_f64, linear_srgb_to_xyz, srgb_decode, srgb_encode, to_linear_srgb,
+    to_luminance, to_xyz, xyz_to_linear_srgb,
 };
 pub use constant::ConstantSpectrum;
 pub use densely_sampled::DenselySampledSpectrum;

@@ -10,6 +10,7 @@
 //! over values, `Σ_i mean_k v_{i,k} / Σ_i V_i`; its error is the jackknife
 //! over the renders (values of one render are correlated, renders are
 //! independent).
+#![allow(dead_code)] // each test uses part of it
 
 /// Per render: its values and their estimated variances.
 pub type Render = (Vec<f64>, Vec<f64>);
@@ -37,18 +38,24 @@ pub fn variance_ratio(renders: &[&Render]) -> f64 {
 
 /// The ratio and its jackknife standard error.
 pub fn ratio_with_error(renders: &[Render]) -> (f64, f64) {
-    let all: Vec<_> = renders.iter().collect();
-    let ratio = variance_ratio(&all);
-    let count = renders.len();
+    jackknife(renders, variance_ratio)
+}
+
+/// `statistic` of all `items` and its jackknife standard error: the
+/// spread of the statistic with each item left out in turn.
+pub fn jackknife<T>(items: &[T], statistic: impl Fn(&[&T]) -> f64) -> (f64, f64) {
+    let all: Vec<&T> = items.iter().collect();
+    let value = statistic(&all);
+    let count = items.len();
     let leave_one_out: Vec<f64> = (0..count)
         .map(|left_out| {
-            let kept: Vec<_> = renders
+            let kept: Vec<&T> = items
                 .iter()
                 .enumerate()
                 .filter(|(index, _)| *index != left_out)
-                .map(|(_, render)| render)
+                .map(|(_, item)| item)
                 .collect();
-            variance_ratio(&kept)
+            statistic(&kept)
         })
         .collect();
     let mean = leave_one_out.iter().sum::<f64>() / count as f64;
@@ -58,5 +65,5 @@ pub fn ratio_with_error(renders: &[Render]) -> (f64, f64) {
         .sum::<f64>()
         * (count as f64 - 1.0)
         / count as f64;
-    (ratio, variance.sqrt())
+    (value, variance.sqrt())
 }
