@@ -28,7 +28,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-MUSEUM = ROOT.parent / "shared/scenes/mitsuba-data/common/textures/museum.exr"
+MUSEUM = ROOT / "scenes/external/mitsuba-data/common/textures/museum.exr"
 OUTPUT = ROOT / "crates/render/tests/data"
 
 

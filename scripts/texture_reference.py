@@ -2,7 +2,7 @@
 """Reference values of Mitsuba 3 (3.9.1) textures for crates/render/tests/texture.rs.
 
 Run: python3 scripts/texture_reference.py > scripts/texture_reference.txt
-(needs `pip install mitsuba`; reads ../shared/scenes/mitsuba-data/common/textures).
+(needs `pip install mitsuba`; reads scenes/external/mitsuba-data/common/textures).
 
 Output lines (whitespace separated):
   synthetic FILTER WRAP u v r g b        raw 3x2 float image (see SYNTHETIC), eval_3 in scalar_rgb
@@ -12,13 +12,14 @@ Output lines (whitespace separated):
   bump u v value du dv                   floor_tiles_bumpmap.png raw: eval_1 and eval_1_grad
 """
 import os
+from pathlib import Path
 import numpy as np
 import mitsuba as mi
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TEXTURES = os.path.join(HERE, "..", "..", "shared", "scenes", "mitsuba-data", "common", "textures")
 if not os.path.isdir(TEXTURES):
-    TEXTURES = "/work/shared/scenes/mitsuba-data/common/textures"
+    TEXTURES = str(Path(__file__).resolve().parents[1] / "scenes/external/mitsuba-data/common/textures")
 
 # 3 columns x 2 rows, RGB; row 0 is the top row of the image.
 SYNTHETIC = np.array(

@@ -25,7 +25,7 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "scripts/perf"))
 from mitsuba_cbox_reference import write_pfm  # noqa: E402
 
-CBOX = ROOT.parent / "shared/scenes/mitsuba-data/scenes/cbox"
+CBOX = ROOT / "scenes/external/mitsuba-data/scenes/cbox"
 OUTPUT = ROOT / "crates/render/tests/data"
 
 BSDFS = """

@@ -54,7 +54,7 @@ import time
 from pathlib import Path
 
 # ../shared beside the checkout (DEVELOPERS.md).
-CBOX = Path(__file__).resolve().parents[3] / "shared/scenes/mitsuba-data/scenes/cbox"
+CBOX = Path(__file__).resolve().parents[2] / "scenes/external/mitsuba-data/scenes/cbox"
 
 # fragments/bsdfs-rgb.xml and fragments/shapes.xml of Mitsuba's box.
 MATERIALS = {

@@ -36,7 +36,7 @@ import time
 from pathlib import Path
 
 # ../shared beside the checkout (DEVELOPERS.md).
-SCENE = Path(__file__).resolve().parents[3] / "shared/scenes/mitsuba-data/scenes/cbox/cbox-rgb.xml"
+SCENE = Path(__file__).resolve().parents[2] / "scenes/external/mitsuba-data/scenes/cbox/cbox-rgb.xml"
 
 
 def mitsuba_paths_per_second(variant, args):

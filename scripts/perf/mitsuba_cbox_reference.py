@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 # ../shared beside the checkout (DEVELOPERS.md).
-SCENE = Path(__file__).resolve().parents[3] / "shared/scenes/mitsuba-data/scenes/cbox/cbox-rgb.xml"
+SCENE = Path(__file__).resolve().parents[2] / "scenes/external/mitsuba-data/scenes/cbox/cbox-rgb.xml"
 OUTPUT = Path(__file__).resolve().parents[2] / "crates/render/tests/data"
 
 

@@ -25,7 +25,7 @@ import mitsuba as mi
 import numpy as np
 
 mi.set_variant("scalar_spectral")
-SCENES = "/work/shared/scenes/mitsuba-data/tests/scenes/bsdf_spheres"
+SCENES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../scenes/external/mitsuba-data/tests/scenes/bsdf_spheres")
 
 
 def mean_of(path):

@@ -28,7 +28,7 @@ Usage (pip install mitsuba==3.9.1 numpy; cargo build --release -p lqmc-cli):
         participating_media/test_homo_area_light_volpath.xml \
         --integrator volpath --renders 16 --spp 64 [--only lqmc|mitsuba]
 
-A scene path is relative to ../shared/scenes/mitsuba-data/tests/scenes.
+A scene path is relative to scenes/external/mitsuba-data/tests/scenes.
 """
 
 import argparse
@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[2]
-SCENES = REPO.parent / "shared/scenes/mitsuba-data/tests/scenes"
+SCENES = REPO / "scenes/external/mitsuba-data/tests/scenes"
 
 
 def to_xyz(mi, rgb):

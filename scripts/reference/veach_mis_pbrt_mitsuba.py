@@ -46,7 +46,7 @@ import numpy as np
 mi.set_variant("scalar_spectral")
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-SCENE_DIR = ROOT / "../shared/scenes/bitterli/veach-mis"
+SCENE_DIR = ROOT / "scenes/external/bitterli/veach-mis"
 OUT = ROOT / "crates/render/tests/data/veach_mis_pbrt_mitsuba.txt"
 REPLICATIONS = 8
 BRIGHT = 20.0

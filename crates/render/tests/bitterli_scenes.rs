@@ -1,4 +1,4 @@
-//! Bitterli's `veach-mis` and `veach-bidir` (`../shared/scenes/bitterli/`)
+//! Bitterli's `veach-mis` and `veach-bidir` (`scenes/external/bitterli/`)
 //! against the image means of Tungsten's references (`TungstenRender.exr`,
 //! RGB renders at full resolution).
 //!
@@ -44,7 +44,7 @@ use render::scene::loader::{LoadOptions, load_scene_file};
 
 fn bitterli(relative: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/scenes/bitterli")
+        .join("../../scenes/external/bitterli")
         .join(relative)
 }
 

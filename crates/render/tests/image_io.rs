@@ -246,7 +246,7 @@ fn errors_name_the_file_and_the_problem() {
 fn reads_tungsten_cornell_box_reference() {
     // `../shared` beside the checkout, as DEVELOPERS.md lays it out.
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/scenes/bitterli/cornell-box/TungstenRender.exr");
+        .join("../../scenes/external/bitterli/cornell-box/TungstenRender.exr");
     let path = path.as_path();
     if !path.exists() {
         eprintln!("skipped: {} is not present", path.display());

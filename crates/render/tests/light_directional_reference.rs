@@ -36,7 +36,7 @@ const REFERENCE_SAMPLES: f64 = 32_000.0;
 
 fn scene_directory() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/scenes/mitsuba-data/tests/scenes/floating_sphere")
+        .join("../../scenes/external/mitsuba-data/tests/scenes/floating_sphere")
 }
 
 fn white() -> MaterialDescription {

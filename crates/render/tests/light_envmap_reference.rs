@@ -62,7 +62,7 @@ fn description() -> SceneDescription {
         )],
         lights: vec![LightDescription::EnvironmentMap {
             filename: PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-                .join("../../../shared/scenes/mitsuba-data/common/textures/museum.exr"),
+                .join("../../scenes/external/mitsuba-data/common/textures/museum.exr"),
             projection: EnvironmentProjection::MitsubaEquirectangular,
             to_world: Affine3A::from_rotation_y(60f32.to_radians()),
             scale: 1.5,

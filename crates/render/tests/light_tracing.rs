@@ -223,7 +223,7 @@ fn light_tracing_matches_path_tracing_under_bump_maps() {
     let mut description = small(builtin_scene("cornell-box").unwrap());
     let height = TextureDescription::Bitmap {
         filename: std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../../shared/scenes/mitsuba-data/common/textures/floor_tiles_bumpmap.png"),
+            .join("../../scenes/external/mitsuba-data/common/textures/floor_tiles_bumpmap.png"),
         encoding: Some(ColourEncoding::Linear),
         filter: TextureFilter::Bilinear,
         wrap: TextureWrap::Repeat,

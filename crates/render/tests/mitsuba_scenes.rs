@@ -1,5 +1,5 @@
 //! The Mitsuba XML loader end to end, on scenes nobody on this project
-//! wrote (`../shared/scenes`, see its README):
+//! wrote (`scenes/external`, see its README):
 //!
 //! * every rendering test scene of Mitsuba 3's data repository
 //!   (`mitsuba-data/tests/scenes/*/test_*.xml`) is listed in [`SCENES`] with
@@ -227,7 +227,7 @@ const PIXEL_FRACTION_REQUIRED: f64 = 0.99;
 
 fn shared(relative: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/scenes")
+        .join("../../scenes/external")
         .join(relative)
 }
 

@@ -1,5 +1,5 @@
 //! The pbrt-v4 loader on real scenes: Bitterli's pbrt-v4 conversions of the
-//! Cornell box and Veach's MIS scene (`../shared/scenes/bitterli/`) load,
+//! Cornell box and Veach's MIS scene (`scenes/external/bitterli/`) load,
 //! and the Cornell box renders to the image mean of Tungsten's reference.
 //!
 //! The reference `TungstenRender.exr` (1024 × 1024, half float, PIZ; the
@@ -29,7 +29,7 @@ use render::scene::loader::{LoadOptions, LoadedScene, load_scene_file};
 
 fn bitterli(scene: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/scenes/bitterli")
+        .join("../../scenes/external/bitterli")
         .join(scene)
 }
 

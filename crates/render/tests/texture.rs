@@ -31,7 +31,7 @@ const REFERENCE: &str = include_str!("../../../scripts/texture_reference.txt");
 
 fn textures_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/scenes/mitsuba-data/common/textures")
+        .join("../../scenes/external/mitsuba-data/common/textures")
 }
 
 /// The reference lines whose first word is `tag`, split into words.
