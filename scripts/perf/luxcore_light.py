@@ -53,7 +53,7 @@ import tempfile
 import time
 from pathlib import Path
 
-# ../shared beside the checkout (DEVELOPERS.md).
+# Vendored in the repository (scenes/external, see its README).
 CBOX = Path(__file__).resolve().parents[2] / "scenes/external/mitsuba-data/scenes/cbox"
 
 # fragments/bsdfs-rgb.xml and fragments/shapes.xml of Mitsuba's box.

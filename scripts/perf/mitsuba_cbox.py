@@ -35,7 +35,7 @@ import tempfile
 import time
 from pathlib import Path
 
-# ../shared beside the checkout (DEVELOPERS.md).
+# Vendored in the repository (scenes/external, see its README).
 SCENE = Path(__file__).resolve().parents[2] / "scenes/external/mitsuba-data/scenes/cbox/cbox-rgb.xml"
 
 

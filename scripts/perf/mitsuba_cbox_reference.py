@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-# ../shared beside the checkout (DEVELOPERS.md).
+# Vendored in the repository (scenes/external, see its README).
 SCENE = Path(__file__).resolve().parents[2] / "scenes/external/mitsuba-data/scenes/cbox/cbox-rgb.xml"
 OUTPUT = Path(__file__).resolve().parents[2] / "crates/render/tests/data"
 

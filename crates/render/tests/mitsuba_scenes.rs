@@ -225,14 +225,14 @@ const SCENES: &[(&str, Status)] = &[
 /// The fraction of pixels that must pass the z-test.
 const PIXEL_FRACTION_REQUIRED: f64 = 0.99;
 
-fn shared(relative: &str) -> PathBuf {
+fn external(relative: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../../scenes/external")
         .join(relative)
 }
 
 fn test_scene(relative: &str) -> PathBuf {
-    shared("mitsuba-data/tests/scenes").join(relative)
+    external("mitsuba-data/tests/scenes").join(relative)
 }
 
 fn load(path: &Path) -> LoadedScene {
@@ -337,7 +337,9 @@ fn z_test_pass_fraction(
 fn every_mitsuba_test_scene_is_listed() {
     let root = test_scene("");
     let mut found = Vec::new();
-    for directory in std::fs::read_dir(&root).expect("the Mitsuba test scenes are in ../shared") {
+    for directory in
+        std::fs::read_dir(&root).expect("the Mitsuba test scenes are in scenes/external")
+    {
         let directory = directory.unwrap().path();
         if !directory.is_dir() {
             continue;
@@ -1020,7 +1022,7 @@ fn specular_first_hits(scene: &Scene) -> Vec<bool> {
 fn mitsuba_cornell_box_file_matches_mitsuba() {
     const RESOLUTION: usize = 64;
     const SAMPLES_PER_PIXEL: u64 = 256;
-    let path = shared("mitsuba-data/scenes/cbox/cbox-rgb.xml");
+    let path = external("mitsuba-data/scenes/cbox/cbox-rgb.xml");
     let loaded = load(&path);
     let mut description = loaded.description;
     assert_eq!(description.camera.resolution, [256, 256]);
@@ -1051,7 +1053,7 @@ fn mitsuba_cornell_box_file_matches_mitsuba() {
 #[test]
 fn bitterli_scenes_load() {
     for name in ["cornell-box", "veach-mis", "veach-bidir"] {
-        let path = shared(&format!("bitterli/{name}/scene.xml"));
+        let path = external(&format!("bitterli/{name}/scene.xml"));
         let loaded = load(&path);
         assert!(!loaded.description.shapes.is_empty(), "{name}");
         // They name `path_guiding_integrator`: a warning, and a fallback.
@@ -1079,7 +1081,7 @@ fn bitterli_scenes_load() {
 /// 0.984 × Mitsuba's spectral render).
 #[test]
 fn bitterli_cornell_box_matches_tungsten_mean() {
-    let directory = shared("bitterli/cornell-box");
+    let directory = external("bitterli/cornell-box");
     let loaded = load(&directory.join("scene.xml"));
     let mut description = loaded.description;
     // The image mean does not depend on the resolution (up to the filter's

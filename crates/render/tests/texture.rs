@@ -30,8 +30,7 @@ use render::texture::{
 const REFERENCE: &str = include_str!("../../../scripts/texture_reference.txt");
 
 fn textures_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes/external/mitsuba-data/common/textures")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/external/mitsuba-data/common/textures")
 }
 
 /// The reference lines whose first word is `tag`, split into words.
