@@ -1,5 +1,5 @@
 //! The estimator of one exploration: Eq. (9) of the paper, extended as
-//! `../shared/docs/lqmc-implementation-notes.md` requires so that it stays
+//! `docs/integrators/lqmc.md` ("Implementation notes") requires so that it stays
 //! unbiased when the breakup vertex and the class are chosen per path.
 //!
 //! Member `j` carries its path tracer contribution `C_j = w_t f(X_j) /

@@ -1,6 +1,6 @@
 //! The options of the LQMC integrator, with the defaults of the paper
 //! (Tessari, Hanika & Dachsbacher, Sec. 3.4) and of the authors' renderer
-//! (`../shared/docs/lqmc-implementation-notes.md`).
+//! (`docs/integrators/lqmc.md`, "Implementation notes").
 
 use super::classification::PathClass;
 
