@@ -1,4 +1,4 @@
-//! The example of the README, kept compiling by `cargo test`.
+//! The example of `docs/qmc.md`, kept compiling by `cargo test`.
 
 use qmc::PointSet;
 use qmc::digital_scramble::{DigitalOrder, DigitalScramble, Scrambled};

@@ -2,7 +2,7 @@
 //! Halton" in Kollig & Keller (2002) and Grünschloß, Raab & Keller (2012).
 //!
 //! The permutations are defined recursively (facts from Faure 1992, as
-//! summarised in the project's `qmc-reference-values.md`):
+//! summarised in `docs/qmc.md`, "Reference values"):
 //! - σ₂ = (0, 1);
 //! - for even b: σ_b = (2σ_{b/2}, 2σ_{b/2} + 1): first the doubled values of
 //!   σ_{b/2}, then the doubled values plus one;

@@ -9,7 +9,7 @@ use qmc::niederreiter::{MAX_DIMENSIONS, Niederreiter};
 
 #[test]
 fn matches_the_reference_values() {
-    // qmc-reference-values.md: GSL 2.7.1, Gray-code order, 12 dimensions.
+    // docs/qmc.md, "Reference values": GSL 2.7.1, Gray-code order, 12 dimensions.
     let sequence = Niederreiter::new(12, DigitalOrder::GrayCode).unwrap();
     assert!((0..12).all(|d| sequence.sample(0, d) == 0.0));
     let second = [0.5, 0.5, 0.75, 0.875, 0.875, 0.9375];

@@ -342,7 +342,7 @@ fn l2_kinds_dispatch_and_stay_fast_for_1024_points_in_4_dimensions() {
 
 /// For a rank-1 lattice, WD² = (4/3)^s · e²(z) with the Korobov-space (P₂)
 /// squared worst-case error for product weights γ_j = 3/(8π²) (see
-/// docs/qmc-reference-values.md): since 3/2 − x(1 − x) = 4/3 · (1 + γ ω(x)) with
+/// docs/qmc.md, "Reference values"): since 3/2 − x(1 − x) = 4/3 · (1 + γ ω(x)) with
 /// ω(x) = 2π²(x² − x + 1/6). This is scipy's squared "WD" convention.
 #[test]
 fn wrap_around_of_a_lattice_is_its_scaled_p2_error() {

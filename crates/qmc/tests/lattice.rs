@@ -69,7 +69,7 @@ fn cbc_matches_numpy_brute_force() {
 
 #[test]
 fn squared_error_matches_scipy_wrap_around_discrepancy() {
-    // WD = (4/3)^s · e² with γ_j = 3/(8π²) (qmc-reference-values.md).
+    // WD = (4/3)^s · e² with γ_j = 3/(8π²) (docs/qmc.md, "Reference values").
     let gamma = 3.0 / (8.0 * std::f64::consts::PI.powi(2));
     for entry in golden::CBC_BRUTE_FORCE {
         let weights = vec![gamma; entry.dimensions];

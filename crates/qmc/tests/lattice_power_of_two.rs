@@ -88,7 +88,7 @@ fn reported_errors_match_direct_evaluation() {
 #[path = "golden/lattice_power_of_two.rs"]
 mod golden;
 
-/// LatNet Builder's example output (qmc-reference-values.md): N = 2^16, P₂,
+/// LatNet Builder's example output (docs/qmc.md, "Reference values"): N = 2^16, P₂,
 /// product weights γ = 0.1, fast CBC gives a generator starting
 /// 1, 19463, 17213, 5895, 14865. Its e² must equal ours (ties such as z and
 /// N − z may make the vectors differ; the errors may not).

@@ -178,7 +178,7 @@ fn sphere_under(light: LightDescription, resolution: u32) -> SceneDescription {
 /// mean's t over `SEEDS` renders (|t| < 4.5, as the other tests); at
 /// 2048 paths per pixel its standard error is about 0.7 % (measured
 /// 0.0053), so a deficit of 3 % or more fails, and the 4.4 % once
-/// suspected of the environment lights (README) would show as |t| ≈ 6.6.
+/// suspected of the environment lights (docs/integrators/light.md) would show as |t| ≈ 6.6.
 #[test]
 fn light_tracing_under_a_constant_environment_reflects_the_albedo() {
     let description = sphere_under(

@@ -606,7 +606,7 @@ fn bidirectional_path_tracing_matches_the_references() {
 /// Metropolis image mean is its bootstrap's heavy-tailed estimate. The
 /// scene of [`MEAN_SHARED_WITH_VOLPATH`] is reported, not asserted.
 #[test]
-#[ignore = "several minutes per integrator: run by hand (README)"]
+#[ignore = "several minutes per integrator: run by hand (docs/testing.md)"]
 fn metropolis_integrators_match_the_references() {
     use render::integrators::erpt::ErptSettings;
     use render::integrators::mmlt::MmltSettings;

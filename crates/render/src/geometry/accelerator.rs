@@ -38,7 +38,7 @@ pub enum TriangleLeafLayout {
     /// Packets of four triangles with their vertices and ids (192 bytes, 48
     /// a triangle): a leaf test reads nothing but its packet. The faster
     /// layout on both scenes of `examples/ray_throughput.rs`, the 1M-triangle
-    /// one included (README, "Ray throughput").
+    /// one included (docs/performance.md, "BVH").
     #[default]
     Vertices,
     /// Packets of four triangles' vertex indices and slots (64 bytes) into a

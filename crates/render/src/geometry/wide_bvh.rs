@@ -14,7 +14,7 @@
 //!   Eight children instead of four (the same SSE code per group) make the
 //!   tree shallower: on the 1M-triangle scene of `examples/ray_throughput.rs`
 //!   the traversal waits for memory at each level, and 8-wide nodes traced
-//!   about 15 % more rays per CPU-second (README, "Ray throughput");
+//!   about 15 % more rays per CPU-second (docs/performance.md, "BVH");
 //! * the slab test follows Ize, "Robust BVH Ray Traversal" (JCGT 2(2), 2013):
 //!   `t_far` is scaled by `1 + 2γ₃` (pbrt-v4's `Bounds3::IntersectP` uses the
 //!   same bound), so rounding can never make a ray miss a box it passes

@@ -6,76 +6,71 @@
 //!
 //! # Dimension layout
 //!
-//! A camera path sample uses the dimensions below ([`layout`] has them as
-//! constants). Each path vertex owns a fixed block of
-//! [`layout::VERTEX_BLOCK`] dimensions whether or not it uses all of them,
-//! so that dimension `d` always means the same decision of the same vertex:
-//! a prefix of a path can be rebuilt from new numbers and reconnected to a
-//! kept suffix (Metropolis, LQMC).
+//! This is the one statement of the layout; `docs/architecture.md` points
+//! here. Each path vertex owns a fixed block of [`layout::VERTEX_BLOCK`]
+//! dimensions whether or not it uses all of them, so that dimension `d`
+//! always means the same decision of the same vertex: a prefix of a path can
+//! be rebuilt from new numbers and reconnected to a kept suffix (Metropolis,
+//! LQMC). [`layout`] has the dimensions as constants.
 //!
-//! | dimensions | use |
-//! |---|---|
-//! | 0, 1 | film position inside the pixel (filter importance sampling) |
-//! | 2, 3 | lens position (thin lens) |
-//! | 4 | time in the shutter interval |
-//! | 5 | hero wavelength |
-//! | 6 + 8k + 0, 1 | vertex k: scattering direction (BSDF or phase function) |
-//! | 6 + 8k + 2 | vertex k: BSDF component (lobe) selection |
-//! | 6 + 8k + 3 | vertex k: Russian roulette |
-//! | 6 + 8k + 4, 5 | vertex k: position on the light (next-event estimation) |
-//! | 6 + 8k + 6 | vertex k: light selection (next-event estimation) |
-//! | 6 + 8k + 7 | vertex k: free-flight distance in a medium |
+//! | dimensions | camera subpath (path, volpath, lqmc) | light subpath (light) |
+//! |---|---|---|
+//! | 0, 1 | film position inside the pixel (filter importance sampling) | film position of the environment camera ray |
+//! | 2, 3 | lens position (thin lens) | lens point of the light vertex's connection |
+//! | 4 | time in the shutter interval | time |
+//! | 5 | hero wavelength | hero wavelength |
+//! | 6 | vertex blocks start | light choice ([`layout::LIGHT_CHOICE`]) |
+//! | 7 | | unused, so pairs stay aligned (MMLT's strategy choice) |
+//! | 8, 9 | | point on the light |
+//! | 10, 11 | | direction of emission |
+//! | B + 8k + 0, 1 | vertex k: scattering direction (BSDF or phase function) | the same |
+//! | B + 8k + 2 | vertex k: BSDF component (lobe) selection | the same |
+//! | B + 8k + 3 | vertex k: Russian roulette | the same |
+//! | B + 8k + 4, 5 | vertex k: position on the light (next-event estimation) | vertex k: lens point of its camera connection |
+//! | B + 8k + 6 | vertex k: light selection (next-event estimation) | |
+//! | B + 8k + 7 | vertex k: free-flight distance in a medium | the same |
 //!
-//! A light subpath (light tracing) uses the same time (4) and wavelength
-//! (5) dimensions; 0, 1 place its environment camera ray and 2, 3 the lens
-//! point of its light vertex's connection; then the light's choice (6),
-//! point (8, 9) and direction of emission (10, 11), and vertex blocks from
-//! 12 + 8k with the same offsets, the light-position pair (4, 5) holding
-//! the lens point of the vertex's camera connection
-//! ([`layout::LIGHT_CHOICE`] and after; 7 is unused). Every subpath's blocks are a
-//! [`crate::integrators::path_space::SubpathLayout`] (first block and
-//! stride): interleaving a camera and a light subpath as Kollig & Keller do
-//! is a stride of two blocks.
+//! B = 6 for camera subpaths and 12 for light subpaths. Every subpath's
+//! blocks are a [`crate::integrators::path_space::SubpathLayout`] (first
+//! block and stride): interleaving a camera and a light subpath as Kollig &
+//! Keller do is a stride of two blocks.
 //!
-//! A bidirectional sample (`bdpt`) uses the camera's dimensions 0–5 and the
-//! light's choice, point and direction 6–11 as above, then the lens point
-//! of the light vertex's connection to the camera (12, 13), then the two
-//! subpaths' vertex blocks interleaved, as Kollig & Keller order them: camera
-//! block k at 14 + 16k, light block k at 22 + 16k, each with the offsets of
-//! the table (a camera block's light-position pair is its next-event
-//! connection, a light block's its lens point).
+//! - **Bidirectional samples** (`bdpt`) use the camera's dimensions 0–5 and
+//!   the light's choice, point and direction 6–11 as above, then the lens
+//!   point of the light vertex's connection to the camera (12, 13), then the
+//!   two subpaths' vertex blocks interleaved, as Kollig & Keller order them:
+//!   camera block k at 14 + 16k, light block k at 22 + 16k, each with the
+//!   offsets of the table (a camera block's light-position pair is its
+//!   next-event connection, a light block's its lens point).
+//! - **Multiplexed MLT** (`mmlt`) takes the bidirectional layout and picks
+//!   its one strategy with dimension 7 ([`layout::MULTIPLEXED_STRATEGY`]),
+//!   which light subpaths leave unused.
+//! - **Vertex connection and merging** (`vcm`) takes the bidirectional
+//!   layout per pixel sample; an iteration's wavelengths and time, shared by
+//!   all its subpaths, are pixel (0, 0)'s [`layout::WAVELENGTH`] and
+//!   [`layout::TIME`] of that sample.
+//! - **Pairs.** Every 2-D decision (film, lens, light point, emission and
+//!   scattering directions, lens point of a connection) is a pair of
+//!   dimensions `(2k, 2k + 1)`: the padded samplers ([`PaddedSampler`]) fill
+//!   each pair from one 2-D pattern, as Kollig & Keller's padded
+//!   replications do per 2-D subproblem.
+//! - **Vertices.** Vertex 0 is the first surface (or medium) interaction
+//!   seen from the camera. Medium interactions are vertices like surface
+//!   ones: the phase function is sampled with the scattering-direction pair,
+//!   next-event estimation and Russian roulette use their usual offsets. The
+//!   free-flight dimension of block k samples the segment that *ends* at
+//!   vertex k: one optical depth τ = −ln(1 − u) at the hero wavelength for
+//!   the whole segment, used up piece by piece across index-matched (`null`)
+//!   boundaries, which are therefore no vertices and use no dimension (see
+//!   [`crate::integrators::volpath`]). It is only asked for when the segment
+//!   enters a medium.
+//! - **Metropolis** integrators read the same layout from a chain's state
+//!   ([`MetropolisSampler`]): a mutation moves the numbers of the dimensions
+//!   the path reads, so a small step moves the same decisions of the same
+//!   vertices.
 //!
-//! Multiplexed MLT (`mmlt`) takes the bidirectional layout and picks its
-//! one strategy with dimension 7 ([`layout::MULTIPLEXED_STRATEGY`]), which
-//! light subpaths leave unused.
-//!
-//! Vertex connection and merging (`vcm`) takes the bidirectional layout
-//! per pixel sample; an iteration's wavelengths and time, shared by all its
-//! subpaths, are pixel (0, 0)'s [`layout::WAVELENGTH`] and
-//! [`layout::TIME`] of that sample.
-//!
-//! Every 2-D decision (film, lens, light point, emission and scattering
-//! directions, lens point of a connection) is a pair of dimensions
-//! `(2k, 2k + 1)`: the padded samplers ([`PaddedSampler`]) fill each pair
-//! from one 2-D pattern, as Kollig & Keller's padded replications do per
-//! 2-D subproblem.
-//!
-//! Vertex 0 is the first surface (or medium) interaction seen from the
-//! camera. Medium interactions are vertices like surface ones: the phase
-//! function is sampled with the scattering-direction pair, next-event
-//! estimation and Russian roulette use their usual offsets. The free-flight
-//! dimension of block k samples the segment that *ends* at vertex k: one
-//! optical depth τ = −ln(1 − u) at the hero wavelength for the whole
-//! segment, used up piece by piece across index-matched (`null`)
-//! boundaries, which are therefore no vertices and use no dimension (see
-//! [`crate::integrators::volpath`]). It is only asked for when the segment
-//! enters a medium. The QMC samplers put the most important decisions into the lowest
+//! The QMC samplers put the most important decisions into the lowest
 //! dimensions of their sequences, where they are best distributed.
-//!
-//! The Metropolis integrators read the same layout from a chain's state
-//! ([`MetropolisSampler`]): a mutation moves the numbers of the dimensions
-//! the path reads, so a small step moves the same decisions of the same
-//! vertices.
 //!
 //! # Seeds and randomization
 //!
@@ -242,7 +237,7 @@ pub trait PixelSampler: SampleSource + Send + Sync {
 }
 
 /// Whether the seed randomizes the quasi-Monte Carlo points (see the
-/// README's "Primary sample space" for what each sampler does).
+/// docs/samplers.md for what each sampler does).
 ///
 /// - [`Randomization::Seeded`] (the default): every sampler is a
 ///   randomization keyed by the seed, so renders with different seeds are
