@@ -15,6 +15,7 @@ use render::geometry::{Sphere, SurfaceHit};
 use render::material::{
     Material, ShadingFrame, SurfaceAdapter, SurfaceBsdf, bump_mapped_frame, normal_mapped_frame,
 };
+use render::scene::build::{build_float_texture, build_spectrum_texture};
 use render::scene::description::{
     ColourEncoding, MaterialDescription, SpectrumDescription, TextureDescription, TextureFilter,
     TextureWrap,
@@ -24,14 +25,13 @@ use render::spectrum::{SampledWavelengths, Spectrum};
 use render::statistics::chi_square_test;
 use render::texture::{
     BitmapSource, Checkerboard, FloatBitmap, FloatTexture, RgbBitmap, SpectrumBitmap, TexelData,
-    TexelLookup, TextureContext, build_float_texture, build_spectrum_texture,
+    TexelLookup, TextureContext,
 };
 
 const REFERENCE: &str = include_str!("../../../scripts/texture_reference.txt");
 
 fn textures_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenes/external/mitsuba-data/common/textures")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/external/mitsuba-data/common/textures")
 }
 
 /// The reference lines whose first word is `tag`, split into words.
