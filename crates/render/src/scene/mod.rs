@@ -1,7 +1,9 @@
 //! Scenes: the renderer-independent [`description`] that built-in scenes and
 //! loaders produce, the [`builtin`] scenes, and [`Scene`], what integrators
 //! trace: geometry with its acceleration structure, a material and an
-//! optional light per shape, the lights and the camera.
+//! optional light per shape, the lights and the camera. [`Scene::build`]
+//! makes a scene from a description with the builders of [`build`], the
+//! only place where the description meets the lower layers.
 
 pub mod build;
 pub mod builtin;
@@ -121,7 +123,8 @@ impl Scene {
     /// Builds the scene: geometry and BVH, spectra from colours, lights.
     /// What each part is made of is built in [`build`]; errors come in the
     /// order of the description (shapes in order, then the other lights,
-    /// the media, the camera's medium, the filter and the camera).
+    /// the media, the camera's medium, a scene without lights, the filter
+    /// and the camera).
     pub fn build(description: &SceneDescription) -> Result<Self, SceneError> {
         let media_count = description.media.len();
         let mut shapes = Vec::with_capacity(description.shapes.len());

@@ -1,6 +1,6 @@
 //! Building a [`Scene`](super::Scene) from its description, one module per
-//! kind of thing built: [`shapes`], [`materials`], [`textures`] (for
-//! materials and lights), [`lights`], [`media`] and the [`film`]'s filter.
+//! kind of thing built: `shapes`, `materials`, [`textures`] (for materials
+//! and lights), `lights`, `media` and the `film`'s filter.
 //! This is the one place where the scene description meets the renderer's
 //! layers (geometry, materials, lights, textures, film, spectra, media):
 //! they know nothing of the description; the builders here translate it,
