@@ -15,6 +15,7 @@ use render::geometry::{Sphere, SurfaceHit};
 use render::material::{
     Material, ShadingFrame, SurfaceAdapter, SurfaceBsdf, bump_mapped_frame, normal_mapped_frame,
 };
+use render::scene::build::{build_float_texture, build_spectrum_texture};
 use render::scene::description::{
     ColourEncoding, MaterialDescription, SpectrumDescription, TextureDescription, TextureFilter,
     TextureWrap,
@@ -24,7 +25,7 @@ use render::spectrum::{SampledWavelengths, Spectrum};
 use render::statistics::chi_square_test;
 use render::texture::{
     BitmapSource, Checkerboard, FloatBitmap, FloatTexture, RgbBitmap, SpectrumBitmap, TexelData,
-    TexelLookup, TextureContext, build_float_texture, build_spectrum_texture,
+    TexelLookup, TextureContext,
 };
 
 const REFERENCE: &str = include_str!("../../../scripts/texture_reference.txt");

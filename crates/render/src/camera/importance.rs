@@ -83,7 +83,8 @@
 
 use glam::{Affine3A, Vec2, Vec3};
 
-use super::{PerspectiveCamera, concentric_disk};
+use super::PerspectiveCamera;
+use crate::sampling::sample_uniform_disk_concentric_trigonometric;
 
 /// The camera's importance for one ray leaving the lens
 /// ([`PerspectiveCamera::importance`]).
@@ -416,7 +417,8 @@ impl PerspectiveCamera {
         let frame = self.importance_frame(time);
         let reference_camera = frame.camera_from_world.transform_point3(reference);
         let (lens_camera, on_plane) = if self.lens_radius > 0.0 {
-            let lens = (concentric_disk(u_lens) * self.lens_radius).extend(0.0);
+            let lens = (sample_uniform_disk_concentric_trigonometric(u_lens) * self.lens_radius)
+                .extend(0.0);
             let along = reference_camera - lens;
             if !is_positive(along.z) {
                 return None;

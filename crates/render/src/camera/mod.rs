@@ -13,6 +13,8 @@
 
 use glam::{Affine3A, Quat, Vec2, Vec3, Vec3A};
 
+use crate::sampling::sample_uniform_disk_concentric_trigonometric;
+
 pub mod importance;
 use importance::ImportanceFrame;
 pub use importance::{CameraImportance, CameraImportanceSample, CameraRayDensity};
@@ -346,7 +348,7 @@ impl PerspectiveCamera {
         );
         let on_plane = (ndc * self.screen_half_extent).extend(1.0);
         let (origin, direction) = if self.lens_radius > 0.0 {
-            let lens = concentric_disk(u_lens) * self.lens_radius;
+            let lens = sample_uniform_disk_concentric_trigonometric(u_lens) * self.lens_radius;
             // The pinhole ray through the image point meets the plane of focus
             // here; every lens ray through that point converges there.
             let focus = on_plane * self.focus_distance;
@@ -413,7 +415,8 @@ impl PerspectiveCamera {
             return None;
         }
         let (lens, on_plane) = if self.lens_radius > 0.0 {
-            let lens = (concentric_disk(u_lens) * self.lens_radius).extend(0.0);
+            let lens = (sample_uniform_disk_concentric_trigonometric(u_lens) * self.lens_radius)
+                .extend(0.0);
             let along = camera_point - lens;
             let focus = lens + along * (self.focus_distance / along.z);
             (lens, focus / self.focus_distance)
@@ -446,27 +449,6 @@ impl PerspectiveCamera {
 fn slerp(a: Quat, b: Quat, t: f32) -> Quat {
     let b = if a.dot(b) < 0.0 { -b } else { b };
     a.slerp(b, t)
-}
-
-/// Shirley & Chiu's (1997) concentric mapping of the unit square onto the
-/// unit disk: area preserving, low distortion.
-pub fn concentric_disk(u: [f32; 2]) -> Vec2 {
-    let offset = Vec2::new(2.0 * u[0] - 1.0, 2.0 * u[1] - 1.0);
-    if offset == Vec2::ZERO {
-        return Vec2::ZERO;
-    }
-    let (radius, theta) = if offset.x.abs() > offset.y.abs() {
-        (
-            offset.x,
-            std::f32::consts::FRAC_PI_4 * (offset.y / offset.x),
-        )
-    } else {
-        (
-            offset.y,
-            std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (offset.x / offset.y),
-        )
-    };
-    Vec2::new(theta.cos(), theta.sin()) * radius
 }
 
 #[cfg(test)]

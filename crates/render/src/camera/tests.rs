@@ -93,35 +93,3 @@ fn invalid_settings_are_errors() {
     assert!(look_at(Vec3::ZERO, Vec3::ZERO, Vec3::Y).is_err());
     assert!(look_at(Vec3::ZERO, Vec3::Y, Vec3::Y).is_err());
 }
-
-#[test]
-fn concentric_mapping_is_uniform_on_the_disk() {
-    // Chi-square over 8 rings × 16 sectors of equal area; with uniform
-    // inputs each cell expects n/128 points. Use a stratified grid of inputs:
-    // an area-preserving map then fills every cell almost exactly.
-    let (rings, sectors, side) = (8usize, 16usize, 512usize);
-    let mut counts = vec![0f64; rings * sectors];
-    for i in 0..side {
-        for j in 0..side {
-            let u = [
-                (i as f32 + 0.5) / side as f32,
-                (j as f32 + 0.5) / side as f32,
-            ];
-            let p = concentric_disk(u);
-            let ring = ((p.length_squared() * rings as f32) as usize).min(rings - 1);
-            let angle = p.y.atan2(p.x).rem_euclid(std::f32::consts::TAU);
-            let sector =
-                ((angle / std::f32::consts::TAU * sectors as f32) as usize).min(sectors - 1);
-            counts[ring * sectors + sector] += 1.0;
-        }
-    }
-    let expected = (side * side) as f64 / (rings * sectors) as f64;
-    // A stratified area-preserving map deviates from the expected count only
-    // along the cell boundaries: O(side) points per cell at most.
-    for &count in &counts {
-        assert!(
-            (count - expected).abs() < 0.05 * expected,
-            "{count} vs {expected}"
-        );
-    }
-}

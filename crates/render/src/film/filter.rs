@@ -22,7 +22,7 @@
 //! sampling be exact with a constant weight.
 
 use super::FilmError;
-use super::error_function::{erf, inverse_erf};
+use crate::math::{erf, inverse_erf};
 
 /// An offset drawn from a filter and its importance weight `f / pdf`
 /// (exactly 1 for the filters of this module).

@@ -1,7 +1,16 @@
 //! Where the samples of a splatting render lie on the film.
 
-use crate::scene::Scene;
 use glam::Vec2;
+
+/// What an [`ImagePlane`] needs to know of a render: the image's size and
+/// the reach of its reconstruction filter. The scene provides both (its
+/// camera's resolution, its filter's radius).
+pub trait FilmFrame {
+    /// `[width, height]` in pixels.
+    fn resolution(&self) -> [u32; 2];
+    /// The reconstruction filter's radius along x and y, in pixels.
+    fn filter_radius(&self) -> [f32; 2];
+}
 
 /// The image-plane domain of a splatting render's primary sample space
 /// (LQMC's, and the path tracers' with `splat_film`): the image grown by
@@ -20,10 +29,10 @@ pub struct ImagePlane {
 }
 
 impl ImagePlane {
-    /// The domain for `scene`.
-    pub fn new(scene: &Scene) -> Self {
-        let [width, height] = scene.camera.resolution().map(|size| size as f32);
-        let radius = scene.filter.radius();
+    /// The domain for the image and filter of `frame`.
+    pub fn new(frame: &(impl FilmFrame + ?Sized)) -> Self {
+        let [width, height] = frame.resolution().map(|size| size as f32);
+        let radius = frame.filter_radius();
         let margin = Vec2::new((radius[0] - 0.5).max(0.0), (radius[1] - 0.5).max(0.0));
         let size = Vec2::new(width, height) + 2.0 * margin;
         Self {
@@ -50,9 +59,14 @@ impl ImagePlane {
     }
 
     /// The seed's raster position for film numbers `u` of `pixel`: the
-    /// pixel's share of the domain.
-    pub fn seed_raster(&self, scene: &Scene, pixel: (u32, u32), u: [f32; 2]) -> Vec2 {
-        let [width, height] = scene.camera.resolution().map(|size| size as f32);
+    /// pixel's share of the domain (of `frame`'s image).
+    pub fn seed_raster(
+        &self,
+        frame: &(impl FilmFrame + ?Sized),
+        pixel: (u32, u32),
+        u: [f32; 2],
+    ) -> Vec2 {
+        let [width, height] = frame.resolution().map(|size| size as f32);
         let g = Vec2::new(
             (pixel.0 as f32 + u[0]) / width,
             (pixel.1 as f32 + u[1]) / height,

@@ -9,7 +9,6 @@
 //! counts for that pixel only); splats are spread over the pixels around
 //! them with the filter. See [`Film`] for determinism.
 
-mod error_function;
 mod film_tile;
 mod filter;
 mod image_plane;
@@ -17,10 +16,9 @@ mod pixel_statistics;
 mod rgb_film;
 mod splat_buffer;
 
-pub use error_function::{erf, inverse_erf};
 pub use film_tile::{FilmTile, PixelBounds, SampleOutcome};
 pub use filter::{BoxFilter, Filter, FilterSample, GaussianFilter, TriangleFilter};
-pub use image_plane::ImagePlane;
+pub use image_plane::{FilmFrame, ImagePlane};
 pub use pixel_statistics::PixelStatistics;
 pub use rgb_film::{CameraSamplePosition, Film};
 pub use splat_buffer::{Splat, SplatBuffer};

@@ -5,8 +5,9 @@ use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3};
 
-use super::sampling::{coordinate_frame, sample_uniform_disk_concentric};
+use super::sampling::coordinate_frame;
 use super::{Bounds3, GeometryError, ShapeSample, SurfaceHit, Transform};
+use crate::sampling::sample_uniform_disk_concentric_trigonometric;
 
 /// The unit disk `x² + y² ≤ 1, z = 0` of object space mapped to world space by
 /// `object_to_world` (any invertible affine transform: a non-uniform scale makes
@@ -136,7 +137,7 @@ impl Disk {
     /// A point uniformly distributed over the disk (concentric map of the object
     /// disk; an affine map has constant area scaling, so uniformity is kept).
     pub fn sample_area(&self, u: Vec2) -> ShapeSample {
-        let local = sample_uniform_disk_concentric(u);
+        let local = sample_uniform_disk_concentric_trigonometric(u);
         ShapeSample {
             point: self.object_to_world.point(local.extend(0.0)),
             normal: self.normal,

@@ -40,6 +40,8 @@ mod triangle;
 mod triangle_packet;
 mod wide_bvh;
 
+/// Re-exported for the callers that sample shapes and directions together.
+pub use crate::sampling::sample_uniform_sphere;
 pub use accelerator::{
     AcceleratorOptions, AcceleratorStatistics, Geometry, PrimitiveHit, PrimitiveReference,
     TriangleLeafLayout,
@@ -51,8 +53,7 @@ pub use hit::SurfaceHit;
 pub use mesh::TriangleMesh;
 pub use ray::Ray;
 pub use sampling::{
-    AliasTable, ShapeSample, area_pdf_to_solid_angle, coordinate_frame,
-    sample_uniform_disk_concentric, sample_uniform_sphere, sample_uniform_triangle,
+    AliasTable, ShapeSample, area_pdf_to_solid_angle, coordinate_frame, sample_uniform_triangle,
 };
 pub use shape::Shape;
 #[cfg(target_arch = "x86_64")]

@@ -1,8 +1,7 @@
-//! Sampling building blocks for shapes: area-preserving maps from the unit
-//! square to triangles, disks and spheres, an alias table for picking mesh
-//! triangles by area, and the sample record shapes return.
-
-use std::f32::consts::{FRAC_PI_4, PI};
+//! Sampling building blocks for shapes: the area-preserving map from the unit
+//! square to triangles, an alias table for picking mesh triangles by area,
+//! and the sample record shapes return. The disk and sphere maps are the
+//! shared warps of [`crate::sampling`].
 
 use glam::{Vec2, Vec3};
 
@@ -63,34 +62,6 @@ pub fn sample_uniform_triangle(u: Vec2) -> [f32; 3] {
         (u.x - b1, b1)
     };
     [b0, b1, 1.0 - b0 - b1]
-}
-
-/// A uniform point of the unit disk from the unit square by the concentric map of
-/// Shirley & Chiu, "A Low Distortion Map Between Disk and Square" (1997):
-/// concentric squares go to concentric circles, so strata keep their shape.
-pub fn sample_uniform_disk_concentric(u: Vec2) -> Vec2 {
-    let offset = 2.0 * u - Vec2::ONE;
-    if offset == Vec2::ZERO {
-        return Vec2::ZERO;
-    }
-    let (radius, theta) = if offset.x.abs() > offset.y.abs() {
-        (offset.x, FRAC_PI_4 * (offset.y / offset.x))
-    } else {
-        (
-            offset.y,
-            2.0 * FRAC_PI_4 - FRAC_PI_4 * (offset.x / offset.y),
-        )
-    };
-    radius * Vec2::new(theta.cos(), theta.sin())
-}
-
-/// A uniform direction on the unit sphere (Archimedes' hat-box theorem: `z`
-/// uniform in `[-1, 1]`, azimuth uniform).
-pub fn sample_uniform_sphere(u: Vec2) -> Vec3 {
-    let z = 1.0 - 2.0 * u.x;
-    let radius = (1.0 - z * z).max(0.0).sqrt();
-    let phi = 2.0 * PI * u.y;
-    Vec3::new(radius * phi.cos(), radius * phi.sin(), z)
 }
 
 /// Two unit vectors completing the unit vector `n` to a right-handed orthonormal
@@ -354,14 +325,12 @@ mod tests {
     }
 
     #[test]
-    fn maps_stay_in_domain() {
+    fn triangle_map_stays_in_domain() {
         for i in 0..32 {
             for j in 0..32 {
                 let u = Vec2::new(i as f32 / 31.0, j as f32 / 31.0);
                 let b = sample_uniform_triangle(u);
                 assert!(b.iter().all(|&x| x >= -1e-6));
-                assert!(sample_uniform_disk_concentric(u).length() <= 1.0 + 1e-6);
-                assert_abs_diff_eq!(sample_uniform_sphere(u).length(), 1.0, epsilon = 1e-5);
             }
         }
     }

@@ -5,8 +5,9 @@ use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3};
 
-use super::sampling::{coordinate_frame, sample_uniform_sphere};
+use super::sampling::coordinate_frame;
 use super::{Bounds3, GeometryError, ShapeSample, SurfaceHit, Transform};
+use crate::sampling::sample_uniform_sphere;
 
 /// `sin²(1.5°)`: below this `sin²θmax` the cone sampling switches to the
 /// small-angle formulation (threshold from pbrt-v4, `Sphere::Sample`).

@@ -25,8 +25,11 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3};
 
 use super::Light;
-use crate::geometry::{Geometry, coordinate_frame, sample_uniform_disk_concentric};
-use crate::material::{cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_uniform_sphere};
+use crate::geometry::{Geometry, coordinate_frame};
+use crate::sampling::{
+    cosine_hemisphere_pdf, sample_cosine_hemisphere, sample_uniform_disk_concentric_trigonometric,
+    sample_uniform_sphere,
+};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 
 /// A ray leaving a light.
@@ -66,7 +69,7 @@ pub struct EmissionPdf {
 /// one radius from `center` on the light's side.
 fn disk_origin(center: Vec3, radius: f32, towards_light: Vec3, u: [f32; 2]) -> Vec3 {
     let (s, t) = coordinate_frame(towards_light);
-    let disk = sample_uniform_disk_concentric(Vec2::from(u));
+    let disk = sample_uniform_disk_concentric_trigonometric(u);
     center + radius * (towards_light + disk.x * s + disk.y * t)
 }
 
@@ -336,7 +339,7 @@ mod tests {
     use crate::geometry::{Shape, Transform, TriangleMesh};
     use crate::image::Image;
     use crate::light::{EnvironmentMap, ProjectorLight, SpotLight, TexturedAreaLight};
-    use crate::scene::description::{EnvironmentProjection, SpotFalloff};
+    use crate::light::{EnvironmentProjection, SpotFalloff};
     use crate::spectrum::{ConstantSpectrum, Spectrum};
     use crate::statistics::chi_square_test;
     use crate::texture::{Checkerboard, SpectrumTexture};

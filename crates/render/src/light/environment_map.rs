@@ -33,13 +33,26 @@ use std::path::Path;
 use glam::{Affine3A, Vec2, Vec3};
 
 use super::equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere};
+use super::error::LightError;
 use super::piecewise_constant::PiecewiseConstant2D;
 use crate::image::{Image, read_image};
-use crate::scene::SceneError;
-use crate::scene::description::EnvironmentProjection;
-use crate::scene::spectra::SpectrumUsage;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, d65_illuminant, linear_srgb_luminance};
+use crate::spectrum::{
+    SampledSpectrum, SampledWavelengths, SpectrumUsage, d65_illuminant, linear_srgb_luminance,
+};
 use crate::texture::SigmoidTexel;
+
+/// How an environment map's image covers the sphere of directions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EnvironmentProjection {
+    /// Mitsuba 3's latitude–longitude map: u = atan2(d.x, −d.z)/(2π) (mod 1),
+    /// v = acos(d.y)/π in the light frame (+y up); pixel columns are centred
+    /// at u = (i + ½)/W, rows at v = j/(H − 1) (the first and last rows sit on
+    /// the poles); bilinear interpolation, as Mitsuba 3's `envmap`.
+    MitsubaEquirectangular,
+    /// pbrt-v4's equal-area octahedral square map (Clarberg 2008), +z up,
+    /// nearest-pixel lookup, as pbrt-v4's `imagemap` infinite light.
+    PbrtEqualArea,
+}
 
 /// An image-based light at infinity.
 #[derive(Debug, Clone)]
@@ -77,16 +90,14 @@ impl EnvironmentMap {
         to_world: Affine3A,
         scale: f32,
         what: &str,
-    ) -> Result<Self, SceneError> {
-        let image = read_image(path).map_err(|error| SceneError::Parameter {
+    ) -> Result<Self, LightError> {
+        let image = read_image(path).map_err(|error| LightError {
             what: what.to_string(),
             message: error.to_string(),
         })?;
-        Self::from_image(&image, projection, to_world, scale).map_err(|message| {
-            SceneError::Parameter {
-                what: what.to_string(),
-                message: format!("'{}': {message}", path.display()),
-            }
+        Self::from_image(&image, projection, to_world, scale).map_err(|message| LightError {
+            what: what.to_string(),
+            message: format!("'{}': {message}", path.display()),
         })
     }
 
@@ -358,7 +369,7 @@ fn orthonormal_part(to_world: Affine3A) -> Result<Affine3A, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::sample_uniform_sphere;
+    use crate::sampling::sample_uniform_sphere;
     use crate::statistics::chi_square_test;
     use qmc::random::SeekablePcg;
 

@@ -58,7 +58,7 @@ pub fn equal_area_sphere_to_square(d: Vec3) -> Vec2 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::sample_uniform_sphere;
+    use crate::sampling::sample_uniform_sphere;
     use crate::statistics::chi_square_test;
     use qmc::random::SeekablePcg;
 

@@ -10,6 +10,7 @@
 mod emission;
 mod environment_map;
 mod equal_area;
+mod error;
 mod light_sampler;
 mod piecewise_constant;
 mod projector;
@@ -17,12 +18,13 @@ mod spot;
 mod textured_area;
 
 pub use emission::{EmissionPdf, EmissionSample};
-pub use environment_map::{EnvironmentMap, EnvironmentSample};
+pub use environment_map::{EnvironmentMap, EnvironmentProjection, EnvironmentSample};
 pub use equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere};
+pub use error::LightError;
 pub use light_sampler::LightSampler;
 pub use piecewise_constant::{PiecewiseConstant1D, PiecewiseConstant2D, Sample1D, Sample2D};
 pub use projector::ProjectorLight;
-pub use spot::{SpotLight, smoothstep};
+pub use spot::{SpotFalloff, SpotLight, smoothstep};
 pub use textured_area::{TexturedAreaLight, sample_with_uv};
 
 use std::f32::consts::PI;
@@ -284,7 +286,7 @@ impl Light {
                 scene_radius,
                 ..
             } => {
-                let wi = crate::geometry::sample_uniform_sphere(Vec2::from(u));
+                let wi = crate::sampling::sample_uniform_sphere(u);
                 Some(LightSample {
                     radiance: radiance.sample(wavelengths),
                     wi,

@@ -18,9 +18,18 @@ use std::f32::consts::TAU;
 
 use glam::{Affine3A, Vec2, Vec3};
 
-use crate::scene::description::SpotFalloff;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use crate::texture::{SpectrumTexture, TextureContext};
+
+/// How a spot light's intensity falls off between the start of the falloff
+/// (angle β from the axis) and the cutoff (angle c).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpotFalloff {
+    /// Mitsuba 3's `spot`: `(c − θ) / (c − β)`, linear in the angle θ.
+    MitsubaLinearAngle,
+    /// pbrt-v4's `spot`: `smoothstep(cos c, cos β, cos θ)`, in the cosine.
+    PbrtSmoothstep,
+}
 
 /// A spot light at the origin of its frame shining along its +z.
 #[derive(Debug, Clone)]

@@ -5,7 +5,7 @@
 //! same bitmap used as a reflectance: the RGB texel's sigmoid spectrum,
 //! without D65 (measured with `emitter.eval` on the `various_emitters` test
 //! scene: the ratio to the plain `bitmap` texture is 1 at every wavelength),
-//! so the texture is built with [`crate::scene::spectra::SpectrumUsage::Albedo`]
+//! so the texture is built with [`crate::spectrum::SpectrumUsage::Albedo`]
 //! for Mitsuba scenes.
 //!
 //! Sampling is that of the untextured light — uniform by area over meshes,

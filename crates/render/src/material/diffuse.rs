@@ -12,8 +12,8 @@ use glam::Vec3;
 use super::bsdf_sample::BsdfSample;
 use super::error::{MaterialError, require_finite_non_negative};
 use super::flags::BsdfFlags;
-use super::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere};
 use super::shading_frame::same_hemisphere;
+use crate::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere};
 use crate::spectrum::SampledSpectrum;
 
 /// A Lambertian reflector.

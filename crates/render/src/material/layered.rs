@@ -292,7 +292,7 @@ fn transmittance(depth: f32, w: Vec3) -> f32 {
 
 /// The power heuristic (exponent 2) of `own` against `other`.
 fn power_heuristic(own: f32, other: f32) -> f32 {
-    crate::integrators::MisHeuristic::Power.weight(own, other)
+    crate::sampling::MisHeuristic::Power.weight(own, other)
 }
 
 /// A 64-bit hash of a direction's bits.

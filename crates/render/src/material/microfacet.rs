@@ -32,8 +32,8 @@ use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3};
 
-use super::sampling::sample_uniform_disk_concentric;
-use crate::film::{erf, inverse_erf};
+use crate::math::{erf, inverse_erf};
+use crate::sampling::sample_uniform_disk_concentric;
 
 /// The shape of the microfacet normal distribution.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

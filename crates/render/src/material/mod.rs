@@ -43,13 +43,17 @@ mod principled_thin;
 mod rough_conductor;
 mod rough_dielectric;
 mod rough_plastic;
-mod sampling;
 mod shading_frame;
 mod sides;
 mod surface_adapter;
 mod surface_material;
 mod thin_dielectric;
 
+/// The warps BSDFs sample with, re-exported from [`crate::sampling`].
+pub use crate::sampling::{
+    UNIFORM_SPHERE_PDF, cosine_hemisphere_pdf, sample_cosine_hemisphere,
+    sample_uniform_disk_concentric, sample_uniform_sphere,
+};
 pub use bsdf::{Bsdf, BsdfModel, SurfaceBsdf};
 pub use bsdf_sample::BsdfSample;
 pub use coated_conductor::CoatedConductorBsdf;
@@ -72,10 +76,6 @@ pub use principled_thin::{PrincipledThinBsdf, PrincipledThinParameters};
 pub use rough_conductor::RoughConductorBsdf;
 pub use rough_dielectric::RoughDielectricBsdf;
 pub use rough_plastic::{RoughPlasticBsdf, RoughPlasticTables, TRANSMITTANCE_TABLE_SIZE};
-pub use sampling::{
-    UNIFORM_SPHERE_PDF, cosine_hemisphere_pdf, sample_cosine_hemisphere,
-    sample_uniform_disk_concentric, sample_uniform_sphere,
-};
 pub use shading_frame::{ShadingFrame, abs_cos_theta, cos_theta, same_hemisphere};
 pub use surface_adapter::{
     PerturbationOptions, SurfaceAdapter, bump_mapped_frame, normal_mapped_frame,

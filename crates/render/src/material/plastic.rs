@@ -25,8 +25,8 @@ use glam::Vec3;
 use super::bsdf_sample::BsdfSample;
 use super::flags::BsdfFlags;
 use super::fresnel::{fresnel_dielectric, fresnel_diffuse_reflectance, reflect_about_normal};
-use super::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere};
 use super::sides::{flip_z, front_side, front_side_pair};
+use crate::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere};
 use crate::spectrum::SampledSpectrum;
 
 /// The diffuse base of a plastic as the coating sees it.

@@ -44,7 +44,7 @@ use super::flags::{BsdfFlags, TransportMode};
 use super::fresnel::fresnel_dielectric;
 use super::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use super::rough_dielectric::refract_about;
-use super::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere};
+use crate::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, cie_y};
 
 /// The parameters of a principled BSDF at one hit (textures evaluated).

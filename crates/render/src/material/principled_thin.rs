@@ -32,7 +32,7 @@ use super::principled::{
     diffuse_shape, microfacet_compatible, schlick_fresnel, schlick_r0, schlick_weight, sheen_color,
     spectral_luminance, specular_distribution, tint_color,
 };
-use super::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere};
+use crate::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 
 /// The parameters of a thin principled BSDF at one hit.

@@ -30,8 +30,8 @@ use super::flags::BsdfFlags;
 use super::fresnel::fresnel_dielectric;
 use super::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use super::plastic::PlasticBase;
-use super::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere};
 use super::sides::{flip_z, front_side, front_side_pair};
+use crate::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere};
 use crate::spectrum::SampledSpectrum;
 
 /// Number of cosines at which the coating's transmittance is tabulated

@@ -5,8 +5,8 @@
 //!
 //! # Medium tracking
 //!
-//! A ray starts in the camera's medium ([`crate::scene::Scene::camera_medium`];
-//! `None` is vacuum). A shape whose description names an interior or
+//! A ray starts in the camera's medium (the scene's camera medium; `None`
+//! is vacuum). A shape whose description names an interior or
 //! exterior medium is a *medium transition*: a ray leaving one of its
 //! surface points in direction `d` travels in the exterior medium if `d`
 //! points to the side of the shape's (oriented, i.e. after `flip_normals`)
@@ -16,7 +16,7 @@
 //! (`SurfaceInteraction::target_medium`) and pbrt-v4 (`MediumInterface`).
 //!
 //! Index-matched boundaries (Mitsuba `null`, pbrt `interface`) are shapes
-//! with [`crate::scene::ShapeInfo::is_interface`] set: rays pass straight
+//! the scene marks as interfaces: rays pass straight
 //! through them (only the medium changes) and they are not path vertices.
 
 mod homogeneous;
@@ -28,7 +28,7 @@ pub use phase::{PhaseFunction, PhaseSample};
 use glam::Vec3;
 
 /// The media on the two sides of a shape that is a medium transition, as
-/// indices into [`crate::scene::Scene::media`] (`None`: vacuum).
+/// indices into the scene's list of media (`None`: vacuum).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct MediumInterface {
     /// The medium on the side opposite the oriented normal.

@@ -4,6 +4,10 @@
 //! triples; they become spectra when the scene is built.
 
 use crate::camera::PerspectiveSettings;
+/// The enums of the layers that use them, named here too so that loaders
+/// describe scenes with one import.
+pub use crate::light::{EnvironmentProjection, SpotFalloff};
+pub use crate::texture::{ColourEncoding, TextureFilter, TextureWrap};
 use glam::{Affine2, Affine3A, Vec2, Vec3};
 use std::path::PathBuf;
 
@@ -123,37 +127,6 @@ pub enum SpectrumDescription {
         scale: f32,
         spectrum: Box<SpectrumDescription>,
     },
-}
-
-/// How a bitmap's values are encoded.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum ColourEncoding {
-    /// Values are linear already.
-    Linear,
-    /// The sRGB transfer curve (8-bit PNG/JPEG images by default).
-    Srgb,
-    /// A power law with the given exponent.
-    Gamma(f32),
-}
-
-/// How texture lookups between texels are filtered.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TextureFilter {
-    /// The nearest texel.
-    Nearest,
-    /// Bilinear interpolation of the four nearest texels (the default).
-    Bilinear,
-}
-
-/// What a texture lookup outside [0, 1]² does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TextureWrap {
-    /// Tile the image (the default).
-    Repeat,
-    /// Tile with every other copy mirrored.
-    Mirror,
-    /// Clamp to the edge texels.
-    Clamp,
 }
 
 /// A value that may vary over a surface: a spectrum or a scalar (the same
@@ -450,29 +423,6 @@ impl ProjectorFovAxis {
             _ => tan_half,
         }
     }
-}
-
-/// How a spot light's intensity falls off between the start of the falloff
-/// (angle β from the axis) and the cutoff (angle c).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SpotFalloff {
-    /// Mitsuba 3's `spot`: `(c − θ) / (c − β)`, linear in the angle θ.
-    MitsubaLinearAngle,
-    /// pbrt-v4's `spot`: `smoothstep(cos c, cos β, cos θ)`, in the cosine.
-    PbrtSmoothstep,
-}
-
-/// How an environment map's image covers the sphere of directions.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum EnvironmentProjection {
-    /// Mitsuba 3's latitude–longitude map: u = atan2(d.x, −d.z)/(2π) (mod 1),
-    /// v = acos(d.y)/π in the light frame (+y up); pixel columns are centred
-    /// at u = (i + ½)/W, rows at v = j/(H − 1) (the first and last rows sit on
-    /// the poles); bilinear interpolation, as Mitsuba 3's `envmap`.
-    MitsubaEquirectangular,
-    /// pbrt-v4's equal-area octahedral square map (Clarberg 2008), +z up,
-    /// nearest-pixel lookup, as pbrt-v4's `imagemap` infinite light.
-    PbrtEqualArea,
 }
 
 /// A homogeneous participating medium.

@@ -2,32 +2,16 @@
 //! [`Spectrum`]s, according to what the quantity is ([`SpectrumUsage`]).
 
 use super::SceneError;
+use super::build::parameter_error;
 use super::description::SpectrumDescription;
+/// Where it lives, with the RGB spectra it chooses between; named here for
+/// the loaders.
+pub use crate::spectrum::SpectrumUsage;
 use crate::spectrum::{
     BlackbodyNormalisation, BlackbodySpectrum, CIE_LAMBDA_MAX, CIE_LAMBDA_MIN, ConstantSpectrum,
     PiecewiseLinearSpectrum, RgbAlbedoSpectrum, RgbIlluminantSpectrum, RgbUnboundedSpectrum,
     Spectrum, d65_illuminant,
 };
-
-/// What a spectral quantity is: it decides how an RGB triple is lifted to a
-/// spectrum (Jakob–Hanika sigmoid for reflectances, scaled sigmoid for
-/// unbounded quantities, scaled sigmoid times D65 for illuminants).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SpectrumUsage {
-    /// A reflectance or transmittance in [0, 1].
-    Albedo,
-    /// A non-negative quantity that may exceed 1 (η, κ, σ).
-    Unbounded,
-    /// Emitted radiance, intensity or irradiance.
-    Illuminant,
-}
-
-fn parameter_error(what: &str, error: impl std::fmt::Display) -> SceneError {
-    SceneError::Parameter {
-        what: what.to_string(),
-        message: error.to_string(),
-    }
-}
 
 /// The spectrum a description stands for, used as `usage`; `what` names the
 /// parameter in errors.

@@ -44,7 +44,9 @@ pub use constant::ConstantSpectrum;
 pub use densely_sampled::DenselySampledSpectrum;
 pub use error::SpectrumError;
 pub use piecewise_linear::PiecewiseLinearSpectrum;
-pub use rgb_spectra::{RgbAlbedoSpectrum, RgbIlluminantSpectrum, RgbUnboundedSpectrum};
+pub use rgb_spectra::{
+    RgbAlbedoSpectrum, RgbIlluminantSpectrum, RgbUnboundedSpectrum, SpectrumUsage,
+};
 pub use rgb_to_spectrum_table::{
     DEFAULT_RGB_TABLE_RESOLUTION, MAX_NORMALISED_COEFFICIENT, RgbToSpectrumTable,
     STORED_SRGB_TABLE_BYTES, TABLE_MAGIC,

@@ -10,6 +10,21 @@ use super::sampled_spectrum::SampledSpectrum;
 use super::sigmoid::RgbSigmoidPolynomial;
 use super::wavelengths::SampledWavelengths;
 
+/// What a spectral quantity is: it decides how an RGB triple is lifted to a
+/// spectrum (Jakob–Hanika sigmoid for reflectances, scaled sigmoid for
+/// unbounded quantities, scaled sigmoid times D65 for illuminants: the
+/// [`RgbAlbedoSpectrum`], [`RgbUnboundedSpectrum`] and
+/// [`RgbIlluminantSpectrum`] of this module).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SpectrumUsage {
+    /// A reflectance or transmittance in [0, 1].
+    Albedo,
+    /// A non-negative quantity that may exceed 1 (η, κ, σ).
+    Unbounded,
+    /// Emitted radiance, intensity or irradiance.
+    Illuminant,
+}
+
 /// Checks that every component is finite and ≥ 0.
 fn require_non_negative_rgb(rgb: [f32; 3]) -> Result<[f32; 3], SpectrumError> {
     for value in rgb {

@@ -32,15 +32,24 @@ use std::sync::{Arc, Mutex, OnceLock, Weak};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
+use super::error::TextureError;
 use super::texel_lookup::TexelLookup;
 use crate::image::{TextureImage, TransferCurve, read_texture_image, srgb_to_linear};
-use crate::scene::SceneError;
-use crate::scene::description::ColourEncoding;
-use crate::scene::spectra::SpectrumUsage;
 use crate::spectrum::{
-    RgbSigmoidPolynomial, RgbToSpectrumTable, SampledSpectrum, SampledWavelengths, d65_illuminant,
-    linear_srgb_luminance,
+    RgbSigmoidPolynomial, RgbToSpectrumTable, SampledSpectrum, SampledWavelengths, SpectrumUsage,
+    d65_illuminant, linear_srgb_luminance,
 };
+
+/// How a bitmap's values are encoded.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ColourEncoding {
+    /// Values are linear already.
+    Linear,
+    /// The sRGB transfer curve (8-bit PNG/JPEG images by default).
+    Srgb,
+    /// A power law with the given exponent.
+    Gamma(f32),
+}
 
 /// Per-texel data of one decoded image (row-major, top row first).
 #[derive(Clone, PartialEq)]
@@ -77,17 +86,9 @@ pub struct BitmapSource {
 /// What per-texel data a cache entry holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 enum DataKind {
-    Spectrum(SpectrumUsageKey),
+    Spectrum(SpectrumUsage),
     Float,
     Rgb,
-}
-
-/// [`SpectrumUsage`] as a hash key.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-enum SpectrumUsageKey {
-    Albedo,
-    Unbounded,
-    Illuminant,
 }
 
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -114,7 +115,7 @@ fn cached<T: Send + Sync + 'static>(
     kind: DataKind,
     what: &str,
     make: impl FnOnce(&LinearImage) -> Vec<T>,
-) -> Result<Arc<TexelData<T>>, SceneError> {
+) -> Result<Arc<TexelData<T>>, TextureError> {
     let key = CacheKey {
         filename: source.filename.clone(),
         encoding: format!("{:?}", source.encoding),
@@ -158,14 +159,13 @@ struct LinearImage {
 }
 
 impl LinearImage {
-    fn load(source: &BitmapSource, what: &str) -> Result<Self, SceneError> {
-        let image =
-            read_texture_image(&source.filename).map_err(|error| SceneError::Parameter {
-                what: what.to_string(),
-                message: error.to_string(),
-            })?;
+    fn load(source: &BitmapSource, what: &str) -> Result<Self, TextureError> {
+        let image = read_texture_image(&source.filename).map_err(|error| TextureError {
+            what: what.to_string(),
+            message: error.to_string(),
+        })?;
         if image.width == 0 || image.height == 0 {
-            return Err(SceneError::Parameter {
+            return Err(TextureError {
                 what: what.to_string(),
                 message: format!("'{}' is an empty image", source.filename.display()),
             });
@@ -308,12 +308,8 @@ impl SpectrumBitmap {
         usage: SpectrumUsage,
         lookup: TexelLookup,
         what: &str,
-    ) -> Result<Self, SceneError> {
-        let kind = DataKind::Spectrum(match usage {
-            SpectrumUsage::Albedo => SpectrumUsageKey::Albedo,
-            SpectrumUsage::Unbounded => SpectrumUsageKey::Unbounded,
-            SpectrumUsage::Illuminant => SpectrumUsageKey::Illuminant,
-        });
+    ) -> Result<Self, TextureError> {
+        let kind = DataKind::Spectrum(usage);
         let data = cached(source, kind, what, |image| {
             (0..image.texel_count())
                 .into_par_iter()
@@ -379,7 +375,7 @@ impl FloatBitmap {
         source: &BitmapSource,
         lookup: TexelLookup,
         what: &str,
-    ) -> Result<Self, SceneError> {
+    ) -> Result<Self, TextureError> {
         let data = cached(source, DataKind::Float, what, |image| {
             (0..image.texel_count())
                 .map(|index| {
@@ -433,7 +429,7 @@ impl RgbBitmap {
         source: &BitmapSource,
         lookup: TexelLookup,
         what: &str,
-    ) -> Result<Self, SceneError> {
+    ) -> Result<Self, TextureError> {
         let data = cached(source, DataKind::Rgb, what, |image| {
             (0..image.texel_count())
                 .map(|index| image.rgb(index))

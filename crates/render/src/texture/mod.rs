@@ -6,22 +6,23 @@
 //! Each kind is a constant, an image ([`bitmap`]: nearest or bilinear
 //! filtering, repeat/mirror/clamp wrapping, a `to_uv` affine map — see
 //! [`TexelLookup`] for the exact conventions, those of Mitsuba 3) or a
-//! [`Checkerboard`] of two textures of the kind. [`build_spectrum_texture`],
-//! [`build_float_texture`] and [`build_rgb_texture`] make them from the scene
-//! description.
+//! [`Checkerboard`] of two textures of the kind. The scene builder makes
+//! them from the scene description; this module knows nothing of it.
 //!
 //! Textures never draw random numbers; they are evaluated at a
 //! [`TextureContext`] made from a [`SurfaceHit`].
 
 pub mod bitmap;
-mod build;
 mod checkerboard;
+mod error;
 mod texel_lookup;
 
-pub use bitmap::{BitmapSource, FloatBitmap, RgbBitmap, SigmoidTexel, SpectrumBitmap, TexelData};
-pub use build::{build_float_texture, build_rgb_texture, build_spectrum_texture};
+pub use bitmap::{
+    BitmapSource, ColourEncoding, FloatBitmap, RgbBitmap, SigmoidTexel, SpectrumBitmap, TexelData,
+};
 pub use checkerboard::Checkerboard;
-pub use texel_lookup::{TexelFootprint, TexelLookup};
+pub use error::TextureError;
+pub use texel_lookup::{TexelFootprint, TexelLookup, TextureFilter, TextureWrap};
 
 use crate::geometry::SurfaceHit;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};

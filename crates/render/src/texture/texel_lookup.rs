@@ -13,8 +13,27 @@
 //! reflects every other copy (index `i` of period `2W` maps to `2W − 1 − i`
 //! in the second half).
 
-use crate::scene::description::{TextureFilter, TextureWrap};
 use glam::{Affine2, Vec2};
+
+/// How texture lookups between texels are filtered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TextureFilter {
+    /// The nearest texel.
+    Nearest,
+    /// Bilinear interpolation of the four nearest texels (the default).
+    Bilinear,
+}
+
+/// What a texture lookup outside [0, 1]² does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TextureWrap {
+    /// Tile the image (the default).
+    Repeat,
+    /// Tile with every other copy mirrored.
+    Mirror,
+    /// Clamp to the edge texels.
+    Clamp,
+}
 
 /// How one image is addressed: size, filter, wrap mode and uv transform.
 #[derive(Debug, Clone, Copy, PartialEq)]

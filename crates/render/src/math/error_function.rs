@@ -1,5 +1,5 @@
 //! The error function `erf` and its inverse, in `f64`, for sampling the
-//! truncated Gaussian filter exactly.
+//! truncated Gaussian filter exactly and for Beckmann microfacet slopes.
 
 use std::f64::consts::PI;
 

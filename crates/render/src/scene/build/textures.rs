@@ -5,14 +5,15 @@
 
 use glam::Vec3;
 
-use super::bitmap::{BitmapSource, FloatBitmap, RgbBitmap, SpectrumBitmap};
-use super::checkerboard::Checkerboard;
-use super::texel_lookup::TexelLookup;
-use super::{FloatTexture, RgbTexture, SpectrumTexture};
+use super::parameter_error;
 use crate::scene::SceneError;
 use crate::scene::description::{SpectrumDescription, TextureDescription};
 use crate::scene::spectra::{SpectrumUsage, build_spectrum};
 use crate::spectrum::linear_srgb_luminance;
+use crate::texture::{
+    BitmapSource, Checkerboard, FloatBitmap, FloatTexture, RgbBitmap, RgbTexture, SpectrumBitmap,
+    SpectrumTexture, TexelLookup,
+};
 
 /// The source and lookup of a bitmap description, or `None` for other kinds.
 fn bitmap_parts(description: &TextureDescription) -> Option<(BitmapSource, TexelLookup)> {
@@ -46,13 +47,6 @@ fn bitmap_parts(description: &TextureDescription) -> Option<(BitmapSource, Texel
     }
 }
 
-fn invalid(what: &str, message: String) -> SceneError {
-    SceneError::Parameter {
-        what: what.to_string(),
-        message,
-    }
-}
-
 /// The spectrum texture `description` stands for, its RGB values lifted to
 /// spectra as `usage` says; `what` names the parameter in errors.
 pub fn build_spectrum_texture(
@@ -66,7 +60,7 @@ pub fn build_spectrum_texture(
         }
         TextureDescription::Bitmap { .. } => {
             let (source, lookup) = bitmap_parts(description)
-                .ok_or_else(|| invalid(what, "not an image texture".into()))?;
+                .ok_or_else(|| parameter_error(what, "not an image texture"))?;
             SpectrumTexture::Bitmap(SpectrumBitmap::load(&source, usage, lookup, what)?)
         }
         TextureDescription::Checkerboard { even, odd, to_uv } => {
@@ -94,14 +88,14 @@ pub fn build_float_texture(
             FloatTexture::Constant(linear_srgb_luminance(*rgb))
         }
         TextureDescription::Constant(other) => {
-            return Err(invalid(
+            return Err(parameter_error(
                 what,
                 format!("expected a number or an RGB value, got {other:?}"),
             ));
         }
         TextureDescription::Bitmap { .. } => {
             let (source, lookup) = bitmap_parts(description)
-                .ok_or_else(|| invalid(what, "not an image texture".into()))?;
+                .ok_or_else(|| parameter_error(what, "not an image texture"))?;
             FloatTexture::Bitmap(FloatBitmap::load(&source, lookup, what)?)
         }
         TextureDescription::Checkerboard { even, odd, to_uv } => {
@@ -128,14 +122,14 @@ pub fn build_rgb_texture(
             RgbTexture::Constant(Vec3::from(*rgb))
         }
         TextureDescription::Constant(other) => {
-            return Err(invalid(
+            return Err(parameter_error(
                 what,
                 format!("expected an RGB value, got {other:?}"),
             ));
         }
         TextureDescription::Bitmap { .. } => {
             let (source, lookup) = bitmap_parts(description)
-                .ok_or_else(|| invalid(what, "not an image texture".into()))?;
+                .ok_or_else(|| parameter_error(what, "not an image texture"))?;
             RgbTexture::Bitmap(RgbBitmap::load(&source, lookup, what)?)
         }
         TextureDescription::Checkerboard { even, odd, to_uv } => {

@@ -1,7 +1,11 @@
-//! Warps from the unit square to the directions BSDFs sample: Shirley and
-//! Chiu's concentric disk mapping, cosine-weighted hemisphere sampling (Malley's
-//! method: project the disk up onto the hemisphere), and uniform sphere
-//! sampling (for tests and isotropic phase functions).
+//! Warps from the unit square to disks, hemispheres and spheres: Shirley and
+//! Chiu's concentric disk mapping, cosine-weighted hemisphere sampling
+//! (Malley's method: project the disk up onto the hemisphere), and uniform
+//! sphere sampling. BSDFs, shapes and lights all sample with these.
+//!
+//! Every warp takes its two numbers as anything that converts into a
+//! [`Vec2`] (a `[f32; 2]` from a sampler or a `Vec2`): the conversion only
+//! moves the two values, so results do not depend on the caller's type.
 
 use std::f32::consts::{FRAC_1_PI, FRAC_PI_4, PI};
 
@@ -12,9 +16,10 @@ use glam::{Vec2, Vec3};
 /// (Shirley and Chiu 1997, "A Low Distortion Map Between Disk and Square").
 /// Low distortion matters for QMC points, whose uniformity it preserves.
 #[inline]
-pub fn sample_uniform_disk_concentric(u: [f32; 2]) -> Vec2 {
-    let x = 2.0 * u[0] - 1.0;
-    let y = 2.0 * u[1] - 1.0;
+pub fn sample_uniform_disk_concentric(u: impl Into<Vec2>) -> Vec2 {
+    let u = u.into();
+    let x = 2.0 * u.x - 1.0;
+    let y = 2.0 * u.y - 1.0;
     if x == 0.0 && y == 0.0 {
         return Vec2::ZERO;
     }
@@ -46,11 +51,33 @@ fn sin_cos_quarter_pi(phi: f32) -> (f32, f32) {
     (sin, cos)
 }
 
+/// The concentric map of [`sample_uniform_disk_concentric`] evaluated as
+/// written, with the library's `cos` and `sin` of the angle θ = π/4 · (y/x)
+/// or π/2 − π/4 · (x/y). It differs from the polynomial form by an ulp or
+/// two; the thin lens, disk shapes and the emission disks of lights at
+/// infinity sample with it, as they always have, so their images stay bit
+/// for bit what they were.
+pub fn sample_uniform_disk_concentric_trigonometric(u: impl Into<Vec2>) -> Vec2 {
+    let offset = 2.0 * u.into() - Vec2::ONE;
+    if offset == Vec2::ZERO {
+        return Vec2::ZERO;
+    }
+    let (radius, theta) = if offset.x.abs() > offset.y.abs() {
+        (offset.x, FRAC_PI_4 * (offset.y / offset.x))
+    } else {
+        (
+            offset.y,
+            2.0 * FRAC_PI_4 - FRAC_PI_4 * (offset.x / offset.y),
+        )
+    };
+    radius * Vec2::new(theta.cos(), theta.sin())
+}
+
 /// A direction in the upper hemisphere (z ≥ 0) with density cos θ / π per unit
 /// solid angle ([`cosine_hemisphere_pdf`]): a uniform disk point lifted onto
 /// the hemisphere.
 #[inline]
-pub fn sample_cosine_hemisphere(u: [f32; 2]) -> Vec3 {
+pub fn sample_cosine_hemisphere(u: impl Into<Vec2>) -> Vec3 {
     let disk = sample_uniform_disk_concentric(u);
     let z = (1.0 - disk.length_squared()).max(0.0).sqrt();
     Vec3::new(disk.x, disk.y, z)
@@ -65,10 +92,11 @@ pub fn cosine_hemisphere_pdf(cos_theta: f32) -> f32 {
 /// A direction uniformly distributed on the unit sphere (density 1/(4π)):
 /// z = 1 − 2u₀ is uniform by Archimedes' hat-box theorem, φ = 2πu₁.
 #[inline]
-pub fn sample_uniform_sphere(u: [f32; 2]) -> Vec3 {
-    let z = 1.0 - 2.0 * u[0];
+pub fn sample_uniform_sphere(u: impl Into<Vec2>) -> Vec3 {
+    let u = u.into();
+    let z = 1.0 - 2.0 * u.x;
     let radius = (1.0 - z * z).max(0.0).sqrt();
-    let phi = 2.0 * PI * u[1];
+    let phi = 2.0 * PI * u.y;
     Vec3::new(radius * phi.cos(), radius * phi.sin(), z)
 }
 
@@ -87,6 +115,7 @@ mod tests {
                 let u = [i as f32 / steps as f32, j as f32 / steps as f32];
                 let point = sample_uniform_disk_concentric(u);
                 assert!(point.length() <= 1.0 + 1e-6);
+                assert!(sample_uniform_disk_concentric_trigonometric(u).length() <= 1.0 + 1e-6);
                 let on_square_edge = i == 0 || j == 0 || i == steps || j == steps;
                 if on_square_edge {
                     assert!((point.length() - 1.0).abs() < 1e-5, "{u:?} -> {point}");
@@ -94,6 +123,10 @@ mod tests {
             }
         }
         assert_eq!(sample_uniform_disk_concentric([0.5, 0.5]), Vec2::ZERO);
+        assert_eq!(
+            sample_uniform_disk_concentric_trigonometric([0.5, 0.5]),
+            Vec2::ZERO
+        );
         // The square's centre ring of half-width 1/4 maps to the circle of radius 1/2.
         assert!((sample_uniform_disk_concentric([0.75, 0.6]).length() - 0.5).abs() < 1e-6);
     }
@@ -110,29 +143,41 @@ mod tests {
         assert_eq!(sin_cos_quarter_pi(0.0), (0.0, 1.0));
     }
 
+    /// Both forms of the concentric map agree to rounding and fill the disk
+    /// uniformly.
     #[test]
-    fn concentric_mapping_matches_the_trigonometric_form() {
-        use std::f32::consts::FRAC_PI_2;
-        let steps = 200;
-        for i in 0..steps {
-            for j in 0..steps {
+    fn concentric_mapping_is_uniform_and_both_forms_agree() {
+        // Over 8 rings × 16 sectors of equal area a stratified grid of inputs
+        // fills every cell almost exactly (the map preserves area).
+        let (rings, sectors, side) = (8usize, 16usize, 512usize);
+        let mut counts = vec![0f64; rings * sectors];
+        for i in 0..side {
+            for j in 0..side {
                 let u = [
-                    (i as f32 + 0.37) / steps as f32,
-                    (j as f32 + 0.61) / steps as f32,
+                    (i as f32 + 0.5) / side as f32,
+                    (j as f32 + 0.5) / side as f32,
                 ];
-                let (x, y) = (2.0 * u[0] - 1.0, 2.0 * u[1] - 1.0);
-                let (radius, theta) = if x.abs() > y.abs() {
-                    (x, FRAC_PI_4 * (y / x))
-                } else {
-                    (y, FRAC_PI_2 - FRAC_PI_4 * (x / y))
-                };
-                let expected = Vec2::new(radius * theta.cos(), radius * theta.sin());
-                let point = sample_uniform_disk_concentric(u);
+                let p = sample_uniform_disk_concentric_trigonometric(u);
+                let polynomial = sample_uniform_disk_concentric(u);
                 assert!(
-                    (point - expected).length() < 1e-6,
-                    "{u:?}: {point} vs {expected}"
+                    (polynomial - p).length() < 1e-6,
+                    "{u:?}: {polynomial} vs {p}"
                 );
+                let ring = ((p.length_squared() * rings as f32) as usize).min(rings - 1);
+                let angle = p.y.atan2(p.x).rem_euclid(std::f32::consts::TAU);
+                let sector =
+                    ((angle / std::f32::consts::TAU * sectors as f32) as usize).min(sectors - 1);
+                counts[ring * sectors + sector] += 1.0;
             }
+        }
+        let expected = (side * side) as f64 / (rings * sectors) as f64;
+        // A stratified area-preserving map deviates from the expected count only
+        // along the cell boundaries: O(side) points per cell at most.
+        for &count in &counts {
+            assert!(
+                (count - expected).abs() < 0.05 * expected,
+                "{count} vs {expected}"
+            );
         }
     }
 
