@@ -429,6 +429,28 @@ fn bad_study_input_is_one_line_and_status_two_before_rendering() {
             vec!["--reference-spp", "0"],
             "--reference-spp must be at least 1",
         ),
+        (
+            vec![
+                "--integrators",
+                "path,bdpt",
+                "--reference-spp",
+                "4",
+                "--breakup",
+                "2",
+            ],
+            "--breakup is an option of lqmc, none of the study's integrators (path and bdpt)",
+        ),
+        (
+            vec![
+                "--integrators",
+                "erpt",
+                "--reference-spp",
+                "4",
+                "--mlt-chains",
+                "8",
+            ],
+            "--mlt-chains is an option of pssmlt and mmlt, none of the study's integrators (erpt)",
+        ),
     ];
     for (extra, expected) in cases {
         let mut args = extra.clone();
