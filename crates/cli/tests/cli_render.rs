@@ -486,6 +486,20 @@ fn bdpt_writes_strategy_images() {
     assert!(exr.exists());
 }
 
+/// `lqmc render` of the Cornell box at 8x8 into `exr`, with `extra`.
+fn render_small_cornell_box(exr: &std::path::Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "render",
+        "builtin:cornell-box",
+        "--resolution",
+        "8x8",
+        "-o",
+        exr.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    lqmc(&args)
+}
+
 /// `--quiet` prints nothing at all on success, for one render and for a
 /// render of replications (the loader's warnings and the report included).
 #[test]
@@ -493,19 +507,7 @@ fn quiet_renders_print_nothing() {
     let directory = temporary_directory("quiet");
     let exr = directory.join("quiet.exr");
     for extra in [&[][..], &["--replications", "2"][..]] {
-        let mut args = vec![
-            "render",
-            "builtin:cornell-box",
-            "--resolution",
-            "8x8",
-            "--spp",
-            "2",
-            "--quiet",
-            "-o",
-            exr.to_str().unwrap(),
-        ];
-        args.extend(extra);
-        let output = lqmc(&args);
+        let output = render_small_cornell_box(&exr, &[&["--spp", "2", "--quiet"], extra].concat());
         assert!(output.status.success(), "{extra:?}: {output:?}");
         assert!(output.stdout.is_empty(), "{extra:?}: {output:?}");
         assert!(output.stderr.is_empty(), "{extra:?}: {output:?}");
@@ -520,16 +522,7 @@ fn the_error_line_says_what_it_measured_or_nothing() {
     let directory = temporary_directory("error_line");
     let exr = directory.join("image.exr");
     let render_text = |extra: &[&str]| {
-        let mut args = vec![
-            "render",
-            "builtin:cornell-box",
-            "--resolution",
-            "8x8",
-            "-o",
-            exr.to_str().unwrap(),
-        ];
-        args.extend(extra);
-        let output = lqmc(&args);
+        let output = render_small_cornell_box(&exr, extra);
         assert!(output.status.success(), "{extra:?}: {output:?}");
         let text = String::from_utf8(output.stdout).unwrap();
         assert!(

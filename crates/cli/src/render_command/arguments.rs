@@ -4,7 +4,7 @@
 
 use crate::integrator_options::{IntegratorArgs, PathArgs, PathTracerArgs};
 use crate::named_values::NamedValues;
-use clap::{Args, ValueEnum};
+use clap::Args;
 use render::integrators::IntegratorKind;
 use render::replication::{ErrorMeasure, PixelRegion};
 use render::sampler::{Randomization, SamplerKind};
@@ -23,72 +23,16 @@ pub fn integrator_names() -> NamedValues<IntegratorKind> {
     NamedValues::with_help(IntegratorKind::ALL, IntegratorKind::help)
 }
 
-/// The samplers, as command-line values.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum SamplerName {
-    /// Faure-permuted Halton, per-pixel enumeration (LQMC's).
-    Halton,
-    /// Owen-scrambled Sobol per pixel.
-    Sobol,
-    /// Independent random numbers (SplitMix64 of the pixel sample and dimension).
-    Independent,
-    /// Randomized rank-1 lattice (CBC, N = spp rounded up to a power of two).
-    Lattice,
-    /// The image-wide Sobol sequence, a consecutive block per pixel
-    /// (Owen-scrambled by the seed unless --randomize none).
-    GlobalSobol,
-    /// The image-wide Niederreiter sequence (base 2), a consecutive block
-    /// per pixel (Owen-scrambled by the seed unless --randomize none).
-    GlobalNiederreiter,
-    /// Faure-scrambled Hammersley set of --pattern-size points (else spp),
-    /// a Cranley–Patterson rotation per pixel and replication.
-    Hammersley,
-    /// Padded replications of the 2-D Hammersley pattern (Kollig & Keller).
-    Padded,
-    /// Latin supercube samples of the 2-D Hammersley pattern (unshifted
-    /// with --randomize none).
-    LatinSupercube,
+/// The samplers by name, each with its help line, from the renderer's
+/// table.
+fn sampler_names() -> NamedValues<SamplerKind> {
+    NamedValues::with_help(SamplerKind::ALL, SamplerKind::help)
 }
 
-impl SamplerName {
-    /// The renderer's sampler of this name.
-    pub fn kind(self) -> SamplerKind {
-        match self {
-            SamplerName::Halton => SamplerKind::Halton,
-            SamplerName::Sobol => SamplerKind::Sobol,
-            SamplerName::Independent => SamplerKind::Independent,
-            SamplerName::Lattice => SamplerKind::Lattice,
-            SamplerName::GlobalSobol => SamplerKind::GlobalSobol,
-            SamplerName::GlobalNiederreiter => SamplerKind::GlobalNiederreiter,
-            SamplerName::Hammersley => SamplerKind::Hammersley,
-            SamplerName::Padded => SamplerKind::Padded,
-            SamplerName::LatinSupercube => SamplerKind::LatinSupercube,
-        }
-    }
-}
-
-/// Whether `--seed` randomizes the QMC samplers, as command-line values.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum RandomizeName {
-    /// The seed randomizes every sampler: Halton's digits get a random
-    /// digital shift, Sobol's per-pixel Owen scrambles and the lattice's
-    /// per-pixel shifts are keyed by it. Renders with different seeds are
-    /// independent replications.
-    Seeded,
-    /// Deterministic QMC points: Faure-permuted Halton as in the LQMC
-    /// paper, Sobol's and the lattice's per-pixel scrambles and shifts of
-    /// seed 0; the seed changes only pseudo-random numbers.
-    None,
-}
-
-impl RandomizeName {
-    /// The renderer's randomization of this name.
-    pub fn randomization(self) -> Randomization {
-        match self {
-            RandomizeName::Seeded => Randomization::Seeded,
-            RandomizeName::None => Randomization::None,
-        }
-    }
+/// The randomizations by name, each with its help line, from the
+/// renderer's table.
+fn randomization_names() -> NamedValues<Randomization> {
+    NamedValues::with_help(Randomization::ALL, Randomization::help)
 }
 
 /// Arguments of `lqmc render`.
@@ -112,8 +56,8 @@ pub struct RenderArgs {
     #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_definition)]
     pub define: Vec<(String, String)>,
     /// The sampler.
-    #[arg(long, value_enum, default_value_t = SamplerName::Halton, help_heading = headings::SAMPLING)]
-    pub sampler: SamplerName,
+    #[arg(long, value_name = "SAMPLER", value_parser = sampler_names(), default_value = "halton", help_heading = headings::SAMPLING)]
+    pub sampler: SamplerKind,
     /// Samples per pixel (default: the scene's suggestion, else 16).
     #[arg(long, help_heading = headings::SAMPLING)]
     pub spp: Option<u64>,
@@ -135,8 +79,8 @@ pub struct RenderArgs {
     /// digital shifts, Sobol's Owen scrambles and the lattice's shifts keyed
     /// by the seed) or `none` (the deterministic sequences: Halton as in the
     /// LQMC paper; the seed reaches only pseudo-random numbers).
-    #[arg(long, value_enum, default_value_t = RandomizeName::Seeded, help_heading = headings::SAMPLING)]
-    pub randomize: RandomizeName,
+    #[arg(long, value_name = "RANDOMIZE", value_parser = randomization_names(), default_value = "seeded", help_heading = headings::SAMPLING)]
+    pub randomize: Randomization,
     /// Render R independent replications (whole renders whose seeds
     /// derive from --seed), each of spp / R samples per pixel, and write
     /// their mean with the variance of the mean from their spread; works

@@ -23,7 +23,7 @@ use crate::integrator_options::ownership::{Choice, check_render_options};
 use crate::live_view::LiveView;
 use crate::replications::ReplicationRequest;
 use clap::ArgMatches;
-use output::OutputFormat;
+use render::image::ImageFormat;
 use render::integrators::IntegratorKind;
 use render::renderer::RenderSettings;
 use render::scene::Scene;
@@ -47,7 +47,7 @@ pub struct Job<'a> {
     /// The renderer's settings.
     pub settings: RenderSettings,
     /// The format of `--output`.
-    pub format: OutputFormat,
+    pub format: ImageFormat,
     /// Where the render reports.
     pub console: Console,
     /// Set by Ctrl-C: the render stops and writes what it has.
@@ -118,7 +118,7 @@ fn prepare<'a>(
 }
 
 /// Checks the options that need no scene; returns the output's format.
-fn check_options_without_scene(args: &RenderArgs) -> Result<OutputFormat, CliError> {
+fn check_options_without_scene(args: &RenderArgs) -> Result<ImageFormat, CliError> {
     if args.spp == Some(0) {
         return Err(usage("--spp must be at least 1"));
     }
@@ -128,7 +128,7 @@ fn check_options_without_scene(args: &RenderArgs) -> Result<OutputFormat, CliErr
     if args.path.max_depth == Some(0) {
         return Err(usage("--max-depth must be at least 1"));
     }
-    OutputFormat::of(&args.output)
+    output::output_format(&args.output)
 }
 
 /// What the options ask `kind` to render of `scene`, and the independent
@@ -141,14 +141,13 @@ fn render_request(
     let integrator = args.integrators.settings(kind)?;
     let (pattern_size, samples_per_pixel) = replicated::pattern_plan(args)?;
     args.sampler
-        .kind()
         .check_pattern_size(pattern_size)
         .map_err(|error| usage(error.to_string()))?;
-    let randomization = args.randomize.randomization();
+    let randomization = args.randomize;
     let replications = replicated::requested(args, scene, kind, randomization)?;
     let request = RenderRequest {
         integrator,
-        sampler: args.sampler.kind(),
+        sampler: args.sampler,
         pattern_size,
         samples_per_pixel: match &replications {
             Some(request) => request.samples_per_replication,

@@ -3,35 +3,18 @@
 //! is rendered.
 
 use crate::error::{CliError, usage};
-use render::image::{Image, ImageError, Metadata, write_exr, write_png};
+use render::image::{Image, ImageError, ImageFormat, Metadata, write_exr, write_png};
 use render::renderer::RenderOutput;
 use std::path::{Path, PathBuf};
 
-/// The image formats a render writes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum OutputFormat {
-    OpenExr,
-    Pfm,
-    Png,
-}
-
-impl OutputFormat {
-    /// The format of `path` by its extension, or a usage error.
-    pub fn of(path: &Path) -> Result<Self, CliError> {
-        let extension = path
-            .extension()
-            .and_then(|extension| extension.to_str())
-            .map(str::to_ascii_lowercase);
-        match extension.as_deref() {
-            Some("exr") => Ok(Self::OpenExr),
-            Some("pfm") => Ok(Self::Pfm),
-            Some("png") => Ok(Self::Png),
-            _ => Err(usage(format!(
-                "cannot write {}: the output must end in .exr, .pfm or .png",
-                path.display()
-            ))),
-        }
-    }
+/// The format of the output `path` by its extension, or a usage error.
+pub fn output_format(path: &Path) -> Result<ImageFormat, CliError> {
+    ImageFormat::from_path(path).map_err(|_| {
+        usage(format!(
+            "cannot write {}: the output must end in .exr, .pfm or .png",
+            path.display()
+        ))
+    })
 }
 
 /// A failure to write an image: not the user's input (status 1).
@@ -78,12 +61,12 @@ pub fn create_strategy_directory(directory: &Path) -> Result<(), CliError> {
 /// returns what it wrote.
 pub fn write_png_beside(
     output: &Path,
-    format: OutputFormat,
+    format: ImageFormat,
     image: &Image,
     exposure: f32,
     metadata: &Metadata,
 ) -> Result<Option<String>, CliError> {
-    if format == OutputFormat::Png {
+    if format == ImageFormat::Png {
         return Ok(None);
     }
     let png = output.with_extension("png");

@@ -5,7 +5,7 @@
 //! metadata and the error line are [`crate::replications`]'s, which `lqmc
 //! merge` shares.
 
-use super::output::{OutputFormat, write_failure, write_png_beside};
+use super::output::{write_failure, write_png_beside};
 use super::report::render_failure;
 use super::{Job, RenderArgs, render_metadata};
 use crate::error::{CliError, usage};
@@ -13,7 +13,7 @@ use crate::replications::{
     ReplicationOptions, ReplicationRequest, describe_estimate, fingerprint_hash, format_indices,
     insert_estimate, keys, replication_request, settings_fingerprint,
 };
-use render::image::{VARIANCE_LAYER, write_exr, write_image};
+use render::image::{ImageFormat, VARIANCE_LAYER, write_exr, write_image};
 use render::integrators::{FilmObserver, IntegratorKind};
 use render::replication::{
     ErrorMeasure, ErrorTarget, ReplicationAccumulator, ReplicationPlan, ReplicationProgress,
@@ -97,7 +97,7 @@ pub fn requested(
     }
     if request.is_some()
         && randomization == Randomization::None
-        && args.sampler.kind() != SamplerKind::Independent
+        && args.sampler != SamplerKind::Independent
         && !integrator.runs_markov_chains()
     {
         return Err(usage(
@@ -121,7 +121,7 @@ pub fn requested(
 pub fn check_outputs(
     args: &RenderArgs,
     replications: Option<&ReplicationRequest>,
-    format: OutputFormat,
+    format: ImageFormat,
 ) -> Result<(), CliError> {
     let Some(request) = replications else {
         return Ok(());
@@ -131,7 +131,7 @@ pub fn check_outputs(
             "--density and --strategy-images are images of one render: not with replications",
         ));
     }
-    if request.is_part() && format != OutputFormat::OpenExr {
+    if request.is_part() && format != ImageFormat::OpenExr {
         return Err(usage(format!(
             "a replication part is written as EXR (its metadata ties it to its set for lqmc merge), not {}",
             args.output.display()
@@ -279,7 +279,7 @@ fn write(
         rendered.last.variance_image()
     };
     match job.format {
-        OutputFormat::OpenExr => write_exr(
+        ImageFormat::OpenExr => write_exr(
             &args.output,
             &image,
             &[(VARIANCE_LAYER, &variance)],

@@ -22,7 +22,7 @@ macro_rules! say {
 use super::crops::{CropRectangle, crop_strip};
 use super::error_plot::{ErrorCurve, ErrorPoint, write_error_plot};
 use super::formatting::{
-    command_line, format_percentage, format_significant, load_average, utc_timestamp,
+    command_line, format_percentage, format_significant, load_average, shown_path, utc_timestamp,
 };
 use super::measures::{Spread, flicker, mean_bias, spread};
 use super::{IntegratorEntry, StudySceneArgs, check_distinct, parse_integrator_list};
@@ -105,7 +105,9 @@ enum ReferenceChoice {
 /// The reference image and how it was obtained.
 struct Reference {
     image: Image,
-    /// The path shown in the tables (relative to DIR when rendered there).
+    /// The path shown in the tables: relative to DIR when rendered there, a
+    /// given file as the user gave it (relative to the current directory
+    /// where it lies inside it).
     shown_path: String,
     /// For a rendered reference: the integrator, spp, and whether an
     /// earlier study's was reused.
@@ -479,7 +481,7 @@ pub fn run(args: &EqualTimeArgs, matches: &ArgMatches) -> Result<(), CliError> {
     let reference = match (reference_choice, given_reference) {
         (ReferenceChoice::File(path), Some(image)) => Reference {
             image,
-            shown_path: path.display().to_string(),
+            shown_path: shown_path(&path),
             rendered: None,
         },
         (ReferenceChoice::Render { samples_per_pixel }, _) => {

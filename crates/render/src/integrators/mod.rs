@@ -64,7 +64,8 @@ macro_rules! integrator_registry {
             pub const ALL: [(IntegratorKind, &'static str); [$($name),*].len()] =
                 [$((IntegratorKind::$variant, $name)),*];
 
-            /// One line on what the integrator does (the command line's help).
+            /// One line on what the integrator does (the command line's help;
+            /// no closing full stop, as clap's other help lines).
             pub fn help(self) -> &'static str {
                 match self {
                     $(IntegratorKind::$variant => $help,)*
@@ -126,41 +127,41 @@ integrator_registry! {
     /// Unidirectional path tracing with next-event estimation and MIS
     /// (surfaces only: participating media are ignored).
     Path = "path", path::PathIntegrator,
-        "Path tracing with next-event estimation and MIS.";
+        "Path tracing with next-event estimation and MIS";
     /// Volumetric path tracing: [`Path`](Self::Path) with homogeneous
     /// participating media, index-matched boundaries and spectral MIS
     /// (pbrt-v4's `VolPathIntegrator`; see [`volpath`]).
     VolPath = "volpath", volpath::VolPathIntegrator,
-        "Volumetric path tracing (participating media).";
+        "Volumetric path tracing (participating media)";
     /// Local quasi-Monte Carlo exploration of Halton-seeded path tracing.
     Lqmc(lqmc::LqmcSettings) = "lqmc", lqmc::LqmcIntegrator,
-        "Local quasi-Monte Carlo exploration (Halton-seeded path tracing).";
+        "Local quasi-Monte Carlo exploration (Halton-seeded path tracing)";
     /// Light tracing (particle tracing): paths from the lights, every
     /// vertex connected to the camera and splatted (see [`light`]).
     Light = "light", light::LightIntegrator,
-        "Light tracing: paths from the lights connected to the camera.";
+        "Light tracing: paths from the lights connected to the camera";
     /// Bidirectional path tracing: every connection of a camera and a
     /// light subpath, weighted by multiple importance sampling (see
     /// [`bdpt`]).
     Bdpt(bdpt::BdptSettings) = "bdpt", bdpt::BdptIntegrator,
-        "Bidirectional path tracing (every connection of a camera and a light subpath, balance heuristic by default).";
+        "Bidirectional path tracing (every connection of a camera and a light subpath, balance heuristic by default)";
     /// Primary-sample-space Metropolis light transport (Kelemen et al.
     /// 2002) over path tracing or BDPT (see [`pssmlt`]).
     Pssmlt(pssmlt::PssmltSettings) = "pssmlt", pssmlt::PssmltIntegrator,
-        "Primary-sample-space Metropolis light transport (Kelemen et al. 2002) over path tracing or BDPT (--mlt-base).";
+        "Primary-sample-space Metropolis light transport (Kelemen et al. 2002) over path tracing or BDPT (--mlt-base)";
     /// Energy redistribution path tracing (Cline et al. 2005): path-traced
     /// seeds whose energy short Metropolis chains redistribute (see
     /// [`erpt`]).
     Erpt(erpt::ErptSettings) = "erpt", erpt::ErptIntegrator,
-        "Energy redistribution path tracing (Cline et al. 2005): path-traced seeds, short Metropolis chains from each.";
+        "Energy redistribution path tracing (Cline et al. 2005): path-traced seeds, short Metropolis chains from each";
     /// Multiplexed Metropolis light transport (Hachisuka et al. 2014):
     /// chains per path depth over one BDPT strategy each (see [`mmlt`]).
     Mmlt(mmlt::MmltSettings) = "mmlt", mmlt::MmltIntegrator,
-        "Multiplexed Metropolis light transport (Hachisuka et al. 2014): chains per path depth, one BDPT strategy per sample.";
+        "Multiplexed Metropolis light transport (Hachisuka et al. 2014): chains per path depth, one BDPT strategy per sample";
     /// Vertex connection and merging (Georgiev et al. 2012): BDPT plus
     /// progressive photon mapping's merges, one MIS (see [`vcm`]).
     Vcm(vcm::VcmSettings) = "vcm", vcm::VcmIntegrator,
-        "Vertex connection and merging (Georgiev et al. 2012): BDPT and progressive photon mapping under one MIS (--vcm-mode).";
+        "Vertex connection and merging (Georgiev et al. 2012): BDPT and progressive photon mapping under one MIS (--vcm-mode)";
 }
 
 impl IntegratorKind {
@@ -352,6 +353,20 @@ impl TraceCounters {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Each line of the registry gives one integrator its name, help line
+    /// and settings.
+    #[test]
+    fn the_registry_round_trips_names_and_settings() {
+        for (kind, name) in IntegratorKind::ALL {
+            assert_eq!(IntegratorKind::from_name(name), Some(kind));
+            assert_eq!(kind.name(), name);
+            assert_eq!(IntegratorSettings::from(kind).kind(), kind);
+            assert_eq!(IntegratorSettings::from(kind).name(), name);
+            assert!(!kind.help().is_empty() && !kind.help().ends_with('.'));
+        }
+        assert_eq!(IntegratorKind::from_name("sppm"), None);
+    }
 
     #[test]
     fn heuristics_sum_to_one() {
