@@ -101,3 +101,13 @@ fn main() -> ExitCode {
         Err(error) => error.report(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    /// clap's own checks of every command's definition (unique ids, valid
+    /// defaults and headings).
+    #[test]
+    fn the_command_line_is_consistent() {
+        super::command().debug_assert();
+    }
+}
