@@ -181,10 +181,11 @@ def luxcore_run(pyluxcore, args, seconds, seed):
 
 
 def lqmc_run(args, seed, output):
+    # Not --quiet: the rates are read from lqmc's report on stdout.
     command = [str(args.lqmc), "render", "builtin:cornell-box", "--integrator", "light",
                "--resolution", f"{args.res}x{args.res}", "--max-depth", str(args.max_depth),
                "--threads", str(args.threads), "--spp", str(args.spp),
-               "--sampler", args.sampler, "--quiet", "-o", str(output)]
+               "--sampler", args.sampler, "-o", str(output)]
     if args.rr_depth is not None:
         command += ["--rr-depth", str(args.rr_depth)]
     text = subprocess.run(command + ["--seed", str(seed)], check=True,

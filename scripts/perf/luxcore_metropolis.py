@@ -57,9 +57,10 @@ def luxcore_run(pyluxcore, args, seconds, seed):
 
 
 def lqmc_run(args, integrator, seed, output):
+    # Not --quiet: the rates are read from lqmc's report on stdout.
     command = [str(args.lqmc), "render", "builtin:cornell-box", "--integrator", integrator,
                "--resolution", f"{args.res}x{args.res}", "--max-depth", str(args.max_depth),
-               "--threads", str(args.threads), "--spp", str(args.spp), "--quiet",
+               "--threads", str(args.threads), "--spp", str(args.spp),
                "-o", str(output)]
     if integrator == "path":
         command += ["--sampler", "independent"]

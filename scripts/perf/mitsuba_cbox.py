@@ -64,11 +64,12 @@ def lqmc_paths_per_second(args):
     rates, wall_rates = [], []
     with tempfile.TemporaryDirectory() as directory:
         output = Path(directory) / "cbox.exr"
+        # Not --quiet: the rates are read from lqmc's report on stdout.
         command = [str(args.lqmc), "render", "builtin:cornell-box",
                    "--spp", str(args.spp), "--max-depth", str(args.max_depth),
                    "--rr-depth", str(args.rr_depth),
                    "--sampler", args.sampler, "--threads", str(args.threads),
-                   "--quiet", "-o", str(output)]
+                   "-o", str(output)]
         for run in range(args.runs):
             start = time.perf_counter()
             text = subprocess.run(command + ["--seed", str(run)], check=True,

@@ -6,10 +6,12 @@
 
 mod compare_command;
 mod error;
+mod integrator_options;
 mod json;
 mod lattice_command;
 mod live_view;
 mod merge_command;
+mod named_values;
 mod plot;
 mod plot_font;
 mod points_command;
@@ -19,12 +21,15 @@ mod study;
 mod study_command;
 mod tev;
 
-use clap::{Parser, Subcommand};
+use clap::{ArgMatches, CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
 
-/// Quasi-Monte Carlo light transport: sampling tools and renderer.
+/// What `lqmc --help` says first; the commands are appended from the
+/// subcommands themselves ([`command`]).
+const ABOUT: &str = "Quasi-Monte Carlo light transport: sampling tools and renderer";
+
 #[derive(Parser, Debug)]
-#[command(name = "lqmc", version, about, long_about = None)]
+#[command(name = "lqmc", version)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -50,26 +55,59 @@ enum Command {
     /// print its generator and squared worst-case error.
     Lattice(lattice_command::LatticeArgs),
     /// Studies that render a scene many times and compare integrators:
-    /// `equal-time`.
+    /// `equal-time`, `kollig-keller`, `heinrich-keller`.
     Study(study_command::StudyArgs),
 }
 
+/// The command line, its about text naming every command.
+fn command() -> clap::Command {
+    let command = Cli::command();
+    let names: Vec<&str> = command
+        .get_subcommands()
+        .map(clap::Command::get_name)
+        .collect();
+    let about = format!("{ABOUT}: {}", names.join(", "));
+    command.about(about)
+}
+
+/// The arguments of the subcommand, as clap parsed them (which options the
+/// user gave).
+fn subcommand_matches(matches: &ArgMatches) -> &ArgMatches {
+    matches
+        .subcommand()
+        .map_or(matches, |(_, arguments)| arguments)
+}
+
 fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
-        Ok(cli) => cli,
+    let parsed = command()
+        .try_get_matches()
+        .and_then(|matches| Cli::from_arg_matches(&matches).map(|cli| (cli, matches)));
+    let (cli, matches) = match parsed {
+        Ok(parsed) => parsed,
         Err(error) => return error::report_clap_error(error),
     };
+    let matches = subcommand_matches(&matches);
     let result = match cli.command {
-        Command::Render(args) => render_command::run(&args),
+        Command::Render(args) => render_command::run(&args, matches),
         Command::Merge(args) => merge_command::run(&args),
         Command::Scenes => render_command::list_scenes(),
         Command::Compare(args) => compare_command::run(&args),
         Command::Points(args) => points_command::run(&args),
         Command::Lattice(args) => lattice_command::run(&args),
-        Command::Study(args) => study_command::run(&args),
+        Command::Study(args) => study_command::run(&args, matches),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => error.report(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// clap's own checks of every command's definition (unique ids, valid
+    /// defaults and headings).
+    #[test]
+    fn the_command_line_is_consistent() {
+        super::command().debug_assert();
     }
 }

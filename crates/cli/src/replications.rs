@@ -280,12 +280,12 @@ pub fn describe_estimate(estimate: &ErrorEstimate, region: Option<PixelRegion>) 
     };
     if !estimate.is_estimated() {
         return format!(
-            "error: one replication, no estimate of the error (--replications R renders R independent ones; {what} is {:.6})",
+            "one replication, so no estimate of its error ({what} is {:.6}; --replications R renders R independent ones)",
             estimate.region_mean
         );
     }
     format!(
-        "error: relative standard error of {what} {:.3} % (mean luminance {:.6} ± {:.6}, from {} independent replications); per pixel {:.2} % (expected relative RMSE)",
+        "relative standard error of {what} {:.3} % (mean luminance {:.6} ± {:.6}, from {} independent replications); expected relative RMSE per pixel {:.2} %",
         100.0 * estimate.relative_error(),
         estimate.region_mean,
         estimate.standard_error,
@@ -310,18 +310,32 @@ pub fn relative_standard_error(values: &[f64]) -> Option<f64> {
     Some((variance / count).sqrt() / mean.abs())
 }
 
-/// The line printed about the error of one render (no `--replications`):
-/// the image mean's relative standard error from the render's batches
-/// (`batch_means`, described by `batches`; `independent` says whether they
-/// are), and the root mean square of the per-pixel standard errors its
-/// variance layer estimates, over the mean pixel value.
+/// What the error of one render (no `--replications`) can be estimated
+/// from.
+pub struct ErrorEvidence<'a> {
+    /// The mean luminance of each of the render's batches (Kollig & Keller's
+    /// replications, passes, groups of chains); empty without batches.
+    pub batch_means: &'a [f64],
+    /// What the batches are, e.g. `independent passes`.
+    pub batches: &'a str,
+    /// Whether the batches are independent.
+    pub independent: bool,
+    /// Whether the variance layer is an estimate (from at least two
+    /// batches or samples per pixel).
+    pub variance_estimated: bool,
+}
+
+/// The line printed about the error of one render: the image mean's
+/// relative standard error from the render's batches (if there are two or
+/// more), and the root mean square of the per-pixel standard errors its
+/// variance layer estimates over the mean pixel value (if it is an
+/// estimate and the image is not black); `None` when the render has no
+/// estimate of its error.
 pub fn describe_single_render_error(
     image: &render::image::Image,
     variance: &render::image::Image,
-    batch_means: &[f64],
-    batches: &str,
-    independent: bool,
-) -> String {
+    evidence: &ErrorEvidence,
+) -> Option<String> {
     let channel_mean = |image: &render::image::Image| {
         image
             .pixels()
@@ -332,27 +346,29 @@ pub fn describe_single_render_error(
             / (3 * image.pixels().len()).max(1) as f64
     };
     let (mean, variance_mean) = (channel_mean(image), channel_mean(variance));
-    let per_pixel = if mean == 0.0 {
-        "n/a (black image)".to_string()
-    } else {
-        format!("{:.2} %", 100.0 * variance_mean.sqrt() / mean.abs())
-    };
-    let image_mean = match relative_standard_error(batch_means) {
-        Some(error) if independent => format!(
-            "relative standard error of the image mean {:.3} % (from {} {batches})",
-            100.0 * error,
-            batch_means.len()
-        ),
-        Some(error) => format!(
-            "relative standard error of the image mean about {:.3} % (from {} {batches}, which the sampler's QMC points correlate: --replications R gives an unbiased estimate)",
-            100.0 * error,
-            batch_means.len()
-        ),
-        None => "the image mean's error needs independent replications (--replications R or --target-error E)".to_string(),
-    };
-    format!(
-        "error: {image_mean}; per pixel {per_pixel} (expected relative RMSE from the variance layer)"
-    )
+    let batches = evidence.batches;
+    let count = evidence.batch_means.len();
+    let image_mean = relative_standard_error(evidence.batch_means).map(|error| {
+        if evidence.independent {
+            format!(
+                "relative standard error of the image mean {:.3} % (from {count} {batches})",
+                100.0 * error
+            )
+        } else {
+            format!(
+                "relative standard error of the image mean about {:.3} % (from {count} {batches}, which the sampler's QMC points correlate: --replications R gives an unbiased estimate)",
+                100.0 * error
+            )
+        }
+    });
+    let per_pixel = (evidence.variance_estimated && mean != 0.0).then(|| {
+        format!(
+            "expected relative RMSE per pixel {:.2} % (from the variance layer)",
+            100.0 * variance_mean.sqrt() / mean.abs()
+        )
+    });
+    let parts: Vec<String> = image_mean.into_iter().chain(per_pixel).collect();
+    (!parts.is_empty()).then(|| parts.join("; "))
 }
 
 #[cfg(test)]
@@ -434,6 +450,41 @@ mod tests {
         // Mean 2, sample variance 1, over √3.
         let error = relative_standard_error(&[1.0, 2.0, 3.0]).unwrap();
         assert!((error - (1.0f64 / 3.0).sqrt() / 2.0).abs() < 1e-12);
+    }
+
+    /// The error line says what it measured, or nothing without an
+    /// estimate; it is never labelled an error.
+    #[test]
+    fn single_render_error_line_says_what_it_measured_or_nothing() {
+        let image = render::image::Image::from_pixels(2, 1, vec![[1.0; 3], [3.0; 3]]).unwrap();
+        let variance = render::image::Image::from_pixels(2, 1, vec![[0.04; 3]; 2]).unwrap();
+        let evidence = |batch_means, variance_estimated| ErrorEvidence {
+            batch_means,
+            batches: "independent passes",
+            independent: true,
+            variance_estimated,
+        };
+        assert_eq!(
+            describe_single_render_error(&image, &variance, &evidence(&[], false)),
+            None
+        );
+        assert_eq!(
+            describe_single_render_error(&image, &variance, &evidence(&[2.0], false)),
+            None
+        );
+        let per_pixel =
+            describe_single_render_error(&image, &variance, &evidence(&[], true)).unwrap();
+        assert_eq!(
+            per_pixel,
+            "expected relative RMSE per pixel 10.00 % (from the variance layer)"
+        );
+        let both =
+            describe_single_render_error(&image, &variance, &evidence(&[1.0, 3.0], true)).unwrap();
+        assert!(
+            both.starts_with("relative standard error of the image mean 50.000 % (from 2 independent passes); expected relative RMSE per pixel"),
+            "{both}"
+        );
+        assert!(!both.contains("error:"), "{both}");
     }
 
     #[test]

@@ -7,7 +7,7 @@ use crate::error::CliError;
 use crate::study::equal_time::{self, EqualTimeArgs};
 use crate::study::heinrich_keller::{self, HeinrichKellerArgs};
 use crate::study::kollig_keller::{self, KolligKellerArgs};
-use clap::{Args, Subcommand};
+use clap::{ArgMatches, Args, Subcommand};
 
 /// Arguments of `lqmc study`.
 #[derive(Args, Debug)]
@@ -35,10 +35,13 @@ pub enum StudyName {
     HeinrichKeller(Box<HeinrichKellerArgs>),
 }
 
-/// Runs `lqmc study`.
-pub fn run(args: &StudyArgs) -> Result<(), CliError> {
+/// Runs `lqmc study`; `matches` are its arguments as clap parsed them.
+pub fn run(args: &StudyArgs, matches: &ArgMatches) -> Result<(), CliError> {
+    let study_matches = matches
+        .subcommand()
+        .map_or(matches, |(_, arguments)| arguments);
     match &args.study {
-        StudyName::EqualTime(arguments) => equal_time::run(arguments),
+        StudyName::EqualTime(arguments) => equal_time::run(arguments, study_matches),
         StudyName::KolligKeller(arguments) => kollig_keller::run(arguments),
         StudyName::HeinrichKeller(arguments) => heinrich_keller::run(arguments),
     }

@@ -51,7 +51,6 @@ fn render_writes_exr_and_png_with_metadata_and_reports_rates() {
         "5",
         "--rr-depth",
         "5",
-        "--quiet",
         "-o",
         exr.to_str().unwrap(),
     ]);
@@ -111,7 +110,6 @@ fn time_budget_stops_and_still_writes() {
         "16x16",
         "--time",
         "0.3",
-        "--quiet",
         "-o",
         pfm.to_str().unwrap(),
     ]);
@@ -136,7 +134,6 @@ fn bdpt_renders_media() {
         "4",
         "--resolution",
         "16x12",
-        "--quiet",
         "-o",
         pfm.to_str().unwrap(),
     ]);
@@ -175,7 +172,6 @@ fn pssmlt_and_mmlt_render_and_report_their_chains() {
             "4",
             "--resolution",
             "16x12",
-            "--quiet",
             "-o",
             pfm.to_str().unwrap(),
         ]);
@@ -221,7 +217,6 @@ fn erpt_renders_and_reports_its_chains() {
         "2",
         "--resolution",
         "16x12",
-        "--quiet",
         "-o",
         pfm.to_str().unwrap(),
     ]);
@@ -258,7 +253,6 @@ fn vcm_renders_and_reports_its_merges() {
             "3",
             "--resolution",
             "16x12",
-            "--quiet",
             "-o",
             pfm.to_str().unwrap(),
         ]);
@@ -490,4 +484,104 @@ fn bdpt_writes_strategy_images() {
     }
     assert!(!strategies.join("s1_t1.exr").exists());
     assert!(exr.exists());
+}
+
+/// `lqmc render` of the Cornell box at 8x8 into `exr`, with `extra`.
+fn render_small_cornell_box(exr: &std::path::Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "render",
+        "builtin:cornell-box",
+        "--resolution",
+        "8x8",
+        "-o",
+        exr.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    lqmc(&args)
+}
+
+/// `--quiet` prints nothing at all on success, for one render and for a
+/// render of replications (the loader's warnings and the report included).
+#[test]
+fn quiet_renders_print_nothing() {
+    let directory = temporary_directory("quiet");
+    let exr = directory.join("quiet.exr");
+    for extra in [&[][..], &["--replications", "2"][..]] {
+        let output = render_small_cornell_box(&exr, &[&["--spp", "2", "--quiet"], extra].concat());
+        assert!(output.status.success(), "{extra:?}: {output:?}");
+        assert!(output.stdout.is_empty(), "{extra:?}: {output:?}");
+        assert!(output.stderr.is_empty(), "{extra:?}: {output:?}");
+    }
+}
+
+/// The error line of one render says what it measured, or nothing when the
+/// render has no estimate (one sample per pixel, no batches); no line of a
+/// successful render is labelled an error.
+#[test]
+fn the_error_line_says_what_it_measured_or_nothing() {
+    let directory = temporary_directory("error_line");
+    let exr = directory.join("image.exr");
+    let render_text = |extra: &[&str]| {
+        let output = render_small_cornell_box(&exr, extra);
+        assert!(output.status.success(), "{extra:?}: {output:?}");
+        let text = String::from_utf8(output.stdout).unwrap();
+        assert!(
+            text.lines()
+                .all(|line| !line.to_lowercase().starts_with("error")),
+            "{extra:?}: {text}"
+        );
+        text
+    };
+    let one_sample = render_text(&["--spp", "1"]);
+    assert!(!one_sample.contains("per pixel 0.00 %"), "{one_sample}");
+    assert!(!one_sample.contains("relative"), "{one_sample}");
+    let samples = render_text(&["--spp", "4", "--sampler", "independent"]);
+    assert!(
+        samples.contains("expected relative RMSE per pixel"),
+        "{samples}"
+    );
+    assert!(!samples.contains("image mean"), "{samples}");
+    let passes = render_text(&[
+        "--spp",
+        "4",
+        "--integrator",
+        "light",
+        "--sampler",
+        "independent",
+    ]);
+    assert!(
+        passes.contains("relative standard error of the image mean")
+            && passes.contains("(from 4 independent passes)"),
+        "{passes}"
+    );
+    let replications = render_text(&["--spp", "4", "--replications", "2"]);
+    assert!(
+        replications.contains("relative standard error of the image mean"),
+        "{replications}"
+    );
+}
+
+/// `lqmc --help` names every command in its first line.
+#[test]
+fn help_names_every_command() {
+    let output = lqmc(&["--help"]);
+    assert!(output.status.success());
+    let help = String::from_utf8(output.stdout).unwrap();
+    let about = help.lines().next().unwrap();
+    let commands: Vec<&str> = help
+        .lines()
+        .skip_while(|line| !line.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|line| line.starts_with("  "))
+        .filter_map(|line| line.split_whitespace().next())
+        .filter(|name| *name != "help")
+        .collect();
+    for command in [
+        "render", "merge", "scenes", "compare", "points", "lattice", "study",
+    ] {
+        assert!(commands.contains(&command), "{command} not listed: {help}");
+    }
+    for command in &commands {
+        assert!(about.contains(command), "{command} not in '{about}'");
+    }
 }

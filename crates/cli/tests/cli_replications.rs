@@ -63,7 +63,7 @@ fn path(directory: &Path, name: &str) -> String {
 
 /// The render settings of the merge tests: BDPT (camera samples and
 /// splats) with the default Halton sampler, randomized per replication.
-const SETTINGS: [&str; 8] = [
+const SETTINGS: [&str; 7] = [
     "builtin:cornell-box",
     "--integrator",
     "bdpt",
@@ -71,7 +71,6 @@ const SETTINGS: [&str; 8] = [
     "24x24",
     "--spp",
     "16",
-    "--quiet",
 ];
 
 /// Four parts rendered by four processes (two of them with another thread
@@ -300,7 +299,6 @@ fn target_error_stops_at_the_target() {
         "0.02",
         "--target-region",
         "4,4,8,8",
-        "--quiet",
         "-o",
         &output,
     ]);

@@ -25,7 +25,15 @@ fn lqmc(args: &[&str]) -> Output {
 /// A small study of the Cornell box writing to `directory`, with `extra`
 /// arguments after the common ones.
 fn study(directory: &Path, extra: &[&str]) -> Output {
-    let mut args = vec![
+    study_command(directory, extra)
+        .output()
+        .expect("the lqmc binary runs")
+}
+
+/// The command of [`study`].
+fn study_command(directory: &Path, extra: &[&str]) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_lqmc"));
+    command.args([
         "study",
         "equal-time",
         "builtin:cornell-box",
@@ -35,9 +43,9 @@ fn study(directory: &Path, extra: &[&str]) -> Output {
         "2",
         "-o",
         directory.to_str().unwrap(),
-    ];
-    args.extend_from_slice(extra);
-    lqmc(&args)
+    ]);
+    command.args(extra);
+    command
 }
 
 fn assert_success(output: &Output) {
@@ -355,11 +363,13 @@ fn equal_time_tables_match_the_images_it_wrote() {
     );
     assert!(stderr.contains("rendering the reference"), "{stderr}");
 
-    // A reference given as a file, with a crop.
+    // A reference given as a file, with a crop, run in `directory`: the
+    // absolute paths inside it are written relative to it.
     let given = directory.join("given-reference.exr");
     std::fs::write(&given, &reference_bytes).unwrap();
-    let output = study(
-        &directory.join("with-file"),
+    let with_file = directory.join("with-file");
+    let output = study_command(
+        &with_file,
         &[
             &fewer_renders[..],
             &[
@@ -370,10 +380,26 @@ fn equal_time_tables_match_the_images_it_wrote() {
             ],
         ]
         .concat(),
-    );
+    )
+    .current_dir(&*directory)
+    .output()
+    .unwrap();
     assert_success(&output);
-    let table = read_table(&directory.join("with-file"));
+    let table = read_table(&with_file);
     assert_eq!(table["reference"]["source"], "file");
+    assert_eq!(table["reference"]["image"], "given-reference.exr");
+    let command = table["command"].as_str().unwrap();
+    assert!(
+        command.contains("-o with-file") && command.contains("--reference given-reference.exr"),
+        "{command}"
+    );
+    let markdown = std::fs::read_to_string(with_file.join("table.md")).unwrap();
+    assert!(
+        markdown.contains("Reference: the image given-reference.exr."),
+        "{markdown}"
+    );
+    let directory_name = directory.to_str().unwrap();
+    assert!(!markdown.contains(directory_name), "{markdown}");
     let crops = read_png(directory.join("with-file").join("crops.png")).unwrap();
     // 18 px tall, enlarged 8 times to 144 px.
     assert_eq!((crops.width(), crops.height()), (2 * 24 * 8 + 4, 144));
@@ -428,6 +454,28 @@ fn bad_study_input_is_one_line_and_status_two_before_rendering() {
         (
             vec!["--reference-spp", "0"],
             "--reference-spp must be at least 1",
+        ),
+        (
+            vec![
+                "--integrators",
+                "path,bdpt",
+                "--reference-spp",
+                "4",
+                "--breakup",
+                "2",
+            ],
+            "--breakup is an option of lqmc, none of the study's integrators (path and bdpt)",
+        ),
+        (
+            vec![
+                "--integrators",
+                "erpt",
+                "--reference-spp",
+                "4",
+                "--mlt-chains",
+                "8",
+            ],
+            "--mlt-chains is an option of pssmlt and mmlt, none of the study's integrators (erpt)",
         ),
     ];
     for (extra, expected) in cases {

@@ -22,20 +22,22 @@ macro_rules! say {
 use super::crops::{CropRectangle, crop_strip};
 use super::error_plot::{ErrorCurve, ErrorPoint, write_error_plot};
 use super::formatting::{
-    command_line, format_percentage, format_significant, load_average, utc_timestamp,
+    command_line, format_percentage, format_significant, load_average, shown_path, utc_timestamp,
 };
 use super::measures::{Spread, flicker, mean_bias, spread};
 use super::{IntegratorEntry, StudySceneArgs, check_distinct, parse_integrator_list};
 use crate::error::{CliError, usage};
+use crate::integrator_options::default_heuristic;
+use crate::integrator_options::ownership::check_study_options;
 use crate::json::Json;
 use crate::render_command::{
-    RenderRequest, build_scene, default_heuristic, default_path_tracer, integrator_settings,
-    load_scene_description, parse_time_budget, render_metadata, traced_samples_per_pixel,
+    RenderRequest, build_scene, default_path_tracer, load_scene_description, parse_time_budget,
+    render_metadata, traced_samples_per_pixel,
 };
-use clap::Args;
+use clap::{ArgMatches, Args};
 use render::image::compare::{ImageComparison, RELATIVE_MSE_EPSILON, compare_images};
 use render::image::{Image, Metadata, read_exr, read_image, write_png};
-use render::integrators::IntegratorSettings;
+use render::integrators::{IntegratorKind, IntegratorSettings};
 use render::renderer::{RenderSettings, render};
 use render::sampler::{Randomization, SamplerKind};
 use render::scene::Scene;
@@ -103,7 +105,9 @@ enum ReferenceChoice {
 /// The reference image and how it was obtained.
 struct Reference {
     image: Image,
-    /// The path shown in the tables (relative to DIR when rendered there).
+    /// The path shown in the tables: relative to DIR when rendered there, a
+    /// given file as the user gave it (relative to the current directory
+    /// where it lies inside it).
     shown_path: String,
     /// For a rendered reference: the integrator, spp, and whether an
     /// earlier study's was reused.
@@ -294,7 +298,7 @@ impl RenderContext<'_> {
             .map_err(|error| write_failure(path, error))?;
         let seconds = statistics.elapsed.as_secs_f64();
         // LQMC's --stats, on stderr with the progress lines.
-        if let (true, Some(details)) = (self.args.scene.lqmc.stats, &output.details) {
+        if let (true, Some(details)) = (self.args.scene.integrators.lqmc.stats, &output.details) {
             eprintln!(
                 "{}",
                 details.report(seconds.max(1e-9), self.args.scene.effective_threads())
@@ -401,8 +405,9 @@ fn rendered_reference(
     })
 }
 
-/// Runs `lqmc study equal-time`.
-pub fn run(args: &EqualTimeArgs) -> Result<(), CliError> {
+/// Runs `lqmc study equal-time`; `matches` are its arguments as clap
+/// parsed them.
+pub fn run(args: &EqualTimeArgs, matches: &ArgMatches) -> Result<(), CliError> {
     args.scene.validate()?;
     if args.seeds == 0 {
         return Err(usage("--seeds must be at least 1"));
@@ -452,16 +457,11 @@ pub fn run(args: &EqualTimeArgs) -> Result<(), CliError> {
         entry.resolve_path_tracer(scene.has_media());
     }
     check_distinct(&entries)?;
-    let settings_of_entries = entries
+    let kinds: Vec<IntegratorKind> = entries.iter().map(|entry| entry.integrator).collect();
+    check_study_options(matches, &kinds)?;
+    let settings_of_entries = kinds
         .iter()
-        .map(|entry| {
-            integrator_settings(
-                entry.integrator,
-                &args.scene.lqmc,
-                &args.scene.mlt,
-                &args.scene.vcm,
-            )
-        })
+        .map(|&kind| args.scene.integrators.settings(kind))
         .collect::<Result<Vec<_>, CliError>>()?;
     prepare_output_directory(&args.output)?;
 
@@ -481,7 +481,7 @@ pub fn run(args: &EqualTimeArgs) -> Result<(), CliError> {
     let reference = match (reference_choice, given_reference) {
         (ReferenceChoice::File(path), Some(image)) => Reference {
             image,
-            shown_path: path.display().to_string(),
+            shown_path: shown_path(&path),
             rendered: None,
         },
         (ReferenceChoice::Render { samples_per_pixel }, _) => {

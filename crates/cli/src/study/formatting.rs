@@ -1,6 +1,7 @@
 //! Text for the studies' reports: numbers to a few significant digits, the
 //! date and time, the machine's load and the command line.
 
+use std::path::Path;
 use std::time::{SystemTime, UNIX_EPOCH};
 
 /// `value` with `digits` significant digits: fixed-point for magnitudes
@@ -116,16 +117,48 @@ pub fn shell_quote(argument: &str) -> String {
 }
 
 /// This process's command line with the program called `lqmc`, quoted for
-/// a shell.
+/// a shell, its paths as the user gave them but relative to the current
+/// directory where they lie inside it ([`shown_path`]).
 pub fn command_line() -> String {
+    let current = std::env::current_dir().ok();
     std::iter::once("lqmc".to_string())
-        .chain(
-            std::env::args_os()
-                .skip(1)
-                .map(|argument| shell_quote(&argument.to_string_lossy())),
-        )
+        .chain(std::env::args_os().skip(1).map(|argument| {
+            shell_quote(&relative_argument(
+                &argument.to_string_lossy(),
+                current.as_deref(),
+            ))
+        }))
         .collect::<Vec<_>>()
         .join(" ")
+}
+
+/// `path` as a study writes it into its tables: as the user gave it, but an
+/// absolute path inside the current directory relative to it, so that
+/// tables written in a checkout name files by their place in it, not by
+/// where the checkout lies.
+pub fn shown_path(path: &Path) -> String {
+    relative_path(path, std::env::current_dir().ok().as_deref())
+}
+
+/// `path` relative to `current` if it is absolute and inside it.
+fn relative_path(path: &Path, current: Option<&Path>) -> String {
+    match current.and_then(|current| path.strip_prefix(current).ok()) {
+        Some(relative) if path.is_absolute() && !relative.as_os_str().is_empty() => {
+            relative.display().to_string()
+        }
+        _ => path.display().to_string(),
+    }
+}
+
+/// A command-line argument with its path (the argument itself, or the value
+/// of `--option=VALUE`) relative to `current` where it lies inside it.
+fn relative_argument(argument: &str, current: Option<&Path>) -> String {
+    match argument.split_once('=') {
+        Some((option, value)) if option.starts_with("--") => {
+            format!("{option}={}", relative_path(Path::new(value), current))
+        }
+        _ => relative_path(Path::new(argument), current),
+    }
 }
 
 #[cfg(test)]
@@ -155,6 +188,26 @@ mod tests {
         assert_eq!(utc_timestamp(leap_day), "2000-02-29 01:02:03 UTC");
         let later = UNIX_EPOCH + Duration::from_secs(1_798_761_599);
         assert_eq!(utc_timestamp(later), "2026-12-31 23:59:59 UTC");
+    }
+
+    #[test]
+    fn paths_inside_the_current_directory_become_relative() {
+        let current = Some(Path::new("/work/checkout"));
+        let relative = |argument| relative_argument(argument, current);
+        assert_eq!(relative("/work/checkout/docs/a.exr"), "docs/a.exr");
+        assert_eq!(
+            relative("--reference=/work/checkout/b.exr"),
+            "--reference=b.exr"
+        );
+        assert_eq!(relative("/work/checkout"), "/work/checkout");
+        assert_eq!(relative("/tmp/c.exr"), "/tmp/c.exr");
+        assert_eq!(relative("out/d"), "out/d");
+        assert_eq!(relative("builtin:cornell-box"), "builtin:cornell-box");
+        assert_eq!(relative("--time"), "--time");
+        assert_eq!(
+            relative_argument("/work/checkout/e", None),
+            "/work/checkout/e"
+        );
     }
 
     #[test]

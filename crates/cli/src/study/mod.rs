@@ -12,7 +12,8 @@ pub mod kollig_keller;
 pub mod measures;
 
 use crate::error::{CliError, usage};
-use crate::render_command::{LqmcArgs, MltArgs, VcmArgs, parse_definition};
+use crate::integrator_options::IntegratorArgs;
+use crate::render_command::parse_definition;
 use clap::Args;
 use render::integrators::IntegratorKind;
 use render::sampler::SamplerKind;
@@ -41,15 +42,10 @@ pub struct StudySceneArgs {
     /// repeated.
     #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_definition)]
     pub define: Vec<(String, String)>,
-    /// Options of the `lqmc` entries.
+    /// Options of the entries' integrators, each read by the entries of
+    /// the integrators it belongs to.
     #[command(flatten)]
-    pub lqmc: LqmcArgs,
-    /// Options of the Metropolis entries.
-    #[command(flatten)]
-    pub mlt: MltArgs,
-    /// Options of the `vcm` entries.
-    #[command(flatten)]
-    pub vcm: VcmArgs,
+    pub integrators: IntegratorArgs,
 }
 
 impl StudySceneArgs {
@@ -58,9 +54,14 @@ impl StudySceneArgs {
         if self.max_depth == Some(0) {
             return Err(usage("--max-depth must be at least 1"));
         }
-        if self.lqmc.density.is_some() {
+        if self.integrators.lqmc.density.is_some() {
             return Err(usage(
                 "--density is for `lqmc render`: a study writes no density images",
+            ));
+        }
+        if self.integrators.bdpt.strategy_images.is_some() {
+            return Err(usage(
+                "--strategy-images is for `lqmc render`: a study writes no strategy images",
             ));
         }
         Ok(())

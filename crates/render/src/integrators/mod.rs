@@ -13,9 +13,11 @@
 //! deterministic merge order. Its own settings travel in its variant of
 //! [`IntegratorSettings`]; its own statistics and images come back in
 //! [`IntegratorRender::details`] and [`IntegratorRender::auxiliary_images`].
-//! The renderer knows none of them: adding an integrator is a new module,
-//! a variant of [`IntegratorKind`] (with its name) and of
-//! [`IntegratorSettings`], and its line in [`IntegratorSettings::create`].
+//! The renderer knows none of them: adding an integrator is a new module
+//! and its line in the registry (`integrator_registry!`), which makes its
+//! [`IntegratorKind`] with name and help line, its variant of
+//! [`IntegratorSettings`] and its construction; the command line takes its
+//! names from [`IntegratorKind::ALL`].
 
 pub mod bdpt;
 pub mod driver;
@@ -41,54 +43,131 @@ use crate::film::Film;
 use crate::image::Image;
 use crate::scene::Scene;
 
-/// The integrators a user can choose.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum IntegratorKind {
+/// The integrator registry: for each integrator its variant of
+/// [`IntegratorKind`] (and, with settings of its own, of
+/// [`IntegratorSettings`]), its command-line name, its type and a help line.
+/// Each line makes the variant with its docs, its entry in
+/// [`IntegratorKind::ALL`], its help line and its line of
+/// [`IntegratorSettings::create`]: the integrator's type has
+/// `new(path_settings)`, or `new(settings, path_settings)` when it has
+/// settings of its own.
+macro_rules! integrator_registry {
+    ($(
+        $(#[$doc:meta])*
+        $variant:ident $(($settings:ty))? = $name:literal, $integrator:ty, $help:literal;
+    )*) => {
+        /// The integrators a user can choose (see `integrator_registry!`).
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub enum IntegratorKind {
+            $($(#[$doc])* $variant,)*
+        }
+
+        impl IntegratorKind {
+            /// Every integrator with its command-line name.
+            pub const ALL: [(IntegratorKind, &'static str); [$($name),*].len()] =
+                [$((IntegratorKind::$variant, $name)),*];
+
+            /// One line on what the integrator does (the command line's help;
+            /// no closing full stop, as clap's other help lines).
+            pub fn help(self) -> &'static str {
+                match self {
+                    $(IntegratorKind::$variant => $help,)*
+                }
+            }
+        }
+
+        /// An integrator with its own settings (the shared path settings —
+        /// depth, Russian roulette, MIS heuristic — are
+        /// [`path::PathSettings`]).
+        #[derive(Debug, Clone, PartialEq)]
+        pub enum IntegratorSettings {
+            $(
+                #[doc = concat!(
+                    "[`IntegratorKind::", stringify!($variant), "`]"
+                    $(, " with its [`", stringify!($settings), "`]")?, "."
+                )]
+                $variant $(($settings))?,
+            )*
+        }
+
+        impl From<IntegratorKind> for IntegratorSettings {
+            /// The integrator with its default settings.
+            fn from(kind: IntegratorKind) -> Self {
+                match kind {
+                    $(IntegratorKind::$variant => Self::$variant $((<$settings>::default()))?,)*
+                }
+            }
+        }
+
+        impl IntegratorSettings {
+            /// Which integrator these are the settings of.
+            pub fn kind(&self) -> IntegratorKind {
+                match self {
+                    $(Self::$variant { .. } => IntegratorKind::$variant,)*
+                }
+            }
+
+            /// The integrator, with the shared path settings `path_settings`.
+            pub fn create(&self, path_settings: path::PathSettings) -> Box<dyn Integrator> {
+                match self.clone() {
+                    $(
+                        integrator_registry!(@pattern $variant, settings $(, $settings)?) =>
+                            integrator_registry!(@create $integrator, path_settings, settings $(, $settings)?),
+                    )*
+                }
+            }
+        }
+    };
+    (@pattern $variant:ident, $bound:ident) => { Self::$variant };
+    (@pattern $variant:ident, $bound:ident, $settings:ty) => { Self::$variant($bound) };
+    (@create $integrator:ty, $path:ident, $bound:ident) => { Box::new(<$integrator>::new($path)) };
+    (@create $integrator:ty, $path:ident, $bound:ident, $settings:ty) => {
+        Box::new(<$integrator>::new($bound, $path))
+    };
+}
+
+integrator_registry! {
     /// Unidirectional path tracing with next-event estimation and MIS
     /// (surfaces only: participating media are ignored).
-    Path,
+    Path = "path", path::PathIntegrator,
+        "Path tracing with next-event estimation and MIS";
     /// Volumetric path tracing: [`Path`](Self::Path) with homogeneous
     /// participating media, index-matched boundaries and spectral MIS
     /// (pbrt-v4's `VolPathIntegrator`; see [`volpath`]).
-    VolPath,
+    VolPath = "volpath", volpath::VolPathIntegrator,
+        "Volumetric path tracing (participating media)";
     /// Local quasi-Monte Carlo exploration of Halton-seeded path tracing.
-    Lqmc,
+    Lqmc(lqmc::LqmcSettings) = "lqmc", lqmc::LqmcIntegrator,
+        "Local quasi-Monte Carlo exploration (Halton-seeded path tracing)";
     /// Light tracing (particle tracing): paths from the lights, every
     /// vertex connected to the camera and splatted (see [`light`]).
-    Light,
+    Light = "light", light::LightIntegrator,
+        "Light tracing: paths from the lights connected to the camera";
     /// Bidirectional path tracing: every connection of a camera and a
     /// light subpath, weighted by multiple importance sampling (see
     /// [`bdpt`]).
-    Bdpt,
+    Bdpt(bdpt::BdptSettings) = "bdpt", bdpt::BdptIntegrator,
+        "Bidirectional path tracing (every connection of a camera and a light subpath, balance heuristic by default)";
     /// Primary-sample-space Metropolis light transport (Kelemen et al.
     /// 2002) over path tracing or BDPT (see [`pssmlt`]).
-    Pssmlt,
+    Pssmlt(pssmlt::PssmltSettings) = "pssmlt", pssmlt::PssmltIntegrator,
+        "Primary-sample-space Metropolis light transport (Kelemen et al. 2002) over path tracing or BDPT (--mlt-base)";
     /// Energy redistribution path tracing (Cline et al. 2005): path-traced
     /// seeds whose energy short Metropolis chains redistribute (see
     /// [`erpt`]).
-    Erpt,
+    Erpt(erpt::ErptSettings) = "erpt", erpt::ErptIntegrator,
+        "Energy redistribution path tracing (Cline et al. 2005): path-traced seeds, short Metropolis chains from each";
     /// Multiplexed Metropolis light transport (Hachisuka et al. 2014):
     /// chains per path depth over one BDPT strategy each (see [`mmlt`]).
-    Mmlt,
+    Mmlt(mmlt::MmltSettings) = "mmlt", mmlt::MmltIntegrator,
+        "Multiplexed Metropolis light transport (Hachisuka et al. 2014): chains per path depth, one BDPT strategy per sample";
     /// Vertex connection and merging (Georgiev et al. 2012): BDPT plus
     /// progressive photon mapping's merges, one MIS (see [`vcm`]).
-    Vcm,
+    Vcm(vcm::VcmSettings) = "vcm", vcm::VcmIntegrator,
+        "Vertex connection and merging (Georgiev et al. 2012): BDPT and progressive photon mapping under one MIS (--vcm-mode)";
 }
 
 impl IntegratorKind {
-    /// Every integrator with its command-line name.
-    pub const ALL: [(IntegratorKind, &'static str); 9] = [
-        (IntegratorKind::Path, "path"),
-        (IntegratorKind::VolPath, "volpath"),
-        (IntegratorKind::Lqmc, "lqmc"),
-        (IntegratorKind::Light, "light"),
-        (IntegratorKind::Bdpt, "bdpt"),
-        (IntegratorKind::Pssmlt, "pssmlt"),
-        (IntegratorKind::Erpt, "erpt"),
-        (IntegratorKind::Mmlt, "mmlt"),
-        (IntegratorKind::Vcm, "vcm"),
-    ];
-
     /// The integrator called `name`.
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL.iter().find(|(_, n)| *n == name).map(|(k, _)| *k)
@@ -116,88 +195,10 @@ impl IntegratorKind {
     }
 }
 
-/// An integrator with its own settings (the shared path settings — depth,
-/// Russian roulette, MIS heuristic — are [`path::PathSettings`]).
-#[derive(Debug, Clone, PartialEq)]
-pub enum IntegratorSettings {
-    /// [`IntegratorKind::Path`].
-    Path,
-    /// [`IntegratorKind::VolPath`].
-    VolPath,
-    /// [`IntegratorKind::Lqmc`] with its options.
-    Lqmc(lqmc::LqmcSettings),
-    /// [`IntegratorKind::Light`].
-    Light,
-    /// [`IntegratorKind::Bdpt`] with its options.
-    Bdpt(bdpt::BdptSettings),
-    /// [`IntegratorKind::Pssmlt`] with its options.
-    Pssmlt(pssmlt::PssmltSettings),
-    /// [`IntegratorKind::Erpt`] with its options.
-    Erpt(erpt::ErptSettings),
-    /// [`IntegratorKind::Mmlt`] with its options.
-    Mmlt(mmlt::MmltSettings),
-    /// [`IntegratorKind::Vcm`] with its options.
-    Vcm(vcm::VcmSettings),
-}
-
-impl From<IntegratorKind> for IntegratorSettings {
-    /// The integrator with its default settings.
-    fn from(kind: IntegratorKind) -> Self {
-        match kind {
-            IntegratorKind::Path => Self::Path,
-            IntegratorKind::VolPath => Self::VolPath,
-            IntegratorKind::Lqmc => Self::Lqmc(lqmc::LqmcSettings::default()),
-            IntegratorKind::Light => Self::Light,
-            IntegratorKind::Bdpt => Self::Bdpt(bdpt::BdptSettings::default()),
-            IntegratorKind::Pssmlt => Self::Pssmlt(pssmlt::PssmltSettings::default()),
-            IntegratorKind::Erpt => Self::Erpt(erpt::ErptSettings::default()),
-            IntegratorKind::Mmlt => Self::Mmlt(mmlt::MmltSettings::default()),
-            IntegratorKind::Vcm => Self::Vcm(vcm::VcmSettings::default()),
-        }
-    }
-}
-
 impl IntegratorSettings {
-    /// Which integrator these are the settings of.
-    pub fn kind(&self) -> IntegratorKind {
-        match self {
-            Self::Path => IntegratorKind::Path,
-            Self::VolPath => IntegratorKind::VolPath,
-            Self::Lqmc(_) => IntegratorKind::Lqmc,
-            Self::Light => IntegratorKind::Light,
-            Self::Bdpt(_) => IntegratorKind::Bdpt,
-            Self::Pssmlt(_) => IntegratorKind::Pssmlt,
-            Self::Erpt(_) => IntegratorKind::Erpt,
-            Self::Mmlt(_) => IntegratorKind::Mmlt,
-            Self::Vcm(_) => IntegratorKind::Vcm,
-        }
-    }
-
     /// The command-line name of the integrator.
     pub fn name(&self) -> &'static str {
         self.kind().name()
-    }
-
-    /// The integrator, with the shared path settings `path_settings`.
-    pub fn create(&self, path_settings: path::PathSettings) -> Box<dyn Integrator> {
-        match self {
-            Self::Path => Box::new(path::PathIntegrator::new(path_settings)),
-            Self::VolPath => Box::new(volpath::VolPathIntegrator::new(path_settings)),
-            Self::Lqmc(settings) => Box::new(lqmc::LqmcIntegrator::new(*settings, path_settings)),
-            Self::Light => Box::new(light::LightIntegrator::new(path_settings)),
-            Self::Bdpt(settings) => Box::new(bdpt::BdptIntegrator::new(*settings, path_settings)),
-            Self::Pssmlt(settings) => Box::new(pssmlt::PssmltIntegrator::new(
-                settings.clone(),
-                path_settings,
-            )),
-            Self::Erpt(settings) => {
-                Box::new(erpt::ErptIntegrator::new(settings.clone(), path_settings))
-            }
-            Self::Mmlt(settings) => {
-                Box::new(mmlt::MmltIntegrator::new(settings.clone(), path_settings))
-            }
-            Self::Vcm(settings) => Box::new(vcm::VcmIntegrator::new(*settings, path_settings)),
-        }
     }
 }
 
@@ -290,5 +291,24 @@ impl TraceCounters {
     pub fn add(&mut self, other: &TraceCounters) {
         self.closest_hit_rays += other.closest_hit_rays;
         self.shadow_rays += other.shadow_rays;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each line of the registry gives one integrator its name, help line
+    /// and settings.
+    #[test]
+    fn the_registry_round_trips_names_and_settings() {
+        for (kind, name) in IntegratorKind::ALL {
+            assert_eq!(IntegratorKind::from_name(name), Some(kind));
+            assert_eq!(kind.name(), name);
+            assert_eq!(IntegratorSettings::from(kind).kind(), kind);
+            assert_eq!(IntegratorSettings::from(kind).name(), name);
+            assert!(!kind.help().is_empty() && !kind.help().ends_with('.'));
+        }
+        assert_eq!(IntegratorKind::from_name("sppm"), None);
     }
 }

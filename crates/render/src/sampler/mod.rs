@@ -274,6 +274,18 @@ impl Randomization {
         Self::ALL.iter().find(|(_, n)| *n == name).map(|(r, _)| *r)
     }
 
+    /// One line on what the randomization does (the command line's help).
+    pub fn help(self) -> &'static str {
+        match self {
+            Randomization::Seeded => {
+                "The seed randomizes every sampler: Halton's digits get a random digital shift, Sobol's per-pixel Owen scrambles and the lattice's per-pixel shifts are keyed by it. Renders with different seeds are independent replications"
+            }
+            Randomization::None => {
+                "Deterministic QMC points: Faure-permuted Halton as in the LQMC paper, Sobol's and the lattice's per-pixel scrambles and shifts of seed 0; the seed changes only pseudo-random numbers"
+            }
+        }
+    }
+
     /// The command-line name.
     pub fn name(self) -> &'static str {
         Self::ALL.iter().find(|(r, _)| *r == self).unwrap().1
@@ -370,6 +382,35 @@ impl SamplerKind {
     /// The sampler called `name`.
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL.iter().find(|(_, n)| *n == name).map(|(k, _)| *k)
+    }
+
+    /// One line on what the sampler is (the command line's help).
+    pub fn help(self) -> &'static str {
+        match self {
+            SamplerKind::Independent => {
+                "Independent random numbers (SplitMix64 of the pixel sample and dimension)"
+            }
+            SamplerKind::Halton => "Faure-permuted Halton, per-pixel enumeration (LQMC's)",
+            SamplerKind::Sobol => "Owen-scrambled Sobol per pixel",
+            SamplerKind::Lattice => {
+                "Randomized rank-1 lattice (CBC, N = spp rounded up to a power of two)"
+            }
+            SamplerKind::GlobalSobol => {
+                "The image-wide Sobol sequence, a consecutive block per pixel (Owen-scrambled by the seed unless --randomize none)"
+            }
+            SamplerKind::GlobalNiederreiter => {
+                "The image-wide Niederreiter sequence (base 2), a consecutive block per pixel (Owen-scrambled by the seed unless --randomize none)"
+            }
+            SamplerKind::Hammersley => {
+                "Faure-scrambled Hammersley set of --pattern-size points (else spp), a Cranley–Patterson rotation per pixel and replication"
+            }
+            SamplerKind::Padded => {
+                "Padded replications of the 2-D Hammersley pattern (Kollig & Keller)"
+            }
+            SamplerKind::LatinSupercube => {
+                "Latin supercube samples of the 2-D Hammersley pattern (unshifted with --randomize none)"
+            }
+        }
     }
 
     /// The command-line name.
