@@ -51,8 +51,8 @@ pub struct LqmcArgs {
     #[arg(long, value_name = "CLASS", value_parser = path_classes())]
     pub skip_class: Vec<PathClass>,
     /// A class to explore that is not explored by default (normal, dof,
-    /// nee; only caustic paths are explored by default, see README "LQMC at
-    /// equal time"); may be repeated. `--explore-class normal
+    /// nee; only caustic paths are explored by default, see
+    /// docs/integrators/lqmc.md, "Which classes explore"); may be repeated. `--explore-class normal
     /// --explore-class dof` gives the paper's classes.
     #[arg(long, value_name = "CLASS", value_parser = path_classes())]
     pub explore_class: Vec<PathClass>,

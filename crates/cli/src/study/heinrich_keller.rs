@@ -29,7 +29,7 @@
 //! its weight as |A|), so the many small furniture triangles, whose
 //! integrands are mostly discontinuity, rule it and QMC gains little; the
 //! integral weights the triangles by their share of the light, as the
-//! paper's findings need (measured in README).
+//! paper's findings need (measured: docs/studies.md).
 
 use super::equal_time::prepare_output_directory;
 use super::error_plot::{ErrorCurve, ErrorPoint, write_error_plot};
