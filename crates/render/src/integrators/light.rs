@@ -50,11 +50,11 @@
 //! the lens point of that vertex's connection.
 
 use super::driver::{PixelSampleIndex, SplatEstimator, render_splat_paths};
-use super::path::PathSettings;
+use super::estimator::PathSettings;
+use super::estimator::shadow::shadow_transmittance;
 use super::path_space::{
     MAX_INTERFACE_CROSSINGS, SubpathLayout, Vertex, WalkSettings, WalkStart, random_walk,
 };
-use super::volpath::shadow_transmittance;
 use super::{Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
 use crate::film::SplatBuffer;
 use crate::geometry::{

@@ -19,8 +19,8 @@
 
 use super::bdpt::Bidirectional;
 use super::driver::{RenderError, RunControl};
+use super::estimator::PathSettings;
 use super::markov_chain::{ChainSettings, PathContribution, render_markov_chains};
-use super::path::PathSettings;
 use super::{Integrator, IntegratorRender, TraceCounters};
 use crate::film::SplatBuffer;
 use crate::sampler::{SampleSource, layout};

@@ -20,6 +20,7 @@
 pub mod bdpt;
 pub mod driver;
 pub mod erpt;
+pub mod estimator;
 pub mod light;
 pub mod lqmc;
 pub mod markov_chain;

@@ -18,11 +18,11 @@
 //! pixel.
 
 use super::driver::{CameraPathStart, RenderError, RunControl};
+use super::estimator::PathSettings;
 use super::markov_chain::{
     ChainSettings, ChainStatistics, PathContribution, render_markov_chains,
     render_markov_chains_onto,
 };
-use super::path::PathSettings;
 use super::{Integrator, IntegratorRender, TraceCounters};
 use crate::film::{CameraSamplePosition, ImagePlane, SplatBuffer};
 use crate::sampler::{SampleSource, layout};

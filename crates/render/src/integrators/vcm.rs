@@ -60,7 +60,7 @@
 use super::bdpt::mis::{Strategies, VertexDensities};
 use super::bdpt::{Bidirectional, BidirectionalScratch, LightOrigin};
 use super::driver::{PassWork, PixelSampleIndex, SplatEstimator, render_splat_paths};
-use super::path::PathSettings;
+use super::estimator::PathSettings;
 use super::path_space::{Scatterer, Vertex};
 use super::{Integrator, IntegratorDetails, IntegratorRender, RenderError, RunControl};
 use super::{MisHeuristic, TraceCounters};

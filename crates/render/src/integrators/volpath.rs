@@ -77,17 +77,15 @@
 use super::driver::{
     CameraPathStart, PixelSampleEstimator, PixelSampleIndex, UnitOutput, render_pixel_samples,
 };
-use super::path::{PathSettings, oriented_hit};
+use super::estimator::PathSettings;
+use super::estimator::next_event::next_event_through_media;
 use super::path_space::{
-    MAX_INTERFACE_CROSSINGS, ScattererRef, VertexAt, WalkObserver, WalkSettings, WalkStart,
-    WalkState, medium_leaving, null_transmission, walk,
+    ScattererRef, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState, walk,
 };
 use super::progression_variance::ProgressionVariance;
 use super::{Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
 use crate::film::Film;
-use crate::geometry::{Ray, SurfaceHit, offset_ray_origin, spawn_ray, spawn_ray_to_point};
-use crate::light::LightSample;
-use crate::medium::medium_after;
+use crate::geometry::{Ray, SurfaceHit};
 use crate::sampler::{DynSource, PixelSampler, SampleSource};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
@@ -312,7 +310,7 @@ impl WalkObserver for VolPathRadiance<'_> {
                     let value = phase.evaluate(wo, wi);
                     (SampledSpectrum::splat(value), value)
                 };
-                sample_light(
+                next_event_through_media(
                     self.scene,
                     vertex.point,
                     None,
@@ -336,7 +334,7 @@ impl WalkObserver for VolPathRadiance<'_> {
                         bsdf.pdf(wo, wi),
                     )
                 };
-                sample_light(
+                next_event_through_media(
                     self.scene,
                     offset.origin(),
                     Some(hit),
@@ -353,169 +351,4 @@ impl WalkObserver for VolPathRadiance<'_> {
         self.radiance += walk.beta * next_event;
         ControlFlow::Continue(())
     }
-}
-
-/// Next-event estimation from `reference` (a medium point, or a surface
-/// point offset off `hit`): one light sample, its transmittance through the
-/// media and index-matched boundaries to the light, balance-weighted over
-/// wavelengths and against `scatter`'s sampling. `scatter(wi)` gives the
-/// scattering value (BSDF times cosine, or the phase function) and its
-/// sampling density; `r_u` is the path's rescaled probability at the vertex.
-/// The result still has to be multiplied by the path throughput.
-#[allow(clippy::too_many_arguments)]
-fn sample_light(
-    scene: &Scene,
-    reference: Vec3,
-    hit: Option<&SurfaceHit>,
-    medium: Option<u32>,
-    scatter: &dyn Fn(Vec3) -> (SampledSpectrum, f32),
-    r_u: SampledSpectrum,
-    depth: u32,
-    wavelengths: &SampledWavelengths,
-    sampler: &mut dyn SampleSource,
-    counters: &mut TraceCounters,
-) -> SampledSpectrum {
-    let Some(super::path::VertexLightSample {
-        selection_probability,
-        sample,
-        ..
-    }) = super::path::sample_vertex_light(scene, reference, depth, wavelengths, sampler)
-    else {
-        return SampledSpectrum::zero();
-    };
-    let (value, scatter_pdf) = scatter(sample.wi);
-    if value.is_black() {
-        return SampledSpectrum::zero();
-    }
-    let (ray, t_max) = match shadow_ray(reference, hit, &sample) {
-        Some(segment) => segment,
-        None => return SampledSpectrum::zero(),
-    };
-    // The medium the shadow ray starts in: at a surface, the side `wi` leaves to.
-    // The medium the shadow ray starts in: at a surface, the side `wi` leaves to.
-    let start_medium = medium_leaving(scene, hit, medium, sample.wi);
-    let transmittance =
-        shadow_transmittance(scene, ray, t_max, start_medium, wavelengths, counters);
-    if transmittance.is_black() {
-        return SampledSpectrum::zero();
-    }
-    let light_pdf = selection_probability * sample.pdf;
-    let r_l = r_u * light_pdf;
-    let denominator = if sample.is_delta {
-        r_l.average()
-    } else {
-        (r_l + r_u * scatter_pdf).average()
-    };
-    if denominator <= 0.0 {
-        return SampledSpectrum::zero();
-    }
-    value * transmittance * sample.radiance / denominator
-}
-
-/// The shadow ray of a light sample and its extent: from a surface hit
-/// offset towards the light, or from a medium point.
-pub(crate) fn shadow_ray(
-    reference: Vec3,
-    hit: Option<&SurfaceHit>,
-    sample: &LightSample,
-) -> Option<(Ray, f32)> {
-    match hit {
-        Some(hit) if sample.is_infinite => Some((spawn_ray(hit, sample.wi), f32::INFINITY)),
-        Some(hit) => spawn_ray_to_point(hit, sample.point, sample.normal),
-        None if sample.is_infinite => Some((Ray::new(reference, sample.wi), f32::INFINITY)),
-        None => {
-            let target = if sample.normal == Vec3::ZERO {
-                sample.point
-            } else {
-                offset_ray_origin(sample.point, sample.normal, reference - sample.point)
-            };
-            let offset = target - reference;
-            let distance = offset.length();
-            if distance <= 0.0 || !distance.is_finite() {
-                return None;
-            }
-            Some((
-                Ray::new(reference, offset / distance),
-                distance * (1.0 - crate::geometry::SHADOW_EPSILON),
-            ))
-        }
-    }
-}
-
-/// The transmittance along a shadow ray of extent `t_max` starting in
-/// `medium`: the product of exp(−σt d) over the pieces between
-/// index-matched boundaries and the weights of the null lobes of surfaces
-/// that have one (thin sheets, masks), zero if any other surface blocks it.
-/// For walks with null crossings ([`super::path_space::WalkSettings::null_crossings`]).
-pub(crate) fn shadow_transmittance(
-    scene: &Scene,
-    ray: Ray,
-    t_max: f32,
-    medium: Option<u32>,
-    wavelengths: &SampledWavelengths,
-    counters: &mut TraceCounters,
-) -> SampledSpectrum {
-    shadow_transmittance_with(scene, ray, t_max, medium, true, wavelengths, counters)
-}
-
-/// [`shadow_transmittance`], with surfaces that have a null lobe passed
-/// with its weight only when `null_crossings` (the walk's setting): a walk
-/// that makes such a surface a specular vertex reaches the light behind it
-/// by sampling that vertex, so its shadow rays must stop there, or the
-/// light through the sheet would be counted twice.
-pub(crate) fn shadow_transmittance_with(
-    scene: &Scene,
-    mut ray: Ray,
-    mut t_max: f32,
-    mut medium: Option<u32>,
-    null_crossings: bool,
-    wavelengths: &SampledWavelengths,
-    counters: &mut TraceCounters,
-) -> SampledSpectrum {
-    let mut result = SampledSpectrum::splat(1.0);
-    for _ in 0..MAX_INTERFACE_CROSSINGS {
-        counters.shadow_rays += 1;
-        let hit = scene.geometry.intersect(&ray, t_max);
-        if let Some(medium_index) = medium {
-            let distance = hit.map_or(t_max, |hit| hit.t);
-            result *= scene.media[medium_index as usize].transmittance(distance, wavelengths);
-            if result.is_black() {
-                return result;
-            }
-        }
-        let Some(raw_hit) = hit else {
-            return result;
-        };
-        let info = &scene.shapes[raw_hit.shape_index as usize];
-        let oriented = oriented_hit(scene, &raw_hit);
-        if !info.is_interface {
-            // A surface with a null lobe lets the shadow ray through with
-            // its weight (Mitsuba 3's `eval_null_transmission`).
-            if !null_crossings {
-                return SampledSpectrum::zero();
-            }
-            let Some(material) = &info.material else {
-                return SampledSpectrum::zero();
-            };
-            let bsdf = material.surface_bsdf_at(&oriented, wavelengths);
-            let weight = null_transmission(&bsdf, -ray.direction);
-            if weight <= 0.0 {
-                return SampledSpectrum::zero();
-            }
-            result *= weight;
-        }
-        medium = medium_after(
-            info.medium_interface.as_ref(),
-            oriented.geometric_normal,
-            ray.direction,
-            medium,
-        );
-        let next = spawn_ray(&raw_hit, ray.direction);
-        t_max -= (next.origin - ray.origin).dot(ray.direction);
-        if t_max <= 0.0 {
-            return result;
-        }
-        ray = next;
-    }
-    SampledSpectrum::zero()
 }

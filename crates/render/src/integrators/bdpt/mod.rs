@@ -62,7 +62,7 @@
 //! it leaves), with null crossings as `volpath` and the light tracer make
 //! them, and every connection, next-event estimation and light-tracing
 //! splat is weighted by the transmittance of its segment through media and
-//! null surfaces ([`super::volpath::shadow_transmittance`]). The densities
+//! null surfaces ([`super::estimator::shadow::shadow_transmittance`]). The densities
 //! include the free flights at the hero wavelength: a medium vertex's the
 //! extinction times the transmittance, a surface vertex's the transmittance
 //! of the segment that reached it; a connection's reverse densities take
@@ -77,15 +77,15 @@
 pub mod mis;
 
 use super::driver::{PixelSampleIndex, SplatEstimator, render_splat_paths};
+use super::estimator::PathSettings;
+use super::estimator::shadow::shadow_transmittance;
 use super::light::{LightMedia, lens_numbers};
 use super::markov_chain::PathContribution;
-use super::path::PathSettings;
 use super::path_space::{
     Scatterer, Scattering, SubpathLayout, Vertex, VertexAt, WalkObserver, WalkSettings, WalkStart,
     WalkState, random_walk, record_scattering, solid_angle_to_area, walk,
 };
 use super::vcm::{LightVertexRecord, MergingPass, NearbySearch};
-use super::volpath::shadow_transmittance;
 use super::{AuxiliaryImage, Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
 use crate::film::{Film, ImagePlane, SplatBuffer};
 use crate::geometry::{

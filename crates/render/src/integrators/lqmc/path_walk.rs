@@ -22,7 +22,9 @@ use super::segment_cache::{
 use super::statistics::FailureReason;
 use crate::camera::CameraProjection;
 use crate::geometry::{offset_ray_origin, spawn_ray, spawn_ray_to_point};
-use crate::integrators::path::{PathSettings, emission_weight};
+use crate::integrators::estimator::PathSettings;
+use crate::integrators::estimator::mis::emission_weight;
+use crate::integrators::estimator::roulette::russian_roulette;
 use crate::material::{BsdfModel, SurfaceBsdf};
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
@@ -421,7 +423,7 @@ pub fn walk(
         previous_bsdf_pdf = pdf;
         previous_reference = reference;
         let roulette_throughput = (throughput * eta_scale).max_component();
-        throughput /= crate::integrators::path::russian_roulette(
+        throughput /= russian_roulette(
             roulette_throughput,
             m as u32,
             settings.russian_roulette_depth,
@@ -534,7 +536,7 @@ fn reuse_seed_steps(
             state.suffix_density *= step.density_factor;
         }
         let roulette_throughput = (state.throughput * state.eta_scale).max_component();
-        state.throughput /= crate::integrators::path::russian_roulette(
+        state.throughput /= russian_roulette(
             roulette_throughput,
             m as u32,
             settings.russian_roulette_depth,

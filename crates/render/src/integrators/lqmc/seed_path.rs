@@ -28,12 +28,14 @@ use super::medium_segment::medium_roughness;
 use super::path_record::{CameraVertex, LightConnection, SplatEvent, SurfaceVertex, Terminal};
 use crate::geometry::{Ray, SurfaceHit, spawn_ray, spawn_ray_to_point};
 use crate::integrators::TraceCounters;
-use crate::integrators::path::{PathSettings, emission_weight, oriented_hit};
+use crate::integrators::estimator::PathSettings;
+use crate::integrators::estimator::mis::emission_weight;
+use crate::integrators::estimator::next_event::sample_vertex_light;
+use crate::integrators::estimator::shadow::{shadow_ray, shadow_transmittance_with};
 use crate::integrators::path_space::{
     ScattererRef, Scattering, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState,
-    medium_leaving, walk,
+    medium_leaving, oriented_hit, walk,
 };
-use crate::integrators::volpath::{shadow_ray, shadow_transmittance_with};
 use crate::material::SurfaceBsdf;
 use crate::sampler::{DynSource, SampleSource, layout};
 use crate::scene::Scene;
@@ -352,13 +354,7 @@ fn sample_light(
     sampler: &mut dyn SampleSource,
     counters: &mut TraceCounters,
 ) -> Option<LightConnection> {
-    let light_sample = crate::integrators::path::sample_vertex_light(
-        scene,
-        reference,
-        block,
-        wavelengths,
-        sampler,
-    )?;
+    let light_sample = sample_vertex_light(scene, reference, block, wavelengths, sampler)?;
     let sample = &light_sample.sample;
     if scene.has_media() {
         let (ray, t_max) = shadow_ray(reference, hit, sample)?;
@@ -397,10 +393,11 @@ fn sample_light(
 }
 
 /// Next-event estimation at a surface vertex of a scene without media, as
-/// the path tracer's (`path::sample_light`): the light sample's connection
-/// and its contribution `β f |cos| Le w / p`, if the BSDF passes light that
-/// way and the light is visible (no shadow ray otherwise, as the path
-/// tracer).
+/// the path tracer's
+/// ([`crate::integrators::estimator::next_event::next_event_at_surface`]):
+/// the light sample's connection and its contribution `β f |cos| Le w / p`,
+/// if the BSDF passes light that way and the light is visible (no shadow
+/// ray otherwise, as the path tracer).
 #[allow(clippy::too_many_arguments)]
 fn sample_surface_light(
     scene: &Scene,
@@ -414,13 +411,7 @@ fn sample_surface_light(
     sampler: &mut dyn SampleSource,
     counters: &mut TraceCounters,
 ) -> Option<(LightConnection, SampledSpectrum)> {
-    let light_sample = crate::integrators::path::sample_vertex_light(
-        scene,
-        reference,
-        walk.block,
-        wavelengths,
-        sampler,
-    )?;
+    let light_sample = sample_vertex_light(scene, reference, walk.block, wavelengths, sampler)?;
     let sample = &light_sample.sample;
     let (value, bsdf_pdf) = bsdf.evaluate_with_pdf(wo, sample.wi, wavelengths);
     let value = value * sample.wi.dot(bsdf.frame.normal()).abs();

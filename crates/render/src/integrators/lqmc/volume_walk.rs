@@ -27,9 +27,10 @@ use super::segment_cache::SegmentReuse;
 use super::statistics::FailureReason;
 use crate::geometry::{Ray, offset_ray_origin, spawn_ray, spawn_ray_through};
 use crate::integrators::TraceCounters;
-use crate::integrators::path::PathSettings;
+use crate::integrators::estimator::PathSettings;
+use crate::integrators::estimator::roulette::russian_roulette;
+use crate::integrators::estimator::shadow::{shadow_ray, shadow_transmittance_with};
 use crate::integrators::path_space::medium_leaving;
-use crate::integrators::volpath::{shadow_ray, shadow_transmittance_with};
 use crate::light::LightSample;
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
@@ -450,7 +451,7 @@ pub fn walk_volumetric(
             return Err(FailureReason::Evaluation);
         }
         let roulette_throughput = (state.beta * (eta_scale / r_u_mean)).max_component();
-        state.beta /= crate::integrators::path::russian_roulette(
+        state.beta /= russian_roulette(
             roulette_throughput,
             m as u32,
             settings.russian_roulette_depth,
