@@ -17,6 +17,7 @@
 //! (pbrt-v4), the path tracer as base. Samples per pixel are mutations per
 //! pixel.
 
+use super::bdpt::{BdptSettings, Bidirectional, BidirectionalScratch};
 use super::driver::{CameraPathStart, RenderError, RunControl};
 use super::estimator::PathSettings;
 use super::markov_chain::{
@@ -92,8 +93,11 @@ impl Integrator for PssmltIntegrator {
                 &self.settings.chains,
             )?,
             MltBase::Bidirectional => render_markov_chains(
-                &[super::bdpt::Bidirectional::for_markov_chains(
-                    scene, &self.path,
+                &[Bidirectional::new(
+                    scene,
+                    &self.path,
+                    BdptSettings::default(),
+                    "pssmlt over bdpt",
                 )?],
                 scene,
                 run,
@@ -243,5 +247,26 @@ impl PathContribution for CameraPathContribution<'_> {
             let weight = position.weight;
             let _ = splats.add(position.raster_position, rgb.map(|value| value * weight));
         }
+    }
+}
+
+/// A bidirectional sample of [`super::bdpt`] with every strategy, from a
+/// uniform point of the whole image plane, its splats where they land:
+/// the path sampler of `--mlt-base bdpt`.
+impl PathContribution for Bidirectional<'_> {
+    type Scratch = BidirectionalScratch;
+
+    fn new_scratch(&self) -> BidirectionalScratch {
+        BidirectionalScratch::default()
+    }
+
+    fn evaluate<S: SampleSource + ?Sized>(
+        &self,
+        scratch: &mut BidirectionalScratch,
+        source: &mut S,
+        splats: &mut SplatBuffer,
+        counters: &mut TraceCounters,
+    ) {
+        self.trace_image_plane_sample(scratch, None, source, splats, counters);
     }
 }
