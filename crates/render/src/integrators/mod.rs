@@ -18,6 +18,7 @@
 //! [`IntegratorSettings`], and its line in [`IntegratorSettings::create`].
 
 pub mod bdpt;
+pub mod camera_path;
 pub mod driver;
 pub mod erpt;
 pub mod estimator;

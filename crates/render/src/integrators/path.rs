@@ -7,124 +7,48 @@
 //! 2 adds direct illumination. Russian roulette uses its own dimension of
 //! each vertex block and starts after the third vertex.
 
-use super::driver::{
-    CameraPathStart, PixelSampleEstimator, PixelSampleIndex, UnitOutput, render_pixel_samples,
-};
+use super::TraceCounters;
+use super::camera_path::{CameraPathIntegrator, CameraPathRadiance};
 pub use super::estimator::PathSettings;
 use super::estimator::mis::emission_weight;
 use super::estimator::next_event::{AreaRadianceCache, next_event_at_surface};
 use super::path_space::{
     ScattererRef, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState, walk,
 };
-use super::progression_variance::ProgressionVariance;
-use super::{Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
-use crate::film::Film;
 use crate::geometry::{Ray, SurfaceHit};
-use crate::sampler::{PixelSampler, SampleSource};
+use crate::sampler::SampleSource;
 use crate::scene::Scene;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec3;
 use std::ops::ControlFlow;
 
-/// The path tracer as an [`Integrator`], run by the tile driver.
+/// The path tracer as an [`Integrator`]: the camera-path shell over
+/// [`radiance`].
+pub type PathIntegrator = CameraPathIntegrator<PathTracing>;
+
+/// The path tracer's radiance estimate ([`radiance`]) for the camera-path
+/// shell.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PathIntegrator {
-    settings: PathSettings,
-}
+pub struct PathTracing;
 
-impl PathIntegrator {
-    /// The path tracer with `settings`.
-    pub fn new(settings: PathSettings) -> Self {
-        Self { settings }
-    }
-}
-
-impl Integrator for PathIntegrator {
-    fn render(&self, scene: &Scene, run: &RunControl<'_>) -> Result<IntegratorRender, RenderError> {
+impl CameraPathRadiance for PathTracing {
+    fn check_scene(scene: &Scene) {
         if scene.has_media() {
             log::warn!("the path integrator ignores participating media; use --integrator volpath");
         }
-        let estimator = PathEstimator {
-            scene,
-            settings: &self.settings,
-        };
-        render_pixel_samples(&estimator, scene, run).map(IntegratorRender::from_camera_paths)
-    }
-}
-
-/// One camera path per pixel sample, its radiance added to its pixel.
-struct PathEstimator<'a> {
-    scene: &'a Scene,
-    settings: &'a PathSettings,
-}
-
-impl PixelSampleEstimator for PathEstimator<'_> {
-    type Unit = ();
-    type Total = Option<ProgressionVariance>;
-
-    fn pass_size(&self, samples_per_pixel: u64, timed: bool) -> u64 {
-        camera_path_pass_size(self.settings, samples_per_pixel, timed)
     }
 
-    fn new_total(&self, resolution: [usize; 2]) -> Result<Self::Total, RenderError> {
-        Ok(self
-            .settings
-            .splat_film
-            .then(|| ProgressionVariance::new(resolution)))
-    }
-
-    fn new_unit(&self) {}
-
-    fn merge_unit(&self, _total: &mut Self::Total, _unit: (), _kept: bool) {}
-
-    fn end_pass(&self, total: &mut Self::Total, film: &Film, complete: bool) {
-        if let Some(progressions) = total {
-            progressions.end_progression(film, complete);
-        }
-    }
-
-    /// Always inlined into the driver's tile loop, so that the AVX2 copy of
-    /// that loop compiles the path in it (see [`radiance`]).
+    /// Always inlined, as [`radiance`].
     #[inline(always)]
-    fn estimate<S: PixelSampler + ?Sized>(
-        &self,
-        _unit: &mut (),
-        sample: PixelSampleIndex,
+    fn radiance<S: SampleSource + ?Sized>(
+        scene: &Scene,
+        settings: &PathSettings,
+        ray: Ray,
+        wavelengths: &mut SampledWavelengths,
         sampler: &mut S,
-        output: &mut UnitOutput,
-    ) {
-        let splat_film = self.settings.splat_film;
-        let start = CameraPathStart::for_film(self.scene, sample.pixel, sampler, splat_film);
-        let mut wavelengths = start.wavelengths;
-        let radiance = radiance(
-            self.scene,
-            self.settings,
-            start.ray,
-            &mut wavelengths,
-            sampler,
-            &mut output.counters,
-        );
-        output.add_camera_path(
-            &start,
-            sample.pixel,
-            to_linear_srgb(&radiance, &wavelengths),
-            splat_film,
-        );
-    }
-}
-
-/// Samples per pass of a camera-path integrator: one progression per pass
-/// when splatting (the variance layer needs each progression's image),
-/// else the driver's default.
-pub(crate) fn camera_path_pass_size(
-    settings: &PathSettings,
-    samples_per_pixel: u64,
-    timed: bool,
-) -> u64 {
-    if settings.splat_film || timed {
-        1
-    } else {
-        samples_per_pixel.clamp(1, 4)
+        counters: &mut TraceCounters,
+    ) -> SampledSpectrum {
+        radiance(scene, settings, ray, wavelengths, sampler, counters)
     }
 }
 

@@ -74,102 +74,39 @@
 //! depth 16). Every vertex, null or not, still takes its own dimension
 //! block, so the block index runs ahead of the depth.
 
-use super::driver::{
-    CameraPathStart, PixelSampleEstimator, PixelSampleIndex, UnitOutput, render_pixel_samples,
-};
+use super::TraceCounters;
+use super::camera_path::{CameraPathIntegrator, CameraPathRadiance};
 use super::estimator::PathSettings;
 use super::estimator::next_event::next_event_through_media;
 use super::path_space::{
     ScattererRef, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState, walk,
 };
-use super::progression_variance::ProgressionVariance;
-use super::{Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
-use crate::film::Film;
 use crate::geometry::{Ray, SurfaceHit};
-use crate::sampler::{DynSource, PixelSampler, SampleSource};
+use crate::sampler::{DynSource, SampleSource};
 use crate::scene::Scene;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec3;
 use std::ops::ControlFlow;
 
-/// The volumetric path tracer as an [`Integrator`], run by the tile driver.
+/// The volumetric path tracer as an [`Integrator`]: the camera-path shell
+/// over [`radiance`].
+pub type VolPathIntegrator = CameraPathIntegrator<VolumetricPathTracing>;
+
+/// The volumetric path tracer's radiance estimate ([`radiance`]) for the
+/// camera-path shell.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct VolPathIntegrator {
-    settings: PathSettings,
-}
+pub struct VolumetricPathTracing;
 
-impl VolPathIntegrator {
-    /// The volumetric path tracer with `settings`.
-    pub fn new(settings: PathSettings) -> Self {
-        Self { settings }
-    }
-}
-
-impl Integrator for VolPathIntegrator {
-    fn render(&self, scene: &Scene, run: &RunControl<'_>) -> Result<IntegratorRender, RenderError> {
-        let estimator = VolPathEstimator {
-            scene,
-            settings: &self.settings,
-        };
-        render_pixel_samples(&estimator, scene, run).map(IntegratorRender::from_camera_paths)
-    }
-}
-
-/// One volumetric camera path per pixel sample, added to its pixel.
-struct VolPathEstimator<'a> {
-    scene: &'a Scene,
-    settings: &'a PathSettings,
-}
-
-impl PixelSampleEstimator for VolPathEstimator<'_> {
-    type Unit = ();
-    type Total = Option<ProgressionVariance>;
-
-    fn pass_size(&self, samples_per_pixel: u64, timed: bool) -> u64 {
-        super::path::camera_path_pass_size(self.settings, samples_per_pixel, timed)
-    }
-
-    fn new_total(&self, resolution: [usize; 2]) -> Result<Self::Total, RenderError> {
-        Ok(self
-            .settings
-            .splat_film
-            .then(|| ProgressionVariance::new(resolution)))
-    }
-
-    fn new_unit(&self) {}
-
-    fn merge_unit(&self, _total: &mut Self::Total, _unit: (), _kept: bool) {}
-
-    fn end_pass(&self, total: &mut Self::Total, film: &Film, complete: bool) {
-        if let Some(progressions) = total {
-            progressions.end_progression(film, complete);
-        }
-    }
-
-    fn estimate<S: PixelSampler + ?Sized>(
-        &self,
-        _unit: &mut (),
-        sample: PixelSampleIndex,
+impl CameraPathRadiance for VolumetricPathTracing {
+    fn radiance<S: SampleSource + ?Sized>(
+        scene: &Scene,
+        settings: &PathSettings,
+        ray: Ray,
+        wavelengths: &mut SampledWavelengths,
         sampler: &mut S,
-        output: &mut UnitOutput,
-    ) {
-        let splat_film = self.settings.splat_film;
-        let start = CameraPathStart::for_film(self.scene, sample.pixel, sampler, splat_film);
-        let mut wavelengths = start.wavelengths;
-        let radiance = radiance(
-            self.scene,
-            self.settings,
-            start.ray,
-            &mut wavelengths,
-            sampler,
-            &mut output.counters,
-        );
-        output.add_camera_path(
-            &start,
-            sample.pixel,
-            to_linear_srgb(&radiance, &wavelengths),
-            splat_film,
-        );
+        counters: &mut TraceCounters,
+    ) -> SampledSpectrum {
+        radiance(scene, settings, ray, wavelengths, sampler, counters)
     }
 }
 
