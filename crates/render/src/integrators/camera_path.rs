@@ -10,6 +10,7 @@ use super::driver::{
     CameraPathStart, PixelSampleEstimator, PixelSampleIndex, UnitOutput, render_pixel_samples,
 };
 use super::estimator::PathSettings;
+use super::path_space::{WalkObserver, WalkSettings, WalkStart, walk};
 use super::progression_variance::ProgressionVariance;
 use super::{Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
 use crate::film::Film;
@@ -19,23 +20,61 @@ use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
 use std::marker::PhantomData;
 
-/// A camera-path integrator's radiance estimate.
+/// A camera-path integrator's radiance estimate: the path-space walk from
+/// the camera with an observer that adds up what the path finds.
 pub trait CameraPathRadiance {
+    /// The walk traces participating media and passes null surfaces (the
+    /// volumetric path tracer's), starting in the camera's medium.
+    const MEDIA: bool;
+
+    /// The walk's observer, which sums the path's radiance.
+    type Observer<'a>: WalkObserver;
+
     /// Checks `scene` before a render (warnings about what the estimate
     /// ignores).
     fn check_scene(_scene: &Scene) {}
 
-    /// Estimates the radiance along the camera ray `ray` for
-    /// `wavelengths` (which the estimate may change: dispersion terminates
-    /// the secondary ones), with the numbers of `sampler`.
-    fn radiance<S: SampleSource + ?Sized>(
-        scene: &Scene,
-        settings: &PathSettings,
-        ray: Ray,
-        wavelengths: &mut SampledWavelengths,
-        sampler: &mut S,
-        counters: &mut TraceCounters,
-    ) -> SampledSpectrum;
+    /// The observer of one camera path.
+    fn observer<'a>(scene: &'a Scene, settings: &'a PathSettings) -> Self::Observer<'a>;
+
+    /// The radiance `observer` summed.
+    fn radiance(observer: Self::Observer<'_>) -> SampledSpectrum;
+}
+
+/// Estimates the radiance along the camera ray `ray` for `wavelengths`
+/// (which the estimate may change: dispersion terminates the secondary
+/// ones) with the numbers of `sampler`: the path-space walk with `R`'s
+/// observer.
+///
+/// Generic over the sampler so that a concrete sampler's numbers (a hash
+/// for the independent one) inline into the walk; `dyn SampleSource`
+/// works as well. Always inlined, so that it is compiled into the AVX2
+/// tile loop of the driver (`render_unit_avx2`).
+#[inline(always)]
+pub fn radiance<R: CameraPathRadiance, S: SampleSource + ?Sized>(
+    scene: &Scene,
+    settings: &PathSettings,
+    ray: Ray,
+    wavelengths: &mut SampledWavelengths,
+    sampler: &mut S,
+    counters: &mut TraceCounters,
+) -> SampledSpectrum {
+    let mut observer = R::observer(scene, settings);
+    walk(
+        scene,
+        WalkStart::camera(ray, if R::MEDIA { scene.camera_medium } else { None }),
+        &WalkSettings::camera(
+            WalkSettings::camera_vertices(settings.max_depth),
+            settings.russian_roulette_depth,
+            R::MEDIA,
+            R::MEDIA,
+        ),
+        wavelengths,
+        sampler,
+        counters,
+        &mut observer,
+    );
+    R::radiance(observer)
 }
 
 /// A camera-path integrator as an [`Integrator`], run by the tile driver:
@@ -107,7 +146,7 @@ impl<R: CameraPathRadiance> PixelSampleEstimator for CameraPathEstimator<'_, R> 
     }
 
     /// Always inlined into the driver's tile loop, so that the AVX2 copy of
-    /// that loop compiles the path in it (see [`super::path::radiance`]).
+    /// that loop compiles the path in it (see [`radiance`]).
     #[inline(always)]
     fn estimate<S: PixelSampler + ?Sized>(
         &self,
@@ -119,7 +158,7 @@ impl<R: CameraPathRadiance> PixelSampleEstimator for CameraPathEstimator<'_, R> 
         let splat_film = self.settings.splat_film;
         let start = CameraPathStart::for_film(self.scene, sample.pixel, sampler, splat_film);
         let mut wavelengths = start.wavelengths;
-        let radiance = R::radiance(
+        let radiance = radiance::<R, S>(
             self.scene,
             self.settings,
             start.ray,

@@ -10,12 +10,10 @@
 use super::TraceCounters;
 use super::camera_path::{CameraPathIntegrator, CameraPathRadiance};
 pub use super::estimator::PathSettings;
-use super::estimator::mis::emission_weight;
+use super::estimator::mis::{emission_weight, environment_emission};
 use super::estimator::next_event::{AreaRadianceCache, next_event_at_surface};
-use super::path_space::{
-    ScattererRef, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState, walk,
-};
-use crate::geometry::{Ray, SurfaceHit};
+use super::path_space::{ScattererRef, VertexAt, WalkObserver, WalkState};
+use crate::geometry::SurfaceHit;
 use crate::sampler::SampleSource;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -23,78 +21,45 @@ use glam::Vec3;
 use std::ops::ControlFlow;
 
 /// The path tracer as an [`Integrator`]: the camera-path shell over
-/// [`radiance`].
+/// [`PathTracing`].
 pub type PathIntegrator = CameraPathIntegrator<PathTracing>;
 
-/// The path tracer's radiance estimate ([`radiance`]) for the camera-path
-/// shell.
+/// The path tracer's radiance estimate for the camera-path shell
+/// ([`super::camera_path::radiance`]): a walk over surfaces (media are
+/// ignored) observed by [`PathRadiance`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PathTracing;
 
 impl CameraPathRadiance for PathTracing {
+    const MEDIA: bool = false;
+    type Observer<'a> = PathRadiance<'a>;
+
     fn check_scene(scene: &Scene) {
         if scene.has_media() {
             log::warn!("the path integrator ignores participating media; use --integrator volpath");
         }
     }
 
-    /// Always inlined, as [`radiance`].
     #[inline(always)]
-    fn radiance<S: SampleSource + ?Sized>(
-        scene: &Scene,
-        settings: &PathSettings,
-        ray: Ray,
-        wavelengths: &mut SampledWavelengths,
-        sampler: &mut S,
-        counters: &mut TraceCounters,
-    ) -> SampledSpectrum {
-        radiance(scene, settings, ray, wavelengths, sampler, counters)
+    fn observer<'a>(scene: &'a Scene, settings: &'a PathSettings) -> PathRadiance<'a> {
+        PathRadiance {
+            scene,
+            settings,
+            radiance: SampledSpectrum::zero(),
+            area_radiance: AreaRadianceCache::new(),
+        }
     }
-}
 
-/// Estimates the radiance along the camera ray `ray` for `wavelengths`:
-/// the path-space walk with `PathRadiance` as its observer.
-///
-/// Generic over the sampler so that a concrete sampler's numbers (a hash
-/// for the independent one) inline into the walk; `dyn SampleSource`
-/// works as well. Always inlined, so that it is compiled into the AVX2
-/// tile loop of the driver (`render_unit_avx2`).
-#[inline(always)]
-pub fn radiance<S: SampleSource + ?Sized>(
-    scene: &Scene,
-    settings: &PathSettings,
-    ray: Ray,
-    wavelengths: &mut SampledWavelengths,
-    sampler: &mut S,
-    counters: &mut TraceCounters,
-) -> SampledSpectrum {
-    let mut observer = PathRadiance {
-        scene,
-        settings,
-        radiance: SampledSpectrum::zero(),
-        area_radiance: AreaRadianceCache::new(),
-    };
-    walk(
-        scene,
-        WalkStart::camera(ray, None),
-        &WalkSettings::camera(
-            WalkSettings::camera_vertices(settings.max_depth),
-            settings.russian_roulette_depth,
-            false,
-            false,
-        ),
-        wavelengths,
-        sampler,
-        counters,
-        &mut observer,
-    );
-    observer.radiance
+    #[inline(always)]
+    fn radiance(observer: PathRadiance<'_>) -> SampledSpectrum {
+        observer.radiance
+    }
 }
 
 /// The path tracer's observer of the walk: emission found by BSDF sampling
 /// and next-event estimation at every non-specular vertex, MIS-weighted
 /// against each other with the settings' heuristic.
-struct PathRadiance<'a> {
+pub struct PathRadiance<'a> {
     scene: &'a Scene,
     settings: &'a PathSettings,
     radiance: SampledSpectrum,
@@ -131,9 +96,7 @@ impl WalkObserver for PathRadiance<'_> {
                 scene,
                 self.settings,
                 light_index,
-                walk.previous.delta,
-                walk.previous.point,
-                walk.previous.pdf,
+                &walk.previous,
                 hit.point,
                 hit.geometric_normal,
             );
@@ -146,21 +109,15 @@ impl WalkObserver for PathRadiance<'_> {
         if walk.vertex_index + 1 < self.settings.min_depth {
             return;
         }
-        for &index in &self.scene.environment_lights {
-            let light = &self.scene.lights[index as usize];
-            let emitted = light.environment_radiance(direction, wavelengths);
-            let weight = emission_weight(
-                self.scene,
-                self.settings,
-                index,
-                walk.previous.delta,
-                walk.previous.point,
-                walk.previous.pdf,
-                walk.previous.point + direction,
-                Vec3::ZERO,
-            );
-            self.radiance += walk.beta * emitted * weight;
-        }
+        let radiance = &mut self.radiance;
+        environment_emission(
+            self.scene,
+            self.settings,
+            &walk.previous,
+            direction,
+            wavelengths,
+            |emitted, weight| *radiance += walk.beta * emitted * weight,
+        );
     }
 
     #[inline]

@@ -64,7 +64,7 @@
 //! spectral density ratio (pbrt-v4's `rrBeta`).
 
 use super::TraceCounters;
-use super::estimator::roulette::russian_roulette;
+use super::estimator::roulette::{roulette_throughput, russian_roulette};
 use crate::geometry::{OffsetPoint, Ray, SurfaceHit, spawn_ray};
 use crate::material::{BsdfFlags, BsdfModel, BsdfSample, SurfaceBsdf, TransportMode};
 use crate::medium::{PhaseFunction, medium_after, transmittance};
@@ -919,18 +919,18 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
         // Russian roulette on the throughput without the refraction
         // scaling and, with media, over the mean spectral density ratio
         // (pbrt-v4's rrBeta).
-        let roulette_throughput = if settings.media {
+        let throughput = if settings.media {
             let mean_ratio = state.spectral_density_ratio.average();
             if mean_ratio <= 0.0 {
                 break;
             }
-            (state.beta * (eta_scale / mean_ratio)).max_component()
+            roulette_throughput(state.beta, eta_scale, Some(mean_ratio))
         } else {
-            (state.beta * eta_scale).max_component()
+            roulette_throughput(state.beta, eta_scale, None)
         };
         let block = state.block as usize;
         match russian_roulette(
-            roulette_throughput,
+            throughput,
             state.vertex_index,
             settings.russian_roulette_depth,
             || sampler.get(settings.layout.dimension(block, layout::RUSSIAN_ROULETTE)),

@@ -18,12 +18,15 @@
 //! pixel.
 
 use super::bdpt::{BdptSettings, Bidirectional, BidirectionalScratch};
+use super::camera_path::radiance;
 use super::driver::{CameraPathStart, RenderError, RunControl};
 use super::estimator::PathSettings;
 use super::markov_chain::{
     ChainSettings, ChainStatistics, PathContribution, render_markov_chains,
     render_markov_chains_onto,
 };
+use super::path::PathTracing;
+use super::volpath::VolumetricPathTracing;
 use super::{Integrator, IntegratorRender, TraceCounters};
 use crate::film::{CameraSamplePosition, ImagePlane, SplatBuffer};
 use crate::sampler::{SampleSource, layout};
@@ -223,25 +226,20 @@ impl PathContribution for CameraPathContribution<'_> {
         };
         let start = CameraPathStart::at_position(self.scene, position, source);
         let mut wavelengths = start.wavelengths;
+        // The volumetric path tracer's estimate where the scene has media.
         let radiance = if self.media {
-            super::volpath::radiance(
-                self.scene,
-                &self.settings,
-                start.ray,
-                &mut wavelengths,
-                source,
-                counters,
-            )
+            radiance::<VolumetricPathTracing, S>
         } else {
-            super::path::radiance(
-                self.scene,
-                &self.settings,
-                start.ray,
-                &mut wavelengths,
-                source,
-                counters,
-            )
+            radiance::<PathTracing, S>
         };
+        let radiance = radiance(
+            self.scene,
+            &self.settings,
+            start.ray,
+            &mut wavelengths,
+            source,
+            counters,
+        );
         let rgb = to_linear_srgb(&radiance, &wavelengths);
         if rgb != [0.0; 3] {
             let weight = position.weight;

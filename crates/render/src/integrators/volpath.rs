@@ -77,11 +77,12 @@
 use super::TraceCounters;
 use super::camera_path::{CameraPathIntegrator, CameraPathRadiance};
 use super::estimator::PathSettings;
-use super::estimator::next_event::next_event_through_media;
-use super::path_space::{
-    ScattererRef, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState, walk,
+use super::estimator::mis::{
+    balance_weighted_emission, emission_light_density, environment_emission_densities,
 };
-use crate::geometry::{Ray, SurfaceHit};
+use super::estimator::next_event::{VertexScatter, next_event_through_media};
+use super::path_space::{ScattererRef, VertexAt, WalkObserver, WalkState};
+use crate::geometry::SurfaceHit;
 use crate::sampler::{DynSource, SampleSource};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -89,65 +90,37 @@ use glam::Vec3;
 use std::ops::ControlFlow;
 
 /// The volumetric path tracer as an [`Integrator`]: the camera-path shell
-/// over [`radiance`].
+/// over [`VolumetricPathTracing`].
 pub type VolPathIntegrator = CameraPathIntegrator<VolumetricPathTracing>;
 
-/// The volumetric path tracer's radiance estimate ([`radiance`]) for the
-/// camera-path shell.
+/// The volumetric path tracer's radiance estimate for the camera-path shell
+/// ([`super::camera_path::radiance`]): a walk through media from the
+/// camera's medium observed by [`VolPathRadiance`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VolumetricPathTracing;
 
 impl CameraPathRadiance for VolumetricPathTracing {
-    fn radiance<S: SampleSource + ?Sized>(
-        scene: &Scene,
-        settings: &PathSettings,
-        ray: Ray,
-        wavelengths: &mut SampledWavelengths,
-        sampler: &mut S,
-        counters: &mut TraceCounters,
-    ) -> SampledSpectrum {
-        radiance(scene, settings, ray, wavelengths, sampler, counters)
-    }
-}
+    const MEDIA: bool = true;
+    type Observer<'a> = VolPathRadiance<'a>;
 
-/// Estimates the radiance along the camera ray `ray` for `wavelengths`,
-/// starting in the scene's camera medium: the path-space walk through
-/// media with `VolPathRadiance` as its observer.
-pub fn radiance<S: SampleSource + ?Sized>(
-    scene: &Scene,
-    settings: &PathSettings,
-    ray: Ray,
-    wavelengths: &mut SampledWavelengths,
-    sampler: &mut S,
-    counters: &mut TraceCounters,
-) -> SampledSpectrum {
-    let mut observer = VolPathRadiance {
-        scene,
-        radiance: SampledSpectrum::zero(),
-        min_depth: settings.min_depth,
-    };
-    walk(
-        scene,
-        WalkStart::camera(ray, scene.camera_medium),
-        &WalkSettings::camera(
-            WalkSettings::camera_vertices(settings.max_depth),
-            settings.russian_roulette_depth,
-            true,
-            true,
-        ),
-        wavelengths,
-        sampler,
-        counters,
-        &mut observer,
-    );
-    observer.radiance
+    fn observer<'a>(scene: &'a Scene, settings: &'a PathSettings) -> VolPathRadiance<'a> {
+        VolPathRadiance {
+            scene,
+            radiance: SampledSpectrum::zero(),
+            min_depth: settings.min_depth,
+        }
+    }
+
+    fn radiance(observer: VolPathRadiance<'_>) -> SampledSpectrum {
+        observer.radiance
+    }
 }
 
 /// The volumetric path tracer's observer of the walk: emission found by
 /// BSDF and phase sampling and next-event estimation through media at every
 /// non-specular vertex, weighted by the balance heuristic over the
 /// techniques and the hero wavelengths.
-struct VolPathRadiance<'a> {
+pub struct VolPathRadiance<'a> {
     scene: &'a Scene,
     radiance: SampledSpectrum,
     /// [`PathSettings::min_depth`].
@@ -157,35 +130,18 @@ struct VolPathRadiance<'a> {
 impl VolPathRadiance<'_> {
     /// Adds emission `emitted` found after the walk's last scattering,
     /// balance-weighted against next-event estimation with light density
-    /// `light_pdf` (the selection probability included; ignored after a
-    /// delta). The rescaled light-sampling probability of the path is its
-    /// unidirectional one over the density of the last sampled direction.
+    /// `light_pdf` ([`balance_weighted_emission`]). The rescaled
+    /// light-sampling probability of the path is its unidirectional one
+    /// over the density of the last sampled direction.
     fn add_emission(&mut self, walk: &WalkState, emitted: SampledSpectrum, light_pdf: f32) {
         if emitted.is_black() {
             return;
         }
         let r_u = walk.spectral_density_ratio;
-        let denominator = if walk.previous.delta {
-            r_u.average()
-        } else {
-            let r_l = r_u / walk.previous.pdf;
-            (r_u + r_l * light_pdf).average()
-        };
-        if denominator > 0.0 {
-            self.radiance += walk.beta * emitted / denominator;
+        let r_l = (!walk.previous.delta).then(|| r_u / walk.previous.pdf);
+        if let Some(value) = balance_weighted_emission(walk.beta, emitted, r_u, r_l, light_pdf) {
+            self.radiance += value;
         }
-    }
-
-    /// The density (selection included) with which next-event estimation
-    /// from the walk's previous scattering would have sampled `point` on
-    /// light `light_index`.
-    fn light_density(&self, walk: &WalkState, light_index: u32, point: Vec3, normal: Vec3) -> f32 {
-        if walk.previous.delta {
-            return 0.0;
-        }
-        let light = &self.scene.lights[light_index as usize];
-        self.scene.light_sampler.probability(light_index as usize)
-            * light.pdf_incident(&self.scene.geometry, walk.previous.point, point, normal)
     }
 }
 
@@ -212,7 +168,13 @@ impl WalkObserver for VolPathRadiance<'_> {
         if emitted.is_black() {
             return;
         }
-        let light_pdf = self.light_density(walk, light_index, hit.point, hit.geometric_normal);
+        let light_pdf = emission_light_density(
+            self.scene,
+            light_index,
+            &walk.previous,
+            hit.point,
+            hit.geometric_normal,
+        );
         self.add_emission(walk, emitted, light_pdf);
     }
 
@@ -220,13 +182,13 @@ impl WalkObserver for VolPathRadiance<'_> {
         if walk.vertex_index + 1 < self.min_depth {
             return;
         }
-        for &index in &self.scene.environment_lights {
-            let emitted =
-                self.scene.lights[index as usize].environment_radiance(direction, wavelengths);
-            let light_pdf =
-                self.light_density(walk, index, walk.previous.point + direction, Vec3::ZERO);
-            self.add_emission(walk, emitted, light_pdf);
-        }
+        environment_emission_densities(
+            self.scene,
+            &walk.previous,
+            direction,
+            wavelengths,
+            |emitted, light_pdf| self.add_emission(walk, emitted, light_pdf),
+        );
     }
 
     fn vertex<S: SampleSource + ?Sized>(
@@ -240,51 +202,28 @@ impl WalkObserver for VolPathRadiance<'_> {
         if walk.vertex_index + 2 < self.min_depth {
             return ControlFlow::Continue(());
         }
-        let wo = vertex.wo;
-        let next_event = match vertex.scatterer {
-            ScattererRef::Medium { phase } => {
-                let scatter = |wi: Vec3| {
-                    let value = phase.evaluate(wo, wi);
-                    (SampledSpectrum::splat(value), value)
-                };
-                next_event_through_media(
-                    self.scene,
-                    vertex.point,
-                    None,
-                    vertex.medium,
-                    &scatter,
-                    walk.spectral_density_ratio,
-                    walk.block,
-                    wavelengths,
-                    &mut DynSource(sampler),
-                    counters,
-                )
-            }
+        let (reference, hit, scatter) = match vertex.scatterer {
+            ScattererRef::Medium { phase } => (vertex.point, None, VertexScatter::Medium(phase)),
             ScattererRef::Surface { hit, bsdf, offset } => {
                 if !bsdf.flags().is_non_specular() {
                     return ControlFlow::Continue(());
                 }
-                let normal = bsdf.frame.normal();
-                let scatter = |wi: Vec3| {
-                    (
-                        bsdf.evaluate(wo, wi, wavelengths) * wi.dot(normal).abs(),
-                        bsdf.pdf(wo, wi),
-                    )
-                };
-                next_event_through_media(
-                    self.scene,
-                    offset.origin(),
-                    Some(hit),
-                    vertex.medium,
-                    &scatter,
-                    walk.spectral_density_ratio,
-                    walk.block,
-                    wavelengths,
-                    &mut DynSource(sampler),
-                    counters,
-                )
+                (offset.origin(), Some(hit), VertexScatter::Surface(bsdf))
             }
         };
+        let next_event = next_event_through_media(
+            self.scene,
+            reference,
+            hit,
+            vertex.medium,
+            scatter,
+            vertex.wo,
+            walk.spectral_density_ratio,
+            walk.block,
+            wavelengths,
+            &mut DynSource(sampler),
+            counters,
+        );
         self.radiance += walk.beta * next_event;
         ControlFlow::Continue(())
     }

@@ -88,7 +88,9 @@ pub mod mis;
 
 use super::driver::{PixelSampleIndex, SplatEstimator, render_splat_paths};
 use super::estimator::PathSettings;
-use super::estimator::shadow::shadow_transmittance;
+use super::estimator::emitted_ray::{EmittedRay, sample_emitted_ray};
+use super::estimator::next_event::{AreaRadianceCache, VertexLightSample, choose_and_sample_light};
+use super::estimator::shadow::{ShadowTarget, shadow_transmittance, unoccluded};
 use super::light::{LightMedia, lens_numbers};
 use super::path_space::{
     Scatterer, Scattering, SubpathLayout, Vertex, VertexAt, WalkObserver, WalkSettings, WalkStart,
@@ -96,9 +98,7 @@ use super::path_space::{
 };
 use super::{AuxiliaryImage, Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
 use crate::film::{Film, ImagePlane, SplatBuffer};
-use crate::geometry::{
-    OffsetPoint, Ray, SurfaceHit, occlusion_segment_to_point, spawn_segment_to_point,
-};
+use crate::geometry::{Ray, SurfaceHit, spawn_segment_to_point};
 use crate::light::Light;
 use crate::material::TransportMode;
 use crate::sampler::{PixelSampler, SampleSource, layout};
@@ -537,15 +537,6 @@ fn stored_normal(light: &Light, front: Vec3) -> Vec3 {
     if flipped { -front } else { front }
 }
 
-/// Where a connection's segment ends.
-#[derive(Debug, Clone, Copy)]
-enum ConnectionEnd {
-    /// At a point with its unit normal (zero for a point without a surface).
-    Point(Vec3, Vec3),
-    /// At infinity, in a unit direction.
-    Infinity(Vec3),
-}
-
 impl Bidirectional<'_> {
     /// The densities of a subpath's vertex at its origin (`origin`) and its
     /// first `count − 1` recorded vertices, into `densities`; with media,
@@ -596,17 +587,17 @@ impl Bidirectional<'_> {
         origin: Vec3,
         medium: Option<u32>,
         time: f32,
-        end: ConnectionEnd,
+        end: ShadowTarget,
         wavelengths: &SampledWavelengths,
         counters: &mut TraceCounters,
     ) -> SampledSpectrum {
         let scene = self.scene;
         if self.media {
             let segment = match end {
-                ConnectionEnd::Point(point, normal) => {
+                ShadowTarget::Point(point, normal) => {
                     spawn_segment_to_point(origin, time, point, normal)
                 }
-                ConnectionEnd::Infinity(direction) => {
+                ShadowTarget::Infinity(direction) => {
                     Some((Ray::with_time(origin, direction, time), f32::INFINITY))
                 }
             };
@@ -618,19 +609,7 @@ impl Bidirectional<'_> {
             };
         }
         counters.shadow_rays += 1;
-        let visible = match end {
-            ConnectionEnd::Point(point, normal) => {
-                match occlusion_segment_to_point(origin, time, point, normal) {
-                    Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
-                    None => false,
-                }
-            }
-            ConnectionEnd::Infinity(direction) => {
-                let ray = Ray::with_time(origin, direction, time);
-                !scene.geometry.occluded(&ray, f32::INFINITY)
-            }
-        };
-        if visible {
+        if unoccluded(scene, origin, time, end) {
             SampledSpectrum::splat(1.0)
         } else {
             SampledSpectrum::zero()
@@ -1228,23 +1207,15 @@ impl Bidirectional<'_> {
     ) -> Option<LightOrigin> {
         let scene = self.scene;
         let first = vertices.len();
-        let (light_index, choice, u_primitive) = scene
-            .light_sampler
-            .sample(sampler.get(layout::LIGHT_CHOICE))?;
+        let emitted = sample_emitted_ray(scene, sampler, wavelengths)?;
+        let EmittedRay {
+            light_index,
+            choice_probability: choice,
+            emission,
+            on_surface,
+        } = emitted;
         let light = &scene.lights[light_index];
-        let emission = light.sample_emission(
-            &scene.geometry,
-            u_primitive,
-            sampler.get_2d(layout::LIGHT_EMISSION_POSITION),
-            sampler.get_2d(layout::LIGHT_EMISSION_DIRECTION),
-            wavelengths,
-        )?;
-        if emission.radiance.is_black() || choice <= 0.0 {
-            return None;
-        }
         let at_infinity = light.is_infinite();
-        let on_surface =
-            !emission.is_delta_position && !at_infinity && emission.normal != Vec3::ZERO;
         let mut origin = LightOrigin {
             point: emission.origin,
             normal: if on_surface {
@@ -1274,29 +1245,15 @@ impl Bidirectional<'_> {
         if max_vertices == 0 {
             return Some(origin);
         }
-        let cosine = if on_surface {
-            emission.normal.dot(emission.direction).abs()
-        } else {
-            1.0
-        };
-        let beta = emission.radiance
-            * (cosine / (choice * emission.pdf_position * emission.pdf_direction));
-        let beta_scale = beta.max_component();
-        if !(beta_scale > 0.0 && beta_scale.is_finite()) {
+        let Some((beta, beta_scale)) = emitted.scaled_throughput() else {
             return Some(origin);
-        }
-        origin.beta_scale = beta_scale;
-        let ray_origin = if on_surface {
-            OffsetPoint::new(emission.origin, emission.normal, emission.direction)
-                .towards(emission.direction)
-        } else {
-            emission.origin
         };
+        origin.beta_scale = beta_scale;
         random_walk(
             scene,
             WalkStart {
-                ray: Ray::with_time(ray_origin, emission.direction, time),
-                beta: beta / beta_scale,
+                ray: Ray::with_time(emitted.ray_origin(), emission.direction, time),
+                beta,
                 pdf_direction: emission.pdf_direction,
                 medium: self.light_media.leaving(
                     scene,
@@ -1358,26 +1315,27 @@ impl Bidirectional<'_> {
         let scene = self.scene;
         let end = &camera[t - 2];
         let block = SubpathLayout::BIDIRECTIONAL_CAMERA;
-        let Some((light_index, choice, u_primitive)) = scene
-            .light_sampler
-            .sample(sampler.get(block.dimension(t - 2, layout::LIGHT_SELECTION)))
+        // The reference point off the surface on the arriving side, as the
+        // path tracer's (a sphere sampled from a point on itself would be
+        // seen from outside).
+        let Some(VertexLightSample {
+            light_index,
+            selection_probability: choice,
+            sample,
+            ..
+        }) = choose_and_sample_light(
+            scene,
+            end.origin_towards(end.wo),
+            sampler.get(block.dimension(t - 2, layout::LIGHT_SELECTION)),
+            || sampler.get_2d(block.dimension(t - 2, layout::LIGHT_POSITION)),
+            wavelengths,
+            &mut AreaRadianceCache::new(),
+        )
         else {
             return SampledSpectrum::zero();
         };
         let light = &scene.lights[light_index];
-        // The reference point off the surface on the arriving side, as the
-        // path tracer's (a sphere sampled from a point on itself would be
-        // seen from outside).
-        let Some(sample) = light.sample_incident(
-            &scene.geometry,
-            end.origin_towards(end.wo),
-            u_primitive,
-            sampler.get_2d(block.dimension(t - 2, layout::LIGHT_POSITION)),
-            wavelengths,
-        ) else {
-            return SampledSpectrum::zero();
-        };
-        if sample.radiance.is_black() || sample.pdf.is_nan() || sample.pdf <= 0.0 || choice <= 0.0 {
+        if sample.pdf.is_nan() || sample.pdf <= 0.0 || choice <= 0.0 {
             return SampledSpectrum::zero();
         }
         let factor = end.connection_factor(sample.wi, wavelengths, TransportMode::Radiance);
@@ -1388,11 +1346,7 @@ impl Bidirectional<'_> {
             end.origin_towards(sample.wi),
             end.medium_towards(scene, sample.wi),
             end.time,
-            if sample.is_infinite {
-                ConnectionEnd::Infinity(sample.wi)
-            } else {
-                ConnectionEnd::Point(sample.point, sample.normal)
-            },
+            ShadowTarget::of_sample(&sample),
             wavelengths,
             counters,
         );
@@ -1525,7 +1479,7 @@ impl Bidirectional<'_> {
             camera_end.origin_towards(direction),
             camera_end.medium_towards(self.scene, direction),
             camera_end.time,
-            ConnectionEnd::Point(light_end.point, light_end.geometric_normal),
+            ShadowTarget::Point(light_end.point, light_end.geometric_normal),
             wavelengths,
             counters,
         );
@@ -1624,7 +1578,7 @@ impl Bidirectional<'_> {
             light_end.origin_towards(camera_sample.wi),
             light_end.medium_towards(scene, camera_sample.wi),
             light_end.time,
-            ConnectionEnd::Point(camera_sample.lens_point, Vec3::ZERO),
+            ShadowTarget::Point(camera_sample.lens_point, Vec3::ZERO),
             wavelengths,
             counters,
         );

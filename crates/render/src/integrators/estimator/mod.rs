@@ -16,12 +16,15 @@
 //! - [`roulette`]: Russian roulette, the rule of every walk.
 //! - [`shadow`]: shadow rays and their transmittance through media and
 //!   null surfaces.
+//! - [`emitted_ray`]: the start of a light subpath (light tracing, BDPT)
+//!   and its first throughput.
 //!
 //! The path tracer, the volumetric path tracer, the light tracer, BDPT and
 //! LQMC (its seed paths and its value walks over fixed vertices) all call
 //! these; the random walk that builds the subpaths is
 //! [`super::path_space`].
 
+pub mod emitted_ray;
 pub mod mis;
 pub mod next_event;
 pub mod roulette;

@@ -6,12 +6,13 @@
 //! own sampling over the light's density.
 
 use super::PathSettings;
-use super::shadow::{shadow_ray, shadow_transmittance};
-use crate::geometry::{OffsetPoint, Ray, SurfaceHit, occlusion_segment_to_point};
-use crate::integrators::TraceCounters;
+use super::shadow::{ShadowTarget, shadow_ray, shadow_transmittance, unoccluded};
+use crate::geometry::{OffsetPoint, SurfaceHit};
 use crate::integrators::path_space::medium_leaving;
+use crate::integrators::{MisHeuristic, TraceCounters};
 use crate::light::LightSample;
 use crate::material::SurfaceBsdf;
+use crate::medium::PhaseFunction;
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
@@ -99,7 +100,32 @@ pub(crate) fn sample_vertex_light_with_cache<S: SampleSource + ?Sized>(
 ) -> Option<VertexLightSample> {
     let u_select = sampler.get(layout::vertex(depth as usize, layout::LIGHT_SELECTION));
     let u_position = sampler.get_2d(layout::vertex(depth as usize, layout::LIGHT_POSITION));
+    choose_and_sample_light(
+        scene,
+        reference,
+        u_select,
+        || u_position,
+        wavelengths,
+        area_radiance,
+    )
+}
+
+/// Chooses a light with the number `u_select` (the light sampler's
+/// probabilities) and samples a point on it as seen from `reference` with
+/// the numbers `u_position` gives (asked only once a light is chosen);
+/// `None` when nothing is chosen or the sampled radiance is black. Area
+/// lights' radiance comes from `area_radiance`.
+#[inline]
+pub(crate) fn choose_and_sample_light(
+    scene: &Scene,
+    reference: Vec3,
+    u_select: f32,
+    u_position: impl FnOnce() -> [f32; 2],
+    wavelengths: &SampledWavelengths,
+    area_radiance: &mut AreaRadianceCache,
+) -> Option<VertexLightSample> {
     let (light_index, selection_probability, u_primitive) = scene.light_sampler.sample(u_select)?;
+    let u_position = u_position();
     let sample = scene.lights[light_index].sample_incident_with_area_radiance(
         &scene.geometry,
         reference,
@@ -118,6 +144,153 @@ pub(crate) fn sample_vertex_light_with_cache<S: SampleSource + ?Sized>(
         u_position,
         sample,
     })
+}
+
+/// What scatters light at a vertex, as next-event estimation evaluates it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum VertexScatter<'a> {
+    /// A surface's BSDF.
+    Surface(&'a SurfaceBsdf),
+    /// A medium's phase function.
+    Medium(PhaseFunction),
+}
+
+impl VertexScatter<'_> {
+    /// The value of scattering from `wo` into `wi` — the BSDF times |cos θ|
+    /// with the shading normal, or the phase function — and the density
+    /// with which the vertex's own sampling picks `wi`.
+    #[inline]
+    pub(crate) fn towards(
+        &self,
+        wo: Vec3,
+        wi: Vec3,
+        wavelengths: &SampledWavelengths,
+    ) -> (SampledSpectrum, f32) {
+        match self {
+            VertexScatter::Surface(bsdf) => {
+                let (value, pdf) = bsdf.evaluate_with_pdf(wo, wi, wavelengths);
+                (value * wi.dot(bsdf.frame.normal()).abs(), pdf)
+            }
+            VertexScatter::Medium(phase) => {
+                let value = phase.evaluate(wo, wi);
+                (SampledSpectrum::splat(value), value)
+            }
+        }
+    }
+}
+
+/// One light sample's terms at a vertex, whoever drew it (the path tracers
+/// with their numbers, LQMC's value walks from a fixed light point): what
+/// the vertex scatters towards the light, and the densities the MIS weights
+/// compare. A next event's contribution is `β · scattered · Le · V` (V the
+/// visibility or transmittance) times [`Self::weight_over_density`], or,
+/// through media, over [`Self::balance_denominator`].
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct NextEventTerms {
+    /// The scattering value towards the light ([`VertexScatter::towards`]).
+    pub scattered: SampledSpectrum,
+    /// The density with which the vertex's own sampling picks the light's
+    /// direction.
+    pub scatter_pdf: f32,
+    /// The probability of choosing the light.
+    pub selection_probability: f32,
+    /// The solid-angle density of the light's direction (1 for a delta).
+    pub solid_angle_pdf: f32,
+    /// A delta light: no other technique makes the path.
+    pub is_delta: bool,
+}
+
+impl NextEventTerms {
+    /// The terms of the light direction `wi` (solid-angle density
+    /// `solid_angle_pdf`, a delta when `is_delta`) of a light chosen with
+    /// probability `selection_probability`, at a vertex where `scatter`
+    /// scatters from `wo`.
+    #[inline]
+    pub(crate) fn new(
+        scatter: VertexScatter<'_>,
+        wo: Vec3,
+        wi: Vec3,
+        wavelengths: &SampledWavelengths,
+        selection_probability: f32,
+        solid_angle_pdf: f32,
+        is_delta: bool,
+    ) -> Self {
+        let (scattered, scatter_pdf) = scatter.towards(wo, wi, wavelengths);
+        Self {
+            scattered,
+            scatter_pdf,
+            selection_probability,
+            solid_angle_pdf,
+            is_delta,
+        }
+    }
+
+    /// The terms of `light`, drawn by [`sample_vertex_light`].
+    #[inline]
+    pub(crate) fn of_sample(
+        scatter: VertexScatter<'_>,
+        wo: Vec3,
+        light: &VertexLightSample,
+        wavelengths: &SampledWavelengths,
+    ) -> Self {
+        Self::new(
+            scatter,
+            wo,
+            light.sample.wi,
+            wavelengths,
+            light.selection_probability,
+            light.sample.pdf,
+            light.sample.is_delta,
+        )
+    }
+
+    /// The light technique's density: selection times direction.
+    #[inline]
+    pub(crate) fn light_pdf(&self) -> f32 {
+        self.selection_probability * self.solid_angle_pdf
+    }
+
+    /// The MIS weight of the light technique against the vertex's sampling
+    /// with `heuristic` (1 for a delta light).
+    #[inline]
+    pub(crate) fn weight(&self, heuristic: MisHeuristic) -> f32 {
+        if self.is_delta {
+            1.0
+        } else {
+            heuristic.weight(self.light_pdf(), self.scatter_pdf)
+        }
+    }
+
+    /// [`Self::weight`] over the light's density, what the estimate
+    /// multiplies by, in one division where the heuristic allows
+    /// ([`MisHeuristic::weight_over_density`]; the path tracer's hot path).
+    /// LQMC's value walks divide [`Self::weight`] by [`Self::light_pdf`]
+    /// instead, which rounds differently: their images stay as they were
+    /// measured.
+    #[inline]
+    pub(crate) fn weight_over_density(&self, heuristic: MisHeuristic) -> f32 {
+        let light_pdf = self.light_pdf();
+        if self.is_delta {
+            1.0 / light_pdf
+        } else {
+            heuristic.weight_over_density(light_pdf, self.scatter_pdf)
+        }
+    }
+
+    /// The spectral balance heuristic's denominator of a next event through
+    /// media: `mean(r_l + r_u p_scatter)` with `r_l = r_u p_light`, where
+    /// `r_u` is the path's rescaled probability at the vertex (`mean(r_l)`
+    /// for a delta light). The contribution is `β · scattered · T · Le`
+    /// over it (see [`super::mis`]).
+    #[inline]
+    pub(crate) fn balance_denominator(&self, r_u: SampledSpectrum) -> f32 {
+        let r_l = r_u * self.light_pdf();
+        if self.is_delta {
+            r_l.average()
+        } else {
+            (r_l + r_u * self.scatter_pdf).average()
+        }
+    }
 }
 
 /// The path tracer's next-event estimation at `hit`: one light sample,
@@ -140,83 +313,64 @@ pub(crate) fn next_event_at_surface<S: SampleSource + ?Sized>(
     counters: &mut TraceCounters,
     area_radiance: &mut AreaRadianceCache,
 ) -> SampledSpectrum {
-    let Some(VertexLightSample {
-        selection_probability,
-        sample,
-        ..
-    }) = sample_vertex_light_with_cache(
+    let Some(light) = sample_vertex_light_with_cache(
         scene,
         offsets.origin(),
         depth,
         wavelengths,
         sampler,
         area_radiance,
-    )
-    else {
+    ) else {
         return SampledSpectrum::zero();
     };
-    let (value, bsdf_pdf) = bsdf.evaluate_with_pdf(wo, sample.wi, wavelengths);
-    let value = value * sample.wi.dot(bsdf.frame.normal()).abs();
-    if value.is_black() {
+    let terms = NextEventTerms::of_sample(VertexScatter::Surface(bsdf), wo, &light, wavelengths);
+    if terms.scattered.is_black() {
         return SampledSpectrum::zero();
     }
+    let sample = &light.sample;
     counters.shadow_rays += 1;
-    let origin = offsets.towards(sample.wi);
-    let visible = if sample.is_infinite {
-        let ray = Ray::with_time(origin, sample.wi, hit.time);
-        !scene.geometry.occluded(&ray, f32::INFINITY)
-    } else {
-        match occlusion_segment_to_point(origin, hit.time, sample.point, sample.normal) {
-            Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
-            None => false,
-        }
-    };
-    if !visible {
+    if !unoccluded(
+        scene,
+        offsets.towards(sample.wi),
+        hit.time,
+        ShadowTarget::of_sample(sample),
+    ) {
         return SampledSpectrum::zero();
     }
-    let light_pdf = selection_probability * sample.pdf;
-    let weight_over_pdf = if sample.is_delta {
-        1.0 / light_pdf
-    } else {
-        settings.heuristic.weight_over_density(light_pdf, bsdf_pdf)
-    };
-    value * sample.radiance * weight_over_pdf
+    terms.scattered * sample.radiance * terms.weight_over_density(settings.heuristic)
 }
 
 /// The volumetric path tracer's next-event estimation from `reference` (a
-/// medium point, or a surface point offset off `hit`): one light sample,
-/// its transmittance through the media and index-matched boundaries to the
-/// light, balance-weighted over wavelengths and against `scatter`'s
-/// sampling ([`super::mis`]'s spectral MIS). `scatter(wi)` gives the
-/// scattering value (BSDF times cosine, or the phase function) and its
-/// sampling density; `r_u` is the path's rescaled probability at the vertex.
-/// The result still has to be multiplied by the path throughput.
+/// medium point, or a surface point offset off `hit`) where `scatter`
+/// scatters from `wo`: one light sample, its transmittance through the
+/// media and index-matched boundaries to the light, balance-weighted over
+/// wavelengths and against `scatter`'s sampling
+/// ([`NextEventTerms::balance_denominator`]); `r_u` is the path's rescaled
+/// probability at the vertex. The result still has to be multiplied by the
+/// path throughput.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn next_event_through_media(
     scene: &Scene,
     reference: Vec3,
     hit: Option<&SurfaceHit>,
     medium: Option<u32>,
-    scatter: &dyn Fn(Vec3) -> (SampledSpectrum, f32),
+    scatter: VertexScatter<'_>,
+    wo: Vec3,
     r_u: SampledSpectrum,
     depth: u32,
     wavelengths: &SampledWavelengths,
     sampler: &mut dyn SampleSource,
     counters: &mut TraceCounters,
 ) -> SampledSpectrum {
-    let Some(VertexLightSample {
-        selection_probability,
-        sample,
-        ..
-    }) = sample_vertex_light(scene, reference, depth, wavelengths, sampler)
-    else {
+    let Some(light) = sample_vertex_light(scene, reference, depth, wavelengths, sampler) else {
         return SampledSpectrum::zero();
     };
-    let (value, scatter_pdf) = scatter(sample.wi);
-    if value.is_black() {
+    let terms = NextEventTerms::of_sample(scatter, wo, &light, wavelengths);
+    if terms.scattered.is_black() {
         return SampledSpectrum::zero();
     }
-    let (ray, t_max) = match shadow_ray(reference, hit, &sample) {
+    let sample = &light.sample;
+    let (ray, t_max) = match shadow_ray(reference, hit, sample) {
         Some(segment) => segment,
         None => return SampledSpectrum::zero(),
     };
@@ -227,15 +381,9 @@ pub(crate) fn next_event_through_media(
     if transmittance.is_black() {
         return SampledSpectrum::zero();
     }
-    let light_pdf = selection_probability * sample.pdf;
-    let r_l = r_u * light_pdf;
-    let denominator = if sample.is_delta {
-        r_l.average()
-    } else {
-        (r_l + r_u * scatter_pdf).average()
-    };
+    let denominator = terms.balance_denominator(r_u);
     if denominator <= 0.0 {
         return SampledSpectrum::zero();
     }
-    value * transmittance * sample.radiance / denominator
+    terms.scattered * transmittance * sample.radiance / denominator
 }

@@ -2,6 +2,8 @@
 //! path decides by, so that a rebuilt path takes its seed's decision from
 //! the same number.
 
+use crate::spectrum::SampledSpectrum;
+
 /// Russian roulette at vertex `depth` (the rule of pbrt-v4's
 /// `PathIntegrator`, Pharr, Jakob & Humphreys, *Physically Based
 /// Rendering*, 4th ed.): from `start_depth` on, a path whose
@@ -21,5 +23,22 @@ pub(crate) fn russian_roulette(
         (u() < survival).then_some(survival)
     } else {
         Some(1.0)
+    }
+}
+
+/// The throughput Russian roulette decides on (pbrt-v4's `rrBeta`): the
+/// largest component of `beta` with the refractions' η² undone
+/// (`eta_scale`, the product of η² of the refractions so far) and, through
+/// media, over the mean spectral density ratio `mean_density_ratio` of the
+/// hero wavelengths (`None` without media).
+#[inline]
+pub(crate) fn roulette_throughput(
+    beta: SampledSpectrum,
+    eta_scale: f32,
+    mean_density_ratio: Option<f32>,
+) -> f32 {
+    match mean_density_ratio {
+        None => (beta * eta_scale).max_component(),
+        Some(mean_ratio) => (beta * (eta_scale / mean_ratio)).max_component(),
     }
 }

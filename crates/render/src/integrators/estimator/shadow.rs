@@ -4,7 +4,9 @@
 //! estimates the same transmittance by ratio tracking, which is exact here
 //! since the media are homogeneous).
 
-use crate::geometry::{Ray, SurfaceHit, offset_ray_origin, spawn_ray, spawn_ray_to_point};
+use crate::geometry::{
+    Ray, SurfaceHit, occlusion_segment_to_point, offset_ray_origin, spawn_ray, spawn_ray_to_point,
+};
 use crate::integrators::TraceCounters;
 use crate::integrators::path_space::{MAX_INTERFACE_CROSSINGS, null_transmission, oriented_hit};
 use crate::light::LightSample;
@@ -12,6 +14,68 @@ use crate::medium::medium_after;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec3;
+
+/// Where a shadow ray (or a connection's segment) ends.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum ShadowTarget {
+    /// At a point with its unit normal (zero for a point without a
+    /// surface): the segment stops short of it, offset off its surface.
+    Point(Vec3, Vec3),
+    /// At infinity, in a unit direction.
+    Infinity(Vec3),
+}
+
+impl ShadowTarget {
+    /// The end of a light sample's shadow ray.
+    #[inline]
+    pub(crate) fn of_sample(sample: &LightSample) -> Self {
+        if sample.is_infinite {
+            ShadowTarget::Infinity(sample.wi)
+        } else {
+            ShadowTarget::Point(sample.point, sample.normal)
+        }
+    }
+}
+
+/// Whether nothing blocks the segment from `origin` (already offset off
+/// its surface) at `time` to `target`: one occlusion query, traced along
+/// the unnormalised segment
+/// ([`crate::geometry::occlusion_segment_to_point`]). The shadow ray of the
+/// path tracer and of BDPT's connections without media; the caller counts
+/// it.
+#[inline]
+pub(crate) fn unoccluded(scene: &Scene, origin: Vec3, time: f32, target: ShadowTarget) -> bool {
+    match target {
+        ShadowTarget::Point(point, normal) => {
+            match occlusion_segment_to_point(origin, time, point, normal) {
+                Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
+                None => false,
+            }
+        }
+        ShadowTarget::Infinity(direction) => {
+            let ray = Ray::with_time(origin, direction, time);
+            !scene.geometry.occluded(&ray, f32::INFINITY)
+        }
+    }
+}
+
+/// Whether nothing blocks the light `sample` from the surface `hit`: the
+/// [`shadow_ray`] spawned off the hit (LQMC's records keep hits, not
+/// offset points), one occlusion query. It asks what [`unoccluded`] asks,
+/// with a unit direction, which rounds differently; LQMC's seeds and value
+/// walks keep it so that their images stay as they were measured. The
+/// caller counts it.
+#[inline]
+pub(crate) fn light_visible_from_hit(
+    scene: &Scene,
+    hit: &SurfaceHit,
+    sample: &LightSample,
+) -> bool {
+    match shadow_ray(hit.point, Some(hit), sample) {
+        Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
+        None => false,
+    }
+}
 
 /// The shadow ray of a light sample and its extent: from a surface hit
 /// offset towards the light, or from a medium point.
