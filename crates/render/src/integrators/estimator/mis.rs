@@ -24,7 +24,7 @@ use glam::Vec3;
 /// chooses light `light_index` and samples `point` on it (normal `normal`
 /// as stored; zero for infinite lights, whose `point` is `from` plus the
 /// direction).
-#[inline]
+#[inline(always)]
 pub(crate) fn light_sampling_density(
     scene: &Scene,
     light_index: u32,
@@ -42,7 +42,7 @@ pub(crate) fn light_sampling_density(
 /// after a delta (next-event estimation cannot produce that path): the
 /// light technique's density in the weights of emission found by
 /// scattering.
-#[inline]
+#[inline(always)]
 pub(crate) fn emission_light_density(
     scene: &Scene,
     light_index: u32,
@@ -60,7 +60,7 @@ pub(crate) fn emission_light_density(
 /// scattering `previous`, whose light technique has density `light_pdf`
 /// ([`emission_light_density`]): 1 after a specular bounce, otherwise the
 /// settings' heuristic of the BSDF density against `light_pdf`.
-#[inline]
+#[inline(always)]
 fn scattering_weight(
     settings: &PathSettings,
     previous: &PreviousScattering,
@@ -142,7 +142,7 @@ pub(crate) fn environment_emission(
 /// make: the denominator is then `mean(r_u)`) and `light_pdf` the light's
 /// density ([`emission_light_density`]). `None` where the denominator is
 /// not positive.
-#[inline]
+#[inline(always)]
 pub(crate) fn balance_weighted_emission(
     beta: SampledSpectrum,
     emitted: SampledSpectrum,

@@ -115,7 +115,7 @@ pub(crate) fn sample_vertex_light_with_cache<S: SampleSource + ?Sized>(
 /// the numbers `u_position` gives (asked only once a light is chosen);
 /// `None` when nothing is chosen or the sampled radiance is black. Area
 /// lights' radiance comes from `area_radiance`.
-#[inline]
+#[inline(always)]
 pub(crate) fn choose_and_sample_light(
     scene: &Scene,
     reference: Vec3,
@@ -159,7 +159,7 @@ impl VertexScatter<'_> {
     /// The value of scattering from `wo` into `wi` — the BSDF times |cos θ|
     /// with the shading normal, or the phase function — and the density
     /// with which the vertex's own sampling picks `wi`.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn towards(
         &self,
         wo: Vec3,
@@ -205,7 +205,7 @@ impl NextEventTerms {
     /// `solid_angle_pdf`, a delta when `is_delta`) of a light chosen with
     /// probability `selection_probability`, at a vertex where `scatter`
     /// scatters from `wo`.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn new(
         scatter: VertexScatter<'_>,
         wo: Vec3,
@@ -226,7 +226,7 @@ impl NextEventTerms {
     }
 
     /// The terms of `light`, drawn by [`sample_vertex_light`].
-    #[inline]
+    #[inline(always)]
     pub(crate) fn of_sample(
         scatter: VertexScatter<'_>,
         wo: Vec3,
@@ -245,14 +245,14 @@ impl NextEventTerms {
     }
 
     /// The light technique's density: selection times direction.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn light_pdf(&self) -> f32 {
         self.selection_probability * self.solid_angle_pdf
     }
 
     /// The MIS weight of the light technique against the vertex's sampling
     /// with `heuristic` (1 for a delta light).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn weight(&self, heuristic: MisHeuristic) -> f32 {
         if self.is_delta {
             1.0
@@ -267,7 +267,7 @@ impl NextEventTerms {
     /// LQMC's value walks divide [`Self::weight`] by [`Self::light_pdf`]
     /// instead, which rounds differently: their images stay as they were
     /// measured.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn weight_over_density(&self, heuristic: MisHeuristic) -> f32 {
         let light_pdf = self.light_pdf();
         if self.is_delta {
@@ -282,7 +282,7 @@ impl NextEventTerms {
     /// `r_u` is the path's rescaled probability at the vertex (`mean(r_l)`
     /// for a delta light). The contribution is `β · scattered · T · Le`
     /// over it (see [`super::mis`]).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn balance_denominator(&self, r_u: SampledSpectrum) -> f32 {
         let r_l = r_u * self.light_pdf();
         if self.is_delta {

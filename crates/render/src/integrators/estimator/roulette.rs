@@ -31,7 +31,7 @@ pub(crate) fn russian_roulette(
 /// (`eta_scale`, the product of η² of the refractions so far) and, through
 /// media, over the mean spectral density ratio `mean_density_ratio` of the
 /// hero wavelengths (`None` without media).
-#[inline]
+#[inline(always)]
 pub(crate) fn roulette_throughput(
     beta: SampledSpectrum,
     eta_scale: f32,

@@ -27,7 +27,7 @@ pub(crate) enum ShadowTarget {
 
 impl ShadowTarget {
     /// The end of a light sample's shadow ray.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn of_sample(sample: &LightSample) -> Self {
         if sample.is_infinite {
             ShadowTarget::Infinity(sample.wi)
@@ -43,7 +43,7 @@ impl ShadowTarget {
 /// ([`crate::geometry::occlusion_segment_to_point`]). The shadow ray of the
 /// path tracer and of BDPT's connections without media; the caller counts
 /// it.
-#[inline]
+#[inline(always)]
 pub(crate) fn unoccluded(scene: &Scene, origin: Vec3, time: f32, target: ShadowTarget) -> bool {
     match target {
         ShadowTarget::Point(point, normal) => {
@@ -59,21 +59,26 @@ pub(crate) fn unoccluded(scene: &Scene, origin: Vec3, time: f32, target: ShadowT
     }
 }
 
-/// Whether nothing blocks the light `sample` from the surface `hit`: the
-/// [`shadow_ray`] spawned off the hit (LQMC's records keep hits, not
-/// offset points), one occlusion query. It asks what [`unoccluded`] asks,
-/// with a unit direction, which rounds differently; LQMC's seeds and value
-/// walks keep it so that their images stay as they were measured. The
-/// caller counts it.
-#[inline]
+/// Whether nothing blocks the light `sample` from the surface `hit`: a
+/// ray spawned off the hit (LQMC's records keep hits, not offset points;
+/// the [`shadow_ray`] of a surface), one occlusion query. It asks what
+/// [`unoccluded`] asks, with a unit direction, which rounds differently;
+/// LQMC's seeds and value walks keep it so that their images stay as they
+/// were measured. The caller counts it.
+#[inline(always)]
 pub(crate) fn light_visible_from_hit(
     scene: &Scene,
     hit: &SurfaceHit,
     sample: &LightSample,
 ) -> bool {
-    match shadow_ray(hit.point, Some(hit), sample) {
-        Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
-        None => false,
+    if sample.is_infinite {
+        let ray = spawn_ray(hit, sample.wi);
+        !scene.geometry.occluded(&ray, f32::INFINITY)
+    } else {
+        match spawn_ray_to_point(hit, sample.point, sample.normal) {
+            Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
+            None => false,
+        }
     }
 }
 

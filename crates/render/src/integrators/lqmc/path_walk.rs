@@ -130,6 +130,7 @@ pub(super) fn full_path_next_event(input: &WalkInput<'_>) -> bool {
 /// numbers. `Evaluation` where no light arrives or none is scattered
 /// towards it.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 pub(super) fn fixed_next_event(
     scene: &Scene,
     input: &WalkInput<'_>,
@@ -167,6 +168,7 @@ pub(super) fn fixed_next_event(
 /// b = k) the light point sampled again with those numbers; a delta light
 /// sampled again with the seed's numbers; an infinite light in the seed's
 /// direction; otherwise the seed's point on the light.
+#[inline(always)]
 fn connection_light_sample(
     scene: &Scene,
     connection: &LightConnection,
@@ -232,6 +234,7 @@ fn connection_light_sample(
 /// The density of a (non-delta) next-event connection's light point from
 /// the vertex at `from`: the solid-angle density `solid_angle_pdf`, turned
 /// into an area density on the light for a light at a finite distance.
+#[inline(always)]
 pub(super) fn next_event_density(
     connection: &LightConnection,
     solid_angle_pdf: f32,
@@ -268,6 +271,7 @@ pub(super) struct FixedScattering {
 /// and, within [`SPECULAR_DIRECTION_COSINE`], `wi`; `wavelengths` then
 /// loses its secondary ones where the lobe disperses), other lobes are
 /// evaluated.
+#[inline(always)]
 pub(super) fn scatter_at_surface(
     vertex: &SurfaceVertex,
     bsdf: &SurfaceBsdf,
@@ -316,6 +320,7 @@ pub(super) fn scatter_at_surface(
 /// Russian roulette at vertex `m` on `roulette_throughput` with the seed's
 /// number: the probability to divide the throughput by, or the failure
 /// `RussianRoulette` where the member's path ends.
+#[inline(always)]
 pub(super) fn survive_roulette(
     roulette_throughput: f32,
     m: usize,
@@ -332,6 +337,7 @@ pub(super) fn survive_roulette(
 }
 
 /// Whether `value` is zero, negative or NaN.
+#[inline(always)]
 pub(super) fn not_positive(value: f32) -> bool {
     value.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
 }
@@ -616,6 +622,7 @@ pub fn walk(
 }
 
 /// The walked path, or `Evaluation` for a black contribution.
+#[inline]
 pub(super) fn finish(
     contribution: SampledSpectrum,
     wavelengths: SampledWavelengths,

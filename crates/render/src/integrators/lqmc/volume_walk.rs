@@ -4,6 +4,9 @@
 //! through the rescaled path probabilities `r_u`, `r_l`, balance heuristic
 //! against next-event estimation, transmittance of shadow rays) of a given
 //! vertex sequence, and the density of its suffix (see [`super::path_walk`]).
+//! The next-event terms, the balance weights of emission and next events
+//! and Russian roulette are the volumetric path tracer's own, called from
+//! [`crate::integrators::estimator`].
 //!
 //! Every segment is traced again between its two vertices (through
 //! index-matched boundaries) for its transmittance at the path's own
