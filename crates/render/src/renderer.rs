@@ -7,7 +7,7 @@
 
 use crate::film::Film;
 use crate::image::Image;
-use crate::integrators::path::PathSettings;
+use crate::integrators::estimator::PathSettings;
 use crate::integrators::{IntegratorDetails, IntegratorSettings, MisHeuristic, RunControl};
 use crate::sampler::{Randomization, SamplerKind};
 use crate::scene::Scene;

@@ -17,8 +17,10 @@ use media_scenes::{add_chromatic_spheres, medium, medium_furnace};
 use render::camera::{FovAxis, PerspectiveSettings, look_at};
 use render::geometry::Ray;
 use render::image::Image;
+use render::integrators::camera_path::radiance;
 use render::integrators::path::PathSettings;
-use render::integrators::{IntegratorKind, TraceCounters, volpath};
+use render::integrators::volpath::VolumetricPathTracing;
+use render::integrators::{IntegratorKind, TraceCounters};
 use render::renderer::{RenderSettings, render};
 use render::sampler::{SampleSource, SamplerKind, layout};
 use render::scene::Scene;
@@ -315,7 +317,7 @@ fn crossing_null_boundaries_uses_one_free_flight_dimension() {
     let mut source = RecordingSource(Vec::new());
     let mut wavelengths = SampledWavelengths::sample_visible(0.5);
     let mut counters = TraceCounters::default();
-    let radiance = volpath::radiance(
+    let radiance = radiance::<VolumetricPathTracing, _>(
         &scene,
         &PathSettings::default(),
         Ray::new(Vec3::new(0.0, 0.0, -3.0), Vec3::Z),

@@ -26,10 +26,10 @@
 use super::driver::{
     PixelSampleIndex, RenderError, RunControl, SplatEstimator, render_splat_paths,
 };
+use super::estimator::PathSettings;
 use super::markov_chain::{
     Bootstrap, Chain, ChainOutput, ChainStatistics, ChainWork, PathContribution, importance,
 };
-use super::path::PathSettings;
 use super::pssmlt::CameraPathContribution;
 use super::{Integrator, IntegratorRender, TraceCounters};
 use crate::film::SplatBuffer;

@@ -50,16 +50,15 @@
 //! the lens point of that vertex's connection.
 
 use super::driver::{PixelSampleIndex, SplatEstimator, render_splat_paths};
-use super::path::PathSettings;
+use super::estimator::PathSettings;
+use super::estimator::emitted_ray::{EmittedRay, sample_emitted_ray};
+use super::estimator::shadow::shadow_transmittance;
 use super::path_space::{
     MAX_INTERFACE_CROSSINGS, SubpathLayout, Vertex, WalkSettings, WalkStart, random_walk,
 };
-use super::volpath::shadow_transmittance;
 use super::{Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
 use crate::film::SplatBuffer;
-use crate::geometry::{
-    OffsetPoint, Ray, occlusion_segment_to_point, offset_ray_origin, spawn_segment_to_point,
-};
+use crate::geometry::{Ray, occlusion_segment_to_point, offset_ray_origin, spawn_segment_to_point};
 use crate::light::Light;
 use crate::material::TransportMode;
 use crate::medium::medium_after;
@@ -145,32 +144,21 @@ impl SplatEstimator for LightTracer<'_> {
         if self.settings.max_depth == 0 {
             return;
         }
-        let Some((light_index, choice_probability, u_primitive)) = scene
-            .light_sampler
-            .sample(sampler.get(layout::LIGHT_CHOICE))
-        else {
+        let Some(emitted) = sample_emitted_ray(scene, sampler, &wavelengths) else {
             return;
         };
+        let EmittedRay {
+            light_index,
+            choice_probability,
+            emission,
+            on_surface,
+        } = emitted;
         let light = &scene.lights[light_index];
-        let Some(emission) = light.sample_emission(
-            &scene.geometry,
-            u_primitive,
-            sampler.get_2d(layout::LIGHT_EMISSION_POSITION),
-            sampler.get_2d(layout::LIGHT_EMISSION_DIRECTION),
-            &wavelengths,
-        ) else {
-            return;
-        };
-        if emission.radiance.is_black() || choice_probability <= 0.0 {
-            return;
-        }
         // The medium around the particle's origin.
         let around = self
             .light_media
             .around(scene, light_index, emission.origin, emission.normal);
         // The emitter's own vertex seen by the camera (area lights only).
-        let on_surface =
-            !emission.is_delta_position && !light.is_infinite() && emission.normal != Vec3::ZERO;
         if on_surface {
             let u_lens = lens_numbers(scene, sampler, layout::LENS);
             if let Some(camera_sample) =
@@ -204,34 +192,14 @@ impl SplatEstimator for LightTracer<'_> {
         if max_vertices == 0 {
             return;
         }
-        // β₁ = Le |cos| / (p_choice p_position p_direction); delta
-        // components report density 1 and a cosine of 1.
-        let cosine = if on_surface {
-            emission.normal.dot(emission.direction).abs()
-        } else {
-            1.0
-        };
-        let beta = emission.radiance
-            * (cosine / (choice_probability * emission.pdf_position * emission.pdf_direction));
-        // The walk carries β relative to its start, β / max β₁, and the
-        // connections scale it back: Russian roulette then decides on the
-        // product of the scatterings' f |cos| / p, as the path tracer's
-        // does from the camera. On β itself, which carries the emitted
-        // power over the densities (thousands in the Cornell box), the
-        // roulette never fired and every light path ran to the depth limit.
-        let beta_scale = beta.max_component();
-        if !(beta_scale > 0.0 && beta_scale.is_finite()) {
+        // The walk carries β₁ relative to its largest component, and the
+        // connections scale it back.
+        let Some((beta, beta_scale)) = emitted.scaled_throughput() else {
             return;
-        }
-        let origin = if on_surface {
-            OffsetPoint::new(emission.origin, emission.normal, emission.direction)
-                .towards(emission.direction)
-        } else {
-            emission.origin
         };
         let start = WalkStart {
-            ray: Ray::with_time(origin, emission.direction, time),
-            beta: beta / beta_scale,
+            ray: Ray::with_time(emitted.ray_origin(), emission.direction, time),
+            beta,
             pdf_direction: if emission.is_delta_direction {
                 0.0
             } else {

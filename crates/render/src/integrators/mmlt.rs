@@ -17,10 +17,10 @@
 //! [`UNLIMITED_DEPTH_CAP`] (pbrt-v4's MLT has no unlimited depth either), and
 //! says so in the log.
 
-use super::bdpt::Bidirectional;
+use super::bdpt::{BdptSettings, Bidirectional, BidirectionalScratch};
 use super::driver::{RenderError, RunControl};
+use super::estimator::PathSettings;
 use super::markov_chain::{ChainSettings, PathContribution, render_markov_chains};
-use super::path::PathSettings;
 use super::{Integrator, IntegratorRender, TraceCounters};
 use crate::film::SplatBuffer;
 use crate::sampler::{SampleSource, layout};
@@ -64,7 +64,12 @@ impl Integrator for MmltIntegrator {
         let depths: Vec<DepthTarget<'_>> = (1..=deepest as usize)
             .map(|depth| {
                 Ok(DepthTarget {
-                    bidirectional: Bidirectional::for_markov_chains(scene, &self.path)?,
+                    bidirectional: Bidirectional::new(
+                        scene,
+                        &self.path,
+                        BdptSettings::default(),
+                        "mmlt",
+                    )?,
                     strategies: strategies(depth, true),
                 })
             })
@@ -89,10 +94,10 @@ struct DepthTarget<'a> {
 }
 
 impl PathContribution for DepthTarget<'_> {
-    type Scratch = <Bidirectional<'static> as PathContribution>::Scratch;
+    type Scratch = BidirectionalScratch;
 
-    fn new_scratch(&self) -> Self::Scratch {
-        self.bidirectional.new_scratch()
+    fn new_scratch(&self) -> BidirectionalScratch {
+        BidirectionalScratch::default()
     }
 
     fn evaluate<S: SampleSource + ?Sized>(
@@ -108,13 +113,16 @@ impl PathContribution for DepthTarget<'_> {
         }
         let choice =
             ((source.get(layout::MULTIPLEXED_STRATEGY) * count as f32) as usize).min(count - 1);
-        self.bidirectional.evaluate_strategy(
+        // The chosen strategy's value times the number of strategies it was
+        // chosen from.
+        let first = splats.len();
+        self.bidirectional.trace_image_plane_sample(
             scratch,
+            Some(self.strategies[choice]),
             source,
-            self.strategies[choice],
-            count as f32,
             splats,
             counters,
         );
+        splats.scale_from(first, count as f32);
     }
 }

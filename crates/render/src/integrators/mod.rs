@@ -20,8 +20,10 @@
 //! names from [`IntegratorKind::ALL`].
 
 pub mod bdpt;
+pub mod camera_path;
 pub mod driver;
 pub mod erpt;
+pub mod estimator;
 pub mod light;
 pub mod lqmc;
 pub mod markov_chain;

@@ -25,7 +25,8 @@
 //!   ([`WalkObserver::vertex`]: next-event estimation, a connection to the
 //!   camera, recording), then the walk samples the next direction from the
 //!   vertex's block of [`SubpathLayout`], multiplies the throughput β, and
-//!   decides Russian roulette by `russian_roulette`, the rule of every
+//!   decides Russian roulette by
+//!   [`russian_roulette`](super::estimator::roulette::russian_roulette), the rule of every
 //!   integrator.
 //! - With [`WalkSettings::null_crossings`], a thin sheet's straight
 //!   transmission and a mask's pass-through are **null crossings**
@@ -63,6 +64,7 @@
 //! spectral density ratio (pbrt-v4's `rrBeta`).
 
 use super::TraceCounters;
+use super::estimator::roulette::{roulette_throughput, russian_roulette};
 use crate::geometry::{OffsetPoint, Ray, SurfaceHit, spawn_ray};
 use crate::material::{BsdfFlags, BsdfModel, BsdfSample, SurfaceBsdf, TransportMode};
 use crate::medium::{PhaseFunction, medium_after, transmittance};
@@ -419,7 +421,7 @@ pub struct WalkSettings {
     /// vertex may still find an emitter).
     pub max_vertices: usize,
     /// The vertex index from which Russian roulette may end the walk
-    /// (Mitsuba's `rr_depth`, as [`super::path::PathSettings`]).
+    /// (Mitsuba's `rr_depth`, as [`super::estimator::PathSettings`]).
     pub russian_roulette_depth: u32,
     /// Where the walk's numbers are.
     pub layout: SubpathLayout,
@@ -917,18 +919,18 @@ pub fn walk<S: SampleSource + ?Sized, O: WalkObserver>(
         // Russian roulette on the throughput without the refraction
         // scaling and, with media, over the mean spectral density ratio
         // (pbrt-v4's rrBeta).
-        let roulette_throughput = if settings.media {
+        let throughput = if settings.media {
             let mean_ratio = state.spectral_density_ratio.average();
             if mean_ratio <= 0.0 {
                 break;
             }
-            (state.beta * (eta_scale / mean_ratio)).max_component()
+            roulette_throughput(state.beta, eta_scale, Some(mean_ratio))
         } else {
-            (state.beta * eta_scale).max_component()
+            roulette_throughput(state.beta, eta_scale, None)
         };
         let block = state.block as usize;
         match russian_roulette(
-            roulette_throughput,
+            throughput,
             state.vertex_index,
             settings.russian_roulette_depth,
             || sampler.get(settings.layout.dimension(block, layout::RUSSIAN_ROULETTE)),
@@ -1172,25 +1174,15 @@ pub(crate) fn orient_hit(flip_normals: bool, hit: &mut SurfaceHit) {
     }
 }
 
-/// Russian roulette at vertex `depth` (pbrt-v4's rule): from
-/// `start_depth` on, a path whose `roulette_throughput` is below 1 survives
-/// with probability max(throughput, 0.05), decided by the number `u` gives
-/// (read only then). Returns the probability to divide the throughput by (1
-/// without roulette), or `None` when the path ends. Every walk decides
-/// here, so a rebuilt path takes its seed's decision from the same number.
-#[inline]
-pub(crate) fn russian_roulette(
-    roulette_throughput: f32,
-    depth: u32,
-    start_depth: u32,
-    u: impl FnOnce() -> f32,
-) -> Option<f32> {
-    if depth + 1 >= start_depth && roulette_throughput < 1.0 {
-        let survival = roulette_throughput.max(0.05);
-        (u() < survival).then_some(survival)
-    } else {
-        Some(1.0)
-    }
+/// A copy of `hit` (as the geometry stored it) with its normals turned as
+/// its shape's `flip_normals` asks: the hit its material sees.
+pub(crate) fn oriented_hit(scene: &Scene, hit: &SurfaceHit) -> SurfaceHit {
+    let mut hit = *hit;
+    orient_hit(
+        scene.shapes[hit.shape_index as usize].flip_normals,
+        &mut hit,
+    );
+    hit
 }
 
 /// The weight with which `bsdf` lets light arriving from `wo` pass straight

@@ -17,12 +17,16 @@
 //! (pbrt-v4), the path tracer as base. Samples per pixel are mutations per
 //! pixel.
 
+use super::bdpt::{BdptSettings, Bidirectional, BidirectionalScratch};
+use super::camera_path::radiance;
 use super::driver::{CameraPathStart, RenderError, RunControl};
+use super::estimator::PathSettings;
 use super::markov_chain::{
     ChainSettings, ChainStatistics, PathContribution, render_markov_chains,
     render_markov_chains_onto,
 };
-use super::path::PathSettings;
+use super::path::PathTracing;
+use super::volpath::VolumetricPathTracing;
 use super::{Integrator, IntegratorRender, TraceCounters};
 use crate::film::{CameraSamplePosition, ImagePlane, SplatBuffer};
 use crate::sampler::{SampleSource, layout};
@@ -92,8 +96,11 @@ impl Integrator for PssmltIntegrator {
                 &self.settings.chains,
             )?,
             MltBase::Bidirectional => render_markov_chains(
-                &[super::bdpt::Bidirectional::for_markov_chains(
-                    scene, &self.path,
+                &[Bidirectional::new(
+                    scene,
+                    &self.path,
+                    BdptSettings::default(),
+                    "pssmlt over bdpt",
                 )?],
                 scene,
                 run,
@@ -219,29 +226,45 @@ impl PathContribution for CameraPathContribution<'_> {
         };
         let start = CameraPathStart::at_position(self.scene, position, source);
         let mut wavelengths = start.wavelengths;
+        // The volumetric path tracer's estimate where the scene has media.
         let radiance = if self.media {
-            super::volpath::radiance(
-                self.scene,
-                &self.settings,
-                start.ray,
-                &mut wavelengths,
-                source,
-                counters,
-            )
+            radiance::<VolumetricPathTracing, S>
         } else {
-            super::path::radiance(
-                self.scene,
-                &self.settings,
-                start.ray,
-                &mut wavelengths,
-                source,
-                counters,
-            )
+            radiance::<PathTracing, S>
         };
+        let radiance = radiance(
+            self.scene,
+            &self.settings,
+            start.ray,
+            &mut wavelengths,
+            source,
+            counters,
+        );
         let rgb = to_linear_srgb(&radiance, &wavelengths);
         if rgb != [0.0; 3] {
             let weight = position.weight;
             let _ = splats.add(position.raster_position, rgb.map(|value| value * weight));
         }
+    }
+}
+
+/// A bidirectional sample of [`super::bdpt`] with every strategy, from a
+/// uniform point of the whole image plane, its splats where they land:
+/// the path sampler of `--mlt-base bdpt`.
+impl PathContribution for Bidirectional<'_> {
+    type Scratch = BidirectionalScratch;
+
+    fn new_scratch(&self) -> BidirectionalScratch {
+        BidirectionalScratch::default()
+    }
+
+    fn evaluate<S: SampleSource + ?Sized>(
+        &self,
+        scratch: &mut BidirectionalScratch,
+        source: &mut S,
+        splats: &mut SplatBuffer,
+        counters: &mut TraceCounters,
+    ) {
+        self.trace_image_plane_sample(scratch, None, source, splats, counters);
     }
 }

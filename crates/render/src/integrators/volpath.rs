@@ -74,145 +74,53 @@
 //! depth 16). Every vertex, null or not, still takes its own dimension
 //! block, so the block index runs ahead of the depth.
 
-use super::driver::{
-    CameraPathStart, PixelSampleEstimator, PixelSampleIndex, UnitOutput, render_pixel_samples,
+use super::TraceCounters;
+use super::camera_path::{CameraPathIntegrator, CameraPathRadiance};
+use super::estimator::PathSettings;
+use super::estimator::mis::{
+    balance_weighted_emission, emission_light_density, environment_emission_densities,
 };
-use super::path::{PathSettings, oriented_hit};
-use super::path_space::{
-    MAX_INTERFACE_CROSSINGS, ScattererRef, VertexAt, WalkObserver, WalkSettings, WalkStart,
-    WalkState, medium_leaving, null_transmission, walk,
-};
-use super::progression_variance::ProgressionVariance;
-use super::{Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
-use crate::film::Film;
-use crate::geometry::{Ray, SurfaceHit, offset_ray_origin, spawn_ray, spawn_ray_to_point};
-use crate::light::LightSample;
-use crate::medium::medium_after;
-use crate::sampler::{DynSource, PixelSampler, SampleSource};
+use super::estimator::next_event::{VertexScatter, next_event_through_media};
+use super::path_space::{ScattererRef, VertexAt, WalkObserver, WalkState};
+use crate::geometry::SurfaceHit;
+use crate::sampler::{DynSource, SampleSource};
 use crate::scene::Scene;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec3;
 use std::ops::ControlFlow;
 
-/// The volumetric path tracer as an [`Integrator`], run by the tile driver.
+/// The volumetric path tracer as an [`Integrator`]: the camera-path shell
+/// over [`VolumetricPathTracing`].
+pub type VolPathIntegrator = CameraPathIntegrator<VolumetricPathTracing>;
+
+/// The volumetric path tracer's radiance estimate for the camera-path shell
+/// ([`super::camera_path::radiance`]): a walk through media from the
+/// camera's medium observed by [`VolPathRadiance`].
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct VolPathIntegrator {
-    settings: PathSettings,
-}
+pub struct VolumetricPathTracing;
 
-impl VolPathIntegrator {
-    /// The volumetric path tracer with `settings`.
-    pub fn new(settings: PathSettings) -> Self {
-        Self { settings }
-    }
-}
+impl CameraPathRadiance for VolumetricPathTracing {
+    const MEDIA: bool = true;
+    type Observer<'a> = VolPathRadiance<'a>;
 
-impl Integrator for VolPathIntegrator {
-    fn render(&self, scene: &Scene, run: &RunControl<'_>) -> Result<IntegratorRender, RenderError> {
-        let estimator = VolPathEstimator {
+    fn observer<'a>(scene: &'a Scene, settings: &'a PathSettings) -> VolPathRadiance<'a> {
+        VolPathRadiance {
             scene,
-            settings: &self.settings,
-        };
-        render_pixel_samples(&estimator, scene, run).map(IntegratorRender::from_camera_paths)
-    }
-}
-
-/// One volumetric camera path per pixel sample, added to its pixel.
-struct VolPathEstimator<'a> {
-    scene: &'a Scene,
-    settings: &'a PathSettings,
-}
-
-impl PixelSampleEstimator for VolPathEstimator<'_> {
-    type Unit = ();
-    type Total = Option<ProgressionVariance>;
-
-    fn pass_size(&self, samples_per_pixel: u64, timed: bool) -> u64 {
-        super::path::camera_path_pass_size(self.settings, samples_per_pixel, timed)
-    }
-
-    fn new_total(&self, resolution: [usize; 2]) -> Result<Self::Total, RenderError> {
-        Ok(self
-            .settings
-            .splat_film
-            .then(|| ProgressionVariance::new(resolution)))
-    }
-
-    fn new_unit(&self) {}
-
-    fn merge_unit(&self, _total: &mut Self::Total, _unit: (), _kept: bool) {}
-
-    fn end_pass(&self, total: &mut Self::Total, film: &Film, complete: bool) {
-        if let Some(progressions) = total {
-            progressions.end_progression(film, complete);
+            radiance: SampledSpectrum::zero(),
+            min_depth: settings.min_depth,
         }
     }
 
-    fn estimate<S: PixelSampler + ?Sized>(
-        &self,
-        _unit: &mut (),
-        sample: PixelSampleIndex,
-        sampler: &mut S,
-        output: &mut UnitOutput,
-    ) {
-        let splat_film = self.settings.splat_film;
-        let start = CameraPathStart::for_film(self.scene, sample.pixel, sampler, splat_film);
-        let mut wavelengths = start.wavelengths;
-        let radiance = radiance(
-            self.scene,
-            self.settings,
-            start.ray,
-            &mut wavelengths,
-            sampler,
-            &mut output.counters,
-        );
-        output.add_camera_path(
-            &start,
-            sample.pixel,
-            to_linear_srgb(&radiance, &wavelengths),
-            splat_film,
-        );
+    fn radiance(observer: VolPathRadiance<'_>) -> SampledSpectrum {
+        observer.radiance
     }
-}
-
-/// Estimates the radiance along the camera ray `ray` for `wavelengths`,
-/// starting in the scene's camera medium: the path-space walk through
-/// media with `VolPathRadiance` as its observer.
-pub fn radiance<S: SampleSource + ?Sized>(
-    scene: &Scene,
-    settings: &PathSettings,
-    ray: Ray,
-    wavelengths: &mut SampledWavelengths,
-    sampler: &mut S,
-    counters: &mut TraceCounters,
-) -> SampledSpectrum {
-    let mut observer = VolPathRadiance {
-        scene,
-        radiance: SampledSpectrum::zero(),
-        min_depth: settings.min_depth,
-    };
-    walk(
-        scene,
-        WalkStart::camera(ray, scene.camera_medium),
-        &WalkSettings::camera(
-            WalkSettings::camera_vertices(settings.max_depth),
-            settings.russian_roulette_depth,
-            true,
-            true,
-        ),
-        wavelengths,
-        sampler,
-        counters,
-        &mut observer,
-    );
-    observer.radiance
 }
 
 /// The volumetric path tracer's observer of the walk: emission found by
 /// BSDF and phase sampling and next-event estimation through media at every
 /// non-specular vertex, weighted by the balance heuristic over the
 /// techniques and the hero wavelengths.
-struct VolPathRadiance<'a> {
+pub struct VolPathRadiance<'a> {
     scene: &'a Scene,
     radiance: SampledSpectrum,
     /// [`PathSettings::min_depth`].
@@ -222,35 +130,18 @@ struct VolPathRadiance<'a> {
 impl VolPathRadiance<'_> {
     /// Adds emission `emitted` found after the walk's last scattering,
     /// balance-weighted against next-event estimation with light density
-    /// `light_pdf` (the selection probability included; ignored after a
-    /// delta). The rescaled light-sampling probability of the path is its
-    /// unidirectional one over the density of the last sampled direction.
+    /// `light_pdf` ([`balance_weighted_emission`]). The rescaled
+    /// light-sampling probability of the path is its unidirectional one
+    /// over the density of the last sampled direction.
     fn add_emission(&mut self, walk: &WalkState, emitted: SampledSpectrum, light_pdf: f32) {
         if emitted.is_black() {
             return;
         }
         let r_u = walk.spectral_density_ratio;
-        let denominator = if walk.previous.delta {
-            r_u.average()
-        } else {
-            let r_l = r_u / walk.previous.pdf;
-            (r_u + r_l * light_pdf).average()
-        };
-        if denominator > 0.0 {
-            self.radiance += walk.beta * emitted / denominator;
+        let r_l = (!walk.previous.delta).then(|| r_u / walk.previous.pdf);
+        if let Some(value) = balance_weighted_emission(walk.beta, emitted, r_u, r_l, light_pdf) {
+            self.radiance += value;
         }
-    }
-
-    /// The density (selection included) with which next-event estimation
-    /// from the walk's previous scattering would have sampled `point` on
-    /// light `light_index`.
-    fn light_density(&self, walk: &WalkState, light_index: u32, point: Vec3, normal: Vec3) -> f32 {
-        if walk.previous.delta {
-            return 0.0;
-        }
-        let light = &self.scene.lights[light_index as usize];
-        self.scene.light_sampler.probability(light_index as usize)
-            * light.pdf_incident(&self.scene.geometry, walk.previous.point, point, normal)
     }
 }
 
@@ -277,7 +168,13 @@ impl WalkObserver for VolPathRadiance<'_> {
         if emitted.is_black() {
             return;
         }
-        let light_pdf = self.light_density(walk, light_index, hit.point, hit.geometric_normal);
+        let light_pdf = emission_light_density(
+            self.scene,
+            light_index,
+            &walk.previous,
+            hit.point,
+            hit.geometric_normal,
+        );
         self.add_emission(walk, emitted, light_pdf);
     }
 
@@ -285,13 +182,13 @@ impl WalkObserver for VolPathRadiance<'_> {
         if walk.vertex_index + 1 < self.min_depth {
             return;
         }
-        for &index in &self.scene.environment_lights {
-            let emitted =
-                self.scene.lights[index as usize].environment_radiance(direction, wavelengths);
-            let light_pdf =
-                self.light_density(walk, index, walk.previous.point + direction, Vec3::ZERO);
-            self.add_emission(walk, emitted, light_pdf);
-        }
+        environment_emission_densities(
+            self.scene,
+            &walk.previous,
+            direction,
+            wavelengths,
+            |emitted, light_pdf| self.add_emission(walk, emitted, light_pdf),
+        );
     }
 
     fn vertex<S: SampleSource + ?Sized>(
@@ -305,217 +202,29 @@ impl WalkObserver for VolPathRadiance<'_> {
         if walk.vertex_index + 2 < self.min_depth {
             return ControlFlow::Continue(());
         }
-        let wo = vertex.wo;
-        let next_event = match vertex.scatterer {
-            ScattererRef::Medium { phase } => {
-                let scatter = |wi: Vec3| {
-                    let value = phase.evaluate(wo, wi);
-                    (SampledSpectrum::splat(value), value)
-                };
-                sample_light(
-                    self.scene,
-                    vertex.point,
-                    None,
-                    vertex.medium,
-                    &scatter,
-                    walk.spectral_density_ratio,
-                    walk.block,
-                    wavelengths,
-                    &mut DynSource(sampler),
-                    counters,
-                )
-            }
+        let (reference, hit, scatter) = match vertex.scatterer {
+            ScattererRef::Medium { phase } => (vertex.point, None, VertexScatter::Medium(phase)),
             ScattererRef::Surface { hit, bsdf, offset } => {
                 if !bsdf.flags().is_non_specular() {
                     return ControlFlow::Continue(());
                 }
-                let normal = bsdf.frame.normal();
-                let scatter = |wi: Vec3| {
-                    (
-                        bsdf.evaluate(wo, wi, wavelengths) * wi.dot(normal).abs(),
-                        bsdf.pdf(wo, wi),
-                    )
-                };
-                sample_light(
-                    self.scene,
-                    offset.origin(),
-                    Some(hit),
-                    vertex.medium,
-                    &scatter,
-                    walk.spectral_density_ratio,
-                    walk.block,
-                    wavelengths,
-                    &mut DynSource(sampler),
-                    counters,
-                )
+                (offset.origin(), Some(hit), VertexScatter::Surface(bsdf))
             }
         };
+        let next_event = next_event_through_media(
+            self.scene,
+            reference,
+            hit,
+            vertex.medium,
+            scatter,
+            vertex.wo,
+            walk.spectral_density_ratio,
+            walk.block,
+            wavelengths,
+            &mut DynSource(sampler),
+            counters,
+        );
         self.radiance += walk.beta * next_event;
         ControlFlow::Continue(())
     }
-}
-
-/// Next-event estimation from `reference` (a medium point, or a surface
-/// point offset off `hit`): one light sample, its transmittance through the
-/// media and index-matched boundaries to the light, balance-weighted over
-/// wavelengths and against `scatter`'s sampling. `scatter(wi)` gives the
-/// scattering value (BSDF times cosine, or the phase function) and its
-/// sampling density; `r_u` is the path's rescaled probability at the vertex.
-/// The result still has to be multiplied by the path throughput.
-#[allow(clippy::too_many_arguments)]
-fn sample_light(
-    scene: &Scene,
-    reference: Vec3,
-    hit: Option<&SurfaceHit>,
-    medium: Option<u32>,
-    scatter: &dyn Fn(Vec3) -> (SampledSpectrum, f32),
-    r_u: SampledSpectrum,
-    depth: u32,
-    wavelengths: &SampledWavelengths,
-    sampler: &mut dyn SampleSource,
-    counters: &mut TraceCounters,
-) -> SampledSpectrum {
-    let Some(super::path::VertexLightSample {
-        selection_probability,
-        sample,
-        ..
-    }) = super::path::sample_vertex_light(scene, reference, depth, wavelengths, sampler)
-    else {
-        return SampledSpectrum::zero();
-    };
-    let (value, scatter_pdf) = scatter(sample.wi);
-    if value.is_black() {
-        return SampledSpectrum::zero();
-    }
-    let (ray, t_max) = match shadow_ray(reference, hit, &sample) {
-        Some(segment) => segment,
-        None => return SampledSpectrum::zero(),
-    };
-    // The medium the shadow ray starts in: at a surface, the side `wi` leaves to.
-    // The medium the shadow ray starts in: at a surface, the side `wi` leaves to.
-    let start_medium = medium_leaving(scene, hit, medium, sample.wi);
-    let transmittance =
-        shadow_transmittance(scene, ray, t_max, start_medium, wavelengths, counters);
-    if transmittance.is_black() {
-        return SampledSpectrum::zero();
-    }
-    let light_pdf = selection_probability * sample.pdf;
-    let r_l = r_u * light_pdf;
-    let denominator = if sample.is_delta {
-        r_l.average()
-    } else {
-        (r_l + r_u * scatter_pdf).average()
-    };
-    if denominator <= 0.0 {
-        return SampledSpectrum::zero();
-    }
-    value * transmittance * sample.radiance / denominator
-}
-
-/// The shadow ray of a light sample and its extent: from a surface hit
-/// offset towards the light, or from a medium point.
-pub(crate) fn shadow_ray(
-    reference: Vec3,
-    hit: Option<&SurfaceHit>,
-    sample: &LightSample,
-) -> Option<(Ray, f32)> {
-    match hit {
-        Some(hit) if sample.is_infinite => Some((spawn_ray(hit, sample.wi), f32::INFINITY)),
-        Some(hit) => spawn_ray_to_point(hit, sample.point, sample.normal),
-        None if sample.is_infinite => Some((Ray::new(reference, sample.wi), f32::INFINITY)),
-        None => {
-            let target = if sample.normal == Vec3::ZERO {
-                sample.point
-            } else {
-                offset_ray_origin(sample.point, sample.normal, reference - sample.point)
-            };
-            let offset = target - reference;
-            let distance = offset.length();
-            if distance <= 0.0 || !distance.is_finite() {
-                return None;
-            }
-            Some((
-                Ray::new(reference, offset / distance),
-                distance * (1.0 - crate::geometry::SHADOW_EPSILON),
-            ))
-        }
-    }
-}
-
-/// The transmittance along a shadow ray of extent `t_max` starting in
-/// `medium`: the product of exp(−σt d) over the pieces between
-/// index-matched boundaries and the weights of the null lobes of surfaces
-/// that have one (thin sheets, masks), zero if any other surface blocks it.
-/// For walks with null crossings ([`super::path_space::WalkSettings::null_crossings`]).
-pub(crate) fn shadow_transmittance(
-    scene: &Scene,
-    ray: Ray,
-    t_max: f32,
-    medium: Option<u32>,
-    wavelengths: &SampledWavelengths,
-    counters: &mut TraceCounters,
-) -> SampledSpectrum {
-    shadow_transmittance_with(scene, ray, t_max, medium, true, wavelengths, counters)
-}
-
-/// [`shadow_transmittance`], with surfaces that have a null lobe passed
-/// with its weight only when `null_crossings` (the walk's setting): a walk
-/// that makes such a surface a specular vertex reaches the light behind it
-/// by sampling that vertex, so its shadow rays must stop there, or the
-/// light through the sheet would be counted twice.
-pub(crate) fn shadow_transmittance_with(
-    scene: &Scene,
-    mut ray: Ray,
-    mut t_max: f32,
-    mut medium: Option<u32>,
-    null_crossings: bool,
-    wavelengths: &SampledWavelengths,
-    counters: &mut TraceCounters,
-) -> SampledSpectrum {
-    let mut result = SampledSpectrum::splat(1.0);
-    for _ in 0..MAX_INTERFACE_CROSSINGS {
-        counters.shadow_rays += 1;
-        let hit = scene.geometry.intersect(&ray, t_max);
-        if let Some(medium_index) = medium {
-            let distance = hit.map_or(t_max, |hit| hit.t);
-            result *= scene.media[medium_index as usize].transmittance(distance, wavelengths);
-            if result.is_black() {
-                return result;
-            }
-        }
-        let Some(raw_hit) = hit else {
-            return result;
-        };
-        let info = &scene.shapes[raw_hit.shape_index as usize];
-        let oriented = oriented_hit(scene, &raw_hit);
-        if !info.is_interface {
-            // A surface with a null lobe lets the shadow ray through with
-            // its weight (Mitsuba 3's `eval_null_transmission`).
-            if !null_crossings {
-                return SampledSpectrum::zero();
-            }
-            let Some(material) = &info.material else {
-                return SampledSpectrum::zero();
-            };
-            let bsdf = material.surface_bsdf_at(&oriented, wavelengths);
-            let weight = null_transmission(&bsdf, -ray.direction);
-            if weight <= 0.0 {
-                return SampledSpectrum::zero();
-            }
-            result *= weight;
-        }
-        medium = medium_after(
-            info.medium_interface.as_ref(),
-            oriented.geometric_normal,
-            ray.direction,
-            medium,
-        );
-        let next = spawn_ray(&raw_hit, ray.direction);
-        t_max -= (next.origin - ray.origin).dot(ray.direction);
-        if t_max <= 0.0 {
-            return result;
-        }
-        ray = next;
-    }
-    SampledSpectrum::zero()
 }

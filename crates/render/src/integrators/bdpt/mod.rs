@@ -62,7 +62,7 @@
 //! it leaves), with null crossings as `volpath` and the light tracer make
 //! them, and every connection, next-event estimation and light-tracing
 //! splat is weighted by the transmittance of its segment through media and
-//! null surfaces ([`super::volpath::shadow_transmittance`]). The densities
+//! null surfaces ([`super::estimator::shadow::shadow_transmittance`]). The densities
 //! include the free flights at the hero wavelength: a medium vertex's the
 //! extinction times the transmittance, a surface vertex's the transmittance
 //! of the segment that reached it; a connection's reverse densities take
@@ -73,31 +73,39 @@
 //! `volpath` in strongly chromatic media. Environment and directional
 //! lights in a medium that fills the scene are refused, as by the light
 //! tracer.
+//!
+//! # Users
+//!
+//! The BDPT integrator renders one sample per pixel sample
+//! ([`Bidirectional::trace_pixel_sample`]). Others run the same samples
+//! and keep their own parts: VCM ([`super::vcm`]) gives each sample its
+//! iteration's light subpath, wavelengths and merges through
+//! [`LightSubpathPass`]; PSSMLT's path contribution (in [`super::pssmlt`])
+//! and MMLT's choice of one strategy (in [`super::mmlt`]) drive
+//! [`Bidirectional::trace_image_plane_sample`].
 
 pub mod mis;
 
 use super::driver::{PixelSampleIndex, SplatEstimator, render_splat_paths};
+use super::estimator::PathSettings;
+use super::estimator::emitted_ray::{EmittedRay, sample_emitted_ray};
+use super::estimator::next_event::{AreaRadianceCache, VertexLightSample, choose_and_sample_light};
+use super::estimator::shadow::{ShadowTarget, shadow_transmittance, unoccluded};
 use super::light::{LightMedia, lens_numbers};
-use super::markov_chain::PathContribution;
-use super::path::PathSettings;
 use super::path_space::{
     Scatterer, Scattering, SubpathLayout, Vertex, VertexAt, WalkObserver, WalkSettings, WalkStart,
     WalkState, random_walk, record_scattering, solid_angle_to_area, walk,
 };
-use super::vcm::{LightVertexRecord, MergingPass, NearbySearch};
-use super::volpath::shadow_transmittance;
 use super::{AuxiliaryImage, Integrator, IntegratorRender, RenderError, RunControl, TraceCounters};
 use crate::film::{Film, ImagePlane, SplatBuffer};
-use crate::geometry::{
-    OffsetPoint, Ray, SurfaceHit, occlusion_segment_to_point, spawn_segment_to_point,
-};
+use crate::geometry::{Ray, SurfaceHit, spawn_segment_to_point};
 use crate::light::Light;
 use crate::material::TransportMode;
 use crate::sampler::{PixelSampler, SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
 use glam::{Vec2, Vec3};
-use mis::{OwnTechnique, Strategies, VertexDensities, strategy_weight, technique_weight};
+use mis::{Strategies, VertexDensities, strategy_weight};
 use std::ops::ControlFlow;
 
 /// The options of bidirectional path tracing beyond the shared path
@@ -164,22 +172,7 @@ impl BdptIntegrator {
 
 impl Integrator for BdptIntegrator {
     fn render(&self, scene: &Scene, run: &RunControl<'_>) -> Result<IntegratorRender, RenderError> {
-        let media = scene.has_media();
-        let light_media = LightMedia::new(scene, "bdpt")?;
-        let image_plane = ImagePlane::new(scene);
-        let estimator = Bidirectional {
-            scene,
-            settings: &self.settings,
-            strategies: Strategies::bidirectional(
-                self.settings.heuristic,
-                self.bdpt.camera_connections,
-            ),
-            strategy_images: self.bdpt.strategy_images,
-            image_plane,
-            margin: -image_plane.origin,
-            media,
-            light_media,
-        };
+        let estimator = Bidirectional::new(scene, &self.settings, self.bdpt, "bdpt")?;
         let output = render_splat_paths(&estimator, scene, run)?;
         let auxiliary_images = output
             .total
@@ -274,7 +267,7 @@ pub(crate) struct LightOrigin {
     normal: Vec3,
     /// The light is a delta in position (points, spots, projectors) or in
     /// direction (directional lights): no camera path can reach it.
-    delta_light: bool,
+    pub(crate) delta_light: bool,
     /// For an environment: the direction the subpath leaves it in (`point`
     /// is then on the disk it starts from).
     from_infinity: Option<Vec3>,
@@ -284,7 +277,7 @@ pub(crate) struct LightOrigin {
     /// (the largest component of `β(y₁)`), so that Russian roulette
     /// decides on the scatterings' product as from the camera (see
     /// [`super::light`]); connections multiply it back.
-    beta_scale: f32,
+    pub(crate) beta_scale: f32,
 }
 
 /// A work unit's scratch: the two subpaths and the densities of a strategy.
@@ -298,13 +291,49 @@ pub struct BidirectionalScratch {
     light_densities: Vec<VertexDensities>,
     /// Per strategy, its splats ([`BdptSettings::strategy_images`]).
     strategy_splats: Option<Vec<SplatBuffer>>,
-    /// Vertex merges done (VCM).
-    pub(crate) merges: u64,
-    /// VCM: the camera vertices that merge (their t) and their points.
-    merge_ends: Vec<usize>,
-    merge_points: Vec<Vec3>,
-    /// VCM: the light vertices near them.
-    nearby: NearbySearch,
+}
+
+/// A pass whose light subpaths were traced before its camera subpaths and
+/// are shared by them (VCM's iteration, [`super::vcm`]): a bidirectional
+/// sample of such a pass takes its wavelengths, time and strategies from
+/// the pass, connects to the light subpath the pass traced for the
+/// sample's pixel instead of tracing one, and adds the merges of its camera
+/// subpath's vertices with the pass's light vertices. The pass keeps its
+/// subpaths and its merges to itself: BDPT calls it at these points of a
+/// sample and knows nothing of how it stores them.
+pub(crate) trait LightSubpathPass<'a> {
+    /// The pass's wavelengths.
+    fn wavelengths(&self) -> SampledWavelengths;
+    /// The pass's time sample (0.5 without motion blur).
+    fn time_sample(&self) -> f32;
+    /// The pass's techniques (with merging's η).
+    fn strategies(&self) -> Strategies;
+    /// Asks the cache for the light subpath of [`Self::light_subpath`],
+    /// which the sample reads after its camera subpath is traced.
+    fn prefetch_light_subpath(&self);
+    /// The light subpath the pass traced for the sample's pixel: its origin
+    /// (`None`: no light emits), its vertices, and whether its walk dropped
+    /// the secondary wavelengths.
+    fn light_subpath(&self) -> (Option<LightOrigin>, &'a [Vertex], bool);
+    /// The weight of light that the camera subpath reached after
+    /// `vertices_before` of its vertices `camera` (a strategy with s = 0),
+    /// where the pass sets it instead of the MIS weight of the strategies.
+    fn reached_light_weight(&self, camera: &[Vertex], vertices_before: usize) -> Option<f32>;
+    /// Called once the camera subpath `camera` is traced, before its
+    /// connections (paths of at most `max_depth` segments): the pass may
+    /// look up the light vertices its vertices merge with.
+    fn find_merge_partners(&mut self, camera: &[Vertex], max_depth: usize);
+    /// The merges of the camera subpath `camera`, traced at
+    /// `camera_wavelengths`, in linear sRGB; `camera_densities` and
+    /// `light_densities` are scratch space for the weights.
+    fn merges(
+        &mut self,
+        bidirectional: &Bidirectional<'_>,
+        camera: &[Vertex],
+        camera_wavelengths: &SampledWavelengths,
+        camera_densities: &mut Vec<VertexDensities>,
+        light_densities: &mut Vec<VertexDensities>,
+    ) -> [f32; 3];
 }
 
 pub(crate) struct Bidirectional<'a> {
@@ -455,7 +484,7 @@ fn density_towards_origin(vertex: &Vertex, wo: Vec3, origin: &LightOrigin) -> f3
 /// for a strategy that joins the camera subpath's end `z_{t−1}` to light
 /// arriving from the unit direction `wi`: `z_{t−1}` scattering towards it,
 /// with the free flight of the segment between them.
-fn set_camera_predecessor_reverse(
+pub(crate) fn set_camera_predecessor_reverse(
     camera: &[Vertex],
     t: usize,
     wi: Vec3,
@@ -481,7 +510,7 @@ fn set_camera_predecessor_reverse(
 /// `before` (its point, normal and extinction) — or of the subpath's
 /// origin when `before` is `None` — as sampled by `scatterer` after arriving
 /// from `wo`; `arrival` is the transmittance of the segment between them.
-fn light_vertex_reverse(
+pub(crate) fn light_vertex_reverse(
     scatterer: &Vertex,
     wo: Vec3,
     before: Option<(Vec3, Vec3, SampledSpectrum)>,
@@ -506,15 +535,6 @@ fn stored_normal(light: &Light, front: Vec3) -> Vec3 {
         _ => false,
     };
     if flipped { -front } else { front }
-}
-
-/// Where a connection's segment ends.
-#[derive(Debug, Clone, Copy)]
-enum ConnectionEnd {
-    /// At a point with its unit normal (zero for a point without a surface).
-    Point(Vec3, Vec3),
-    /// At infinity, in a unit direction.
-    Infinity(Vec3),
 }
 
 impl Bidirectional<'_> {
@@ -567,17 +587,17 @@ impl Bidirectional<'_> {
         origin: Vec3,
         medium: Option<u32>,
         time: f32,
-        end: ConnectionEnd,
+        end: ShadowTarget,
         wavelengths: &SampledWavelengths,
         counters: &mut TraceCounters,
     ) -> SampledSpectrum {
         let scene = self.scene;
         if self.media {
             let segment = match end {
-                ConnectionEnd::Point(point, normal) => {
+                ShadowTarget::Point(point, normal) => {
                     spawn_segment_to_point(origin, time, point, normal)
                 }
-                ConnectionEnd::Infinity(direction) => {
+                ShadowTarget::Infinity(direction) => {
                     Some((Ray::with_time(origin, direction, time), f32::INFINITY))
                 }
             };
@@ -589,19 +609,7 @@ impl Bidirectional<'_> {
             };
         }
         counters.shadow_rays += 1;
-        let visible = match end {
-            ConnectionEnd::Point(point, normal) => {
-                match occlusion_segment_to_point(origin, time, point, normal) {
-                    Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
-                    None => false,
-                }
-            }
-            ConnectionEnd::Infinity(direction) => {
-                let ray = Ray::with_time(origin, direction, time);
-                !scene.geometry.occluded(&ray, f32::INFINITY)
-            }
-        };
-        if visible {
+        if unoccluded(scene, origin, time, end) {
             SampledSpectrum::splat(1.0)
         } else {
             SampledSpectrum::zero()
@@ -686,75 +694,33 @@ impl SplatEstimator for Bidirectional<'_> {
         splats: &mut SplatBuffer,
         counters: &mut TraceCounters,
     ) {
-        let raster =
-            self.image_plane
-                .seed_raster(self.scene, path.pixel, sampler.get_2d(layout::FILM));
-        self.trace_from(scratch, raster, None, None, sampler, splats, counters);
-    }
-}
-
-/// A bidirectional sample from a uniform point of the whole image plane:
-/// what PSSMLT's chains drive over BDPT.
-impl PathContribution for Bidirectional<'_> {
-    type Scratch = BidirectionalScratch;
-
-    fn new_scratch(&self) -> BidirectionalScratch {
-        BidirectionalScratch::default()
-    }
-
-    fn evaluate<S: SampleSource + ?Sized>(
-        &self,
-        scratch: &mut BidirectionalScratch,
-        source: &mut S,
-        splats: &mut SplatBuffer,
-        counters: &mut TraceCounters,
-    ) {
-        let raster = self
-            .image_plane
-            .raster(Vec2::from(source.get_2d(layout::FILM)));
-        self.trace_from(scratch, raster, None, None, source, splats, counters);
+        self.trace_pixel_sample(scratch, path.pixel, None, sampler, splats, counters);
     }
 }
 
 impl<'a> Bidirectional<'a> {
-    /// BDPT over `scene` with `settings` and the default strategies, no
-    /// strategy images: the path sampler of a Metropolis integrator.
-    pub(crate) fn for_markov_chains(
+    /// BDPT over `scene` with `settings` (depth, Russian roulette, MIS
+    /// heuristic) and its options `bdpt`, for the integrator `integrator`
+    /// (named in errors): the estimator of the BDPT integrator, and the
+    /// path sampler of the Metropolis integrators and of VCM's connections
+    /// with the default options.
+    pub(crate) fn new(
         scene: &'a Scene,
         settings: &'a PathSettings,
+        bdpt: BdptSettings,
+        integrator: &str,
     ) -> Result<Self, RenderError> {
-        let image_plane = ImagePlane::new(scene);
-        let defaults = BdptSettings::default();
-        Ok(Self {
-            scene,
-            settings,
-            strategies: Strategies::bidirectional(settings.heuristic, defaults.camera_connections),
-            strategy_images: false,
-            image_plane,
-            margin: -image_plane.origin,
-            media: scene.has_media(),
-            light_media: LightMedia::new(scene, "pssmlt over bdpt")?,
-        })
-    }
-}
-
-impl<'a> Bidirectional<'a> {
-    /// BDPT over `scene` with `settings` and every strategy, no strategy
-    /// images: VCM's connections (its passes set the strategies).
-    pub(crate) fn for_vertex_merging(
-        scene: &'a Scene,
-        settings: &'a PathSettings,
-    ) -> Result<Self, RenderError> {
+        let light_media = LightMedia::new(scene, integrator)?;
         let image_plane = ImagePlane::new(scene);
         Ok(Self {
             scene,
             settings,
-            strategies: Strategies::bidirectional(settings.heuristic, true),
-            strategy_images: false,
+            strategies: Strategies::bidirectional(settings.heuristic, bdpt.camera_connections),
+            strategy_images: bdpt.strategy_images,
             image_plane,
             margin: -image_plane.origin,
             media: scene.has_media(),
-            light_media: LightMedia::new(scene, "vcm")?,
+            light_media,
         })
     }
 
@@ -765,72 +731,65 @@ impl<'a> Bidirectional<'a> {
 }
 
 impl Bidirectional<'_> {
-    /// VCM's sample of `merging.pixel`: the camera subpath from the
-    /// pixel's share of the image plane, the light subpath and merges of
-    /// `merging`.
-    pub(crate) fn trace_merging_sample<S: SampleSource + ?Sized>(
+    /// The largest number of segments of a path.
+    pub(crate) fn max_depth(&self) -> usize {
+        self.settings.max_depth as usize
+    }
+
+    /// Whether the scene has participating media (the weights then take
+    /// the spectral density ratios of the subpaths).
+    pub(crate) fn has_media(&self) -> bool {
+        self.media
+    }
+
+    /// The sample of pixel `pixel`: the camera subpath from the pixel's
+    /// share of the image plane, every strategy, and with `pass` (VCM's
+    /// iteration) the pass's light subpath and merges.
+    pub(crate) fn trace_pixel_sample<S: SampleSource + ?Sized>(
         &self,
         scratch: &mut BidirectionalScratch,
-        merging: &MergingPass<'_>,
+        pixel: (u32, u32),
+        pass: Option<&mut dyn LightSubpathPass<'_>>,
         sampler: &mut S,
         splats: &mut SplatBuffer,
         counters: &mut TraceCounters,
     ) {
-        let raster =
-            self.image_plane
-                .seed_raster(self.scene, merging.pixel, sampler.get_2d(layout::FILM));
-        self.trace_from(
-            scratch,
-            raster,
-            None,
-            Some(merging),
-            sampler,
-            splats,
-            counters,
-        );
+        let raster = self
+            .image_plane
+            .seed_raster(self.scene, pixel, sampler.get_2d(layout::FILM));
+        self.trace_from(scratch, raster, None, pass, sampler, splats, counters);
     }
 
-    /// Multiplexed MLT's sample: strategy `strategy` = (s, t) only, from a
-    /// uniform point of the whole image plane, its value times `factor`
-    /// (the number of strategies it was chosen from). The subpaths are
-    /// walked only as far as the strategy needs.
-    pub(crate) fn evaluate_strategy<S: SampleSource + ?Sized>(
+    /// A sample from a uniform point of the whole image plane (the film
+    /// numbers place it): every strategy, or with `only` the one strategy
+    /// (s, t), the subpaths then walked only as far as it needs. What the
+    /// Metropolis integrators' chains drive.
+    pub(crate) fn trace_image_plane_sample<S: SampleSource + ?Sized>(
         &self,
         scratch: &mut BidirectionalScratch,
+        only: Option<(usize, usize)>,
         source: &mut S,
-        strategy: (usize, usize),
-        factor: f32,
         splats: &mut SplatBuffer,
         counters: &mut TraceCounters,
     ) {
         let raster = self
             .image_plane
             .raster(Vec2::from(source.get_2d(layout::FILM)));
-        let first = splats.len();
-        self.trace_from(
-            scratch,
-            raster,
-            Some(strategy),
-            None,
-            source,
-            splats,
-            counters,
-        );
-        splats.scale_from(first, factor);
+        self.trace_from(scratch, raster, only, None, source, splats, counters);
     }
 
     /// One bidirectional sample whose camera subpath starts at `raster`:
-    /// every strategy, or with `only` the one strategy (s, t). With
-    /// `merging` (a VCM pass), the wavelengths, time and strategies are the
-    /// pass's, and the camera subpath's vertices merge with the pass's
-    /// light vertices.
+    /// every strategy, or with `only` the one strategy (s, t). With `pass`
+    /// (a VCM iteration), the wavelengths, time and strategies are the
+    /// pass's, the light subpath is the one it traced, and the camera
+    /// subpath's vertices merge with the pass's light vertices.
     #[allow(clippy::too_many_arguments)]
-    pub(crate) fn trace_from<S: SampleSource + ?Sized>(
+    fn trace_from<S: SampleSource + ?Sized>(
         &self,
         scratch: &mut BidirectionalScratch,
         raster: Vec2,
         only: Option<(usize, usize)>,
-        merging: Option<&MergingPass<'_>>,
+        mut pass: Option<&mut dyn LightSubpathPass<'_>>,
         sampler: &mut S,
         splats: &mut SplatBuffer,
         counters: &mut TraceCounters,
@@ -856,21 +815,21 @@ impl Bidirectional<'_> {
         let needs_light_subpath = only.is_none_or(|(s, t)| s >= 2 || (t == 1 && s >= 1));
 
         // The camera subpath.
-        let pass = merging;
-        if let Some(pass) = pass {
+        if let Some(pass) = &pass {
             // Its light subpath, read after the camera subpath is traced.
-            pass.lights.prefetch_pixel_path(pass.pixel);
+            pass.prefetch_light_subpath();
         }
-        let strategies = pass.map_or(self.strategies, |pass| pass.strategies);
-        let first_merge_only = pass.is_some_and(|pass| pass.first_merge_only);
+        let strategies = pass
+            .as_ref()
+            .map_or(self.strategies, |pass| pass.strategies());
         let u_lens = lens_numbers(scene, sampler, layout::LENS);
-        let u_time = match pass {
-            Some(pass) => pass.time_sample,
+        let u_time = match &pass {
+            Some(pass) => pass.time_sample(),
             None if camera.uses_time_sample() => sampler.get(layout::TIME),
             None => 0.5,
         };
-        let mut wavelengths = match pass {
-            Some(pass) => pass.wavelengths,
+        let mut wavelengths = match &pass {
+            Some(pass) => pass.wavelengths(),
             None => SampledWavelengths::sample_visible(sampler.get(layout::WAVELENGTH)),
         };
         let camera_ray = camera.generate_ray(raster, u_lens, u_time);
@@ -892,10 +851,6 @@ impl Bidirectional<'_> {
             camera_densities,
             light_densities,
             strategy_splats,
-            merges: merge_count,
-            merge_ends,
-            merge_points,
-            nearby,
         } = scratch;
         camera_vertices.clear();
         emitters.clear();
@@ -931,29 +886,22 @@ impl Bidirectional<'_> {
         // The wavelengths as the camera subpath left them: merges combine
         // them with other light subpaths'.
         let camera_wavelengths = wavelengths;
-        if let Some(pass) = pass
+        if let Some(pass) = pass.as_deref_mut()
             && strategies.merging.is_some()
         {
-            find_merge_partners(
-                camera_vertices,
-                max_depth,
-                pass,
-                merge_ends,
-                merge_points,
-                nearby,
-            );
+            pass.find_merge_partners(camera_vertices, max_depth);
         }
 
         // The light subpath (with VCM, the one the pass traced for this
         // pixel: the same numbers).
         light_vertices.clear();
-        let (light_origin, light_vertices): (Option<LightOrigin>, &[Vertex]) = match pass {
+        let (light_origin, light_vertices): (Option<LightOrigin>, &[Vertex]) = match &pass {
             Some(pass) => {
-                let (path, vertices) = pass.lights.pixel_path(pass.pixel);
-                if path.secondary_terminated {
+                let (origin, vertices, secondary_terminated) = pass.light_subpath();
+                if secondary_terminated {
                     wavelengths.terminate_secondary();
                 }
-                (path.origin, vertices)
+                (origin, vertices)
             }
             None if needs_light_subpath => (
                 self.trace_light_subpath(
@@ -1013,17 +961,18 @@ impl Bidirectional<'_> {
                     hit.arrival_transmittance * previous.extinction,
                 );
             }
-            let weight = if first_merge_only {
-                // Photon mapping: only light seen through delta lobes.
-                only_delta_before(camera_vertices, hit.vertices_before)
-            } else {
-                strategy_weight(
+            let weight = match pass
+                .as_ref()
+                .and_then(|pass| pass.reached_light_weight(camera_vertices, hit.vertices_before))
+            {
+                Some(weight) => weight,
+                None => strategy_weight(
                     camera_densities,
                     &[],
                     false,
                     strategies,
                     self.media.then_some(&hit.spectral_density_ratio),
-                )
+                ),
             };
             let value = hit.beta * emitted * weight;
             self.record(strategy_splats, 0, t, raster, &value, &wavelengths);
@@ -1067,16 +1016,18 @@ impl Bidirectional<'_> {
                     escape.arrival_transmittance * previous.extinction,
                 );
             }
-            let weight = if first_merge_only {
-                only_delta_before(camera_vertices, escape.vertices_before)
-            } else {
-                strategy_weight(
+            let weight = match pass
+                .as_ref()
+                .and_then(|pass| pass.reached_light_weight(camera_vertices, escape.vertices_before))
+            {
+                Some(weight) => weight,
+                None => strategy_weight(
                     camera_densities,
                     &[],
                     false,
                     strategies,
                     self.media.then_some(&escape.spectral_density_ratio),
-                )
+                ),
             };
             let value = escape.beta * emitted * weight;
             self.record(strategy_splats, 0, t, raster, &value, &wavelengths);
@@ -1133,20 +1084,15 @@ impl Bidirectional<'_> {
             to_linear_srgb(&camera_side, &wavelengths)
         };
         // Vertex merging with the pass's light vertices.
-        if let Some(pass) = pass
+        if let Some(pass) = pass.as_deref_mut()
             && strategies.merging.is_some()
         {
-            let merged = self.merges(
+            let merged = pass.merges(
+                self,
                 camera_vertices,
                 &camera_wavelengths,
-                pass,
-                &mut MergeScratch {
-                    camera_densities,
-                    light_densities,
-                    count: merge_count,
-                    ends: merge_ends,
-                    nearby,
-                },
+                camera_densities,
+                light_densities,
             );
             rgb = std::array::from_fn(|channel| rgb[channel] + merged[channel]);
         }
@@ -1188,203 +1134,6 @@ impl Bidirectional<'_> {
                 let _ = buffers[index].add(raster.to_array(), rgb);
             }
         }
-    }
-}
-
-/// 1 if the camera subpath's first `count` vertices all scattered by delta
-/// lobes, else 0: photon mapping's weight for light the camera subpath
-/// reached (only through specular chains, the rest being merged).
-fn only_delta_before(camera: &[Vertex], count: usize) -> f32 {
-    if camera[..count].iter().all(|vertex| vertex.delta) {
-        1.0
-    } else {
-        0.0
-    }
-}
-
-/// The camera vertices of `camera` that merge with `pass`'s light
-/// vertices (their t into `ends`, their points into `points`) and the light
-/// vertices near each (into `nearby`), asked of the cache: found before
-/// the connections, merged after them, so that the misses are waited for
-/// while the connections are traced.
-fn find_merge_partners(
-    camera: &[Vertex],
-    max_depth: usize,
-    pass: &MergingPass<'_>,
-    ends: &mut Vec<usize>,
-    points: &mut Vec<Vec3>,
-    nearby: &mut NearbySearch,
-) {
-    ends.clear();
-    points.clear();
-    // A merge at z_{t−1} makes a path of at least t segments.
-    for t in 2..=(camera.len() + 1).min(max_depth) {
-        let end = &camera[t - 2];
-        if matches!(end.scatterer, Scatterer::Surface { .. }) && end.is_connectible() {
-            ends.push(t);
-            points.push(end.point);
-            if pass.first_merge_only {
-                break;
-            }
-        }
-    }
-    pass.lights.find_near(points, nearby);
-    pass.lights.prefetch(&nearby.found);
-}
-
-/// The scratch space of [`Bidirectional::merges`]: `ends` and `nearby` as
-/// [`find_merge_partners`] left them.
-struct MergeScratch<'a> {
-    camera_densities: &'a mut Vec<VertexDensities>,
-    light_densities: &'a mut Vec<VertexDensities>,
-    /// The merges done, counted.
-    count: &'a mut u64,
-    /// The t of each camera vertex that merges (a query of `nearby`).
-    ends: &'a [usize],
-    nearby: &'a NearbySearch,
-}
-
-impl Bidirectional<'_> {
-    /// Vertex merging (Georgiev et al. 2012): every surface vertex of the
-    /// camera subpath `camera` that is not purely specular merges with each
-    /// light vertex of `pass` within its radius, weighted against every
-    /// technique of the pass's strategies (with photon mapping's
-    /// `first_merge_only`, at the first such vertex only, weight 1). A merge
-    /// of `z_{t−1}` with the light vertex `y_s` reached from `y_{s−1}` is the
-    /// path `y₀ … y_{s−1} z_{t−1} … z₀`: its value is `β(z_{t−1}) f(z_{t−1};
-    /// wo, wi) β(y_s) / (π r² N)`, the BSDF without a cosine (the light
-    /// subpath's density at `y_s` holds it) but with the shading normal's
-    /// `|wi·ns| / |wi·ng|`, `wi` the direction the light arrived from.
-    /// Returns the sum in linear sRGB, each merge converted with the
-    /// wavelengths of its two subpaths.
-    fn merges(
-        &self,
-        camera: &[Vertex],
-        camera_wavelengths: &SampledWavelengths,
-        pass: &MergingPass<'_>,
-        scratch: &mut MergeScratch<'_>,
-    ) -> [f32; 3] {
-        let max_depth = self.settings.max_depth as usize;
-        let ends = scratch.ends;
-        let mut rgb = [0.0f32; 3];
-        let mut densities_of = usize::MAX;
-        for (query, point) in &scratch.nearby.found {
-            let t = ends[*query as usize];
-            let end = &camera[t - 2];
-            let Scatterer::Surface { hit, bsdf, .. } = &end.scatterer else {
-                continue;
-            };
-            let (light_path, light, k) = pass.lights.vertex(point);
-            // The light vertex y_s = light[k], s = k + 1 vertices before it.
-            let s = k + 1;
-            if s + t - 1 > max_depth {
-                continue;
-            }
-            let Some(origin) = &light_path.origin else {
-                continue;
-            };
-            let photon = &light[k];
-            let wi = photon.wo;
-            let cosine_geometric = wi.dot(hit.geometric_normal).abs();
-            if cosine_geometric == 0.0 {
-                continue;
-            }
-            let mut wavelengths = *camera_wavelengths;
-            if light_path.secondary_terminated {
-                wavelengths.terminate_secondary();
-            }
-            let shading = bsdf.shading_normal_for(end.wo, wi, TransportMode::Radiance);
-            let value = end.beta
-                * bsdf.evaluate(end.wo, wi, &wavelengths)
-                * photon.beta
-                * (origin.beta_scale * wi.dot(shading).abs() / cosine_geometric
-                    * pass.normalisation);
-            *scratch.count += 1;
-            if value.is_black() {
-                continue;
-            }
-            let weight = if pass.first_merge_only {
-                1.0
-            } else {
-                // The camera subpath's densities up to z_{t−1}, once per
-                // camera vertex (a merge sets only the last two's reverse
-                // densities).
-                if densities_of != t {
-                    self.subpath_densities(
-                        VertexDensities::default(),
-                        camera,
-                        t,
-                        scratch.camera_densities,
-                    );
-                    densities_of = t;
-                }
-                self.merge_weight(
-                    camera,
-                    t,
-                    origin,
-                    light,
-                    k,
-                    pass.strategies,
-                    scratch.camera_densities,
-                    scratch.light_densities,
-                )
-            };
-            let merged = to_linear_srgb(&(value * weight), &wavelengths);
-            for channel in 0..3 {
-                rgb[channel] += merged[channel];
-            }
-        }
-        rgb
-    }
-
-    /// The weight of the merge of `z_{t−1}` (`camera[t − 2]`) with the
-    /// light vertex `light[k]` (`y_s`, s = k + 1) against the strategies:
-    /// the densities of the split (s, t) with `z_{t−1}` sampled from
-    /// `y_{s−1}` as the light subpath sampled `y_s`. `camera_densities`
-    /// holds the camera subpath's t densities ([`Self::subpath_densities`]);
-    /// the last two's reverse densities are set here.
-    #[allow(clippy::too_many_arguments)]
-    fn merge_weight(
-        &self,
-        camera: &[Vertex],
-        t: usize,
-        origin: &LightOrigin,
-        light: &[LightVertexRecord],
-        k: usize,
-        strategies: Strategies,
-        camera_densities: &mut [VertexDensities],
-        light_densities: &mut Vec<VertexDensities>,
-    ) -> f32 {
-        let s = k + 1;
-        let end = &camera[t - 2];
-        let photon = &light[k];
-        let wi = photon.wo;
-        camera_densities[t - 1].set_reverse(photon.pdf_forward, photon.arrival_transmittance);
-        camera_densities[t - 1].delta = false;
-        set_camera_predecessor_reverse(camera, t, wi, camera_densities);
-        light_densities.clear();
-        light_densities.push(origin.densities);
-        light_densities.extend(light[..k].iter().map(|record| record.densities));
-        let before = (s >= 2).then(|| {
-            let before = &light[k - 1];
-            (before.point, before.geometric_normal, before.extinction)
-        });
-        let (density, free_flight) =
-            light_vertex_reverse(end, end.wo, before, origin, photon.arrival_transmittance);
-        light_densities[s - 1].set_reverse(density, free_flight);
-        let spectral_density_ratio = if s >= 2 {
-            end.spectral_density_ratio * light[k - 1].spectral_density_ratio
-        } else {
-            end.spectral_density_ratio
-        };
-        technique_weight(
-            camera_densities,
-            light_densities,
-            origin.delta_light,
-            strategies,
-            OwnTechnique::MergeAtCameraEnd,
-            self.media.then_some(&spectral_density_ratio),
-        )
     }
 }
 
@@ -1458,23 +1207,15 @@ impl Bidirectional<'_> {
     ) -> Option<LightOrigin> {
         let scene = self.scene;
         let first = vertices.len();
-        let (light_index, choice, u_primitive) = scene
-            .light_sampler
-            .sample(sampler.get(layout::LIGHT_CHOICE))?;
+        let emitted = sample_emitted_ray(scene, sampler, wavelengths)?;
+        let EmittedRay {
+            light_index,
+            choice_probability: choice,
+            emission,
+            on_surface,
+        } = emitted;
         let light = &scene.lights[light_index];
-        let emission = light.sample_emission(
-            &scene.geometry,
-            u_primitive,
-            sampler.get_2d(layout::LIGHT_EMISSION_POSITION),
-            sampler.get_2d(layout::LIGHT_EMISSION_DIRECTION),
-            wavelengths,
-        )?;
-        if emission.radiance.is_black() || choice <= 0.0 {
-            return None;
-        }
         let at_infinity = light.is_infinite();
-        let on_surface =
-            !emission.is_delta_position && !at_infinity && emission.normal != Vec3::ZERO;
         let mut origin = LightOrigin {
             point: emission.origin,
             normal: if on_surface {
@@ -1504,29 +1245,15 @@ impl Bidirectional<'_> {
         if max_vertices == 0 {
             return Some(origin);
         }
-        let cosine = if on_surface {
-            emission.normal.dot(emission.direction).abs()
-        } else {
-            1.0
-        };
-        let beta = emission.radiance
-            * (cosine / (choice * emission.pdf_position * emission.pdf_direction));
-        let beta_scale = beta.max_component();
-        if !(beta_scale > 0.0 && beta_scale.is_finite()) {
+        let Some((beta, beta_scale)) = emitted.scaled_throughput() else {
             return Some(origin);
-        }
-        origin.beta_scale = beta_scale;
-        let ray_origin = if on_surface {
-            OffsetPoint::new(emission.origin, emission.normal, emission.direction)
-                .towards(emission.direction)
-        } else {
-            emission.origin
         };
+        origin.beta_scale = beta_scale;
         random_walk(
             scene,
             WalkStart {
-                ray: Ray::with_time(ray_origin, emission.direction, time),
-                beta: beta / beta_scale,
+                ray: Ray::with_time(emitted.ray_origin(), emission.direction, time),
+                beta,
                 pdf_direction: emission.pdf_direction,
                 medium: self.light_media.leaving(
                     scene,
@@ -1588,26 +1315,27 @@ impl Bidirectional<'_> {
         let scene = self.scene;
         let end = &camera[t - 2];
         let block = SubpathLayout::BIDIRECTIONAL_CAMERA;
-        let Some((light_index, choice, u_primitive)) = scene
-            .light_sampler
-            .sample(sampler.get(block.dimension(t - 2, layout::LIGHT_SELECTION)))
+        // The reference point off the surface on the arriving side, as the
+        // path tracer's (a sphere sampled from a point on itself would be
+        // seen from outside).
+        let Some(VertexLightSample {
+            light_index,
+            selection_probability: choice,
+            sample,
+            ..
+        }) = choose_and_sample_light(
+            scene,
+            end.origin_towards(end.wo),
+            sampler.get(block.dimension(t - 2, layout::LIGHT_SELECTION)),
+            || sampler.get_2d(block.dimension(t - 2, layout::LIGHT_POSITION)),
+            wavelengths,
+            &mut AreaRadianceCache::new(),
+        )
         else {
             return SampledSpectrum::zero();
         };
         let light = &scene.lights[light_index];
-        // The reference point off the surface on the arriving side, as the
-        // path tracer's (a sphere sampled from a point on itself would be
-        // seen from outside).
-        let Some(sample) = light.sample_incident(
-            &scene.geometry,
-            end.origin_towards(end.wo),
-            u_primitive,
-            sampler.get_2d(block.dimension(t - 2, layout::LIGHT_POSITION)),
-            wavelengths,
-        ) else {
-            return SampledSpectrum::zero();
-        };
-        if sample.radiance.is_black() || sample.pdf.is_nan() || sample.pdf <= 0.0 || choice <= 0.0 {
+        if sample.pdf.is_nan() || sample.pdf <= 0.0 || choice <= 0.0 {
             return SampledSpectrum::zero();
         }
         let factor = end.connection_factor(sample.wi, wavelengths, TransportMode::Radiance);
@@ -1618,11 +1346,7 @@ impl Bidirectional<'_> {
             end.origin_towards(sample.wi),
             end.medium_towards(scene, sample.wi),
             end.time,
-            if sample.is_infinite {
-                ConnectionEnd::Infinity(sample.wi)
-            } else {
-                ConnectionEnd::Point(sample.point, sample.normal)
-            },
+            ShadowTarget::of_sample(&sample),
             wavelengths,
             counters,
         );
@@ -1755,7 +1479,7 @@ impl Bidirectional<'_> {
             camera_end.origin_towards(direction),
             camera_end.medium_towards(self.scene, direction),
             camera_end.time,
-            ConnectionEnd::Point(light_end.point, light_end.geometric_normal),
+            ShadowTarget::Point(light_end.point, light_end.geometric_normal),
             wavelengths,
             counters,
         );
@@ -1854,7 +1578,7 @@ impl Bidirectional<'_> {
             light_end.origin_towards(camera_sample.wi),
             light_end.medium_towards(scene, camera_sample.wi),
             light_end.time,
-            ConnectionEnd::Point(camera_sample.lens_point, Vec3::ZERO),
+            ShadowTarget::Point(camera_sample.lens_point, Vec3::ZERO),
             wavelengths,
             counters,
         );

@@ -18,7 +18,7 @@ use super::settings::{BreakupChoice, LqmcSettings};
 use super::statistics::{FailureReason, LqmcStatistics};
 use crate::film::SplatBuffer;
 use crate::integrators::TraceCounters;
-use crate::integrators::path::PathSettings;
+use crate::integrators::estimator::PathSettings;
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};

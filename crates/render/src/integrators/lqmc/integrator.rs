@@ -10,7 +10,7 @@ use crate::film::{BoxFilter, Film, Filter};
 use crate::integrators::driver::{
     PixelSampleEstimator, PixelSampleIndex, UnitOutput, render_pixel_samples,
 };
-use crate::integrators::path::PathSettings;
+use crate::integrators::estimator::PathSettings;
 use crate::integrators::{
     AuxiliaryImage, Integrator, IntegratorDetails, IntegratorRender, RenderError, RunControl,
 };

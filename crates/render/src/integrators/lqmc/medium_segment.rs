@@ -12,8 +12,8 @@
 use super::path_record::SurfaceVertex;
 use super::statistics::FailureReason;
 use crate::geometry::{Ray, SurfaceHit, spawn_ray};
-use crate::integrators::path::oriented_hit;
 use crate::integrators::path_space::MAX_INTERFACE_CROSSINGS;
+use crate::integrators::path_space::oriented_hit;
 use crate::medium::medium_after;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};

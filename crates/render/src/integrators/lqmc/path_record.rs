@@ -6,7 +6,7 @@
 //! through the same code.
 
 use crate::geometry::SurfaceHit;
-use crate::integrators::path::VertexLightSample;
+use crate::integrators::estimator::next_event::VertexLightSample;
 use crate::material::BsdfFlags;
 use glam::{Vec2, Vec3};
 

@@ -4,9 +4,10 @@
 //! (`p_t(X) / J`, Eq. 8 of the paper, up to factors every member of an
 //! exploration shares).
 //!
-//! The formulas are those of [`crate::integrators::path`] (next-event
-//! estimation, MIS, Russian roulette after the third vertex), evaluated on
-//! fixed positions instead of sampled ones. Every discrete decision — BSDF
+//! The formulas are the path tracer's, called from
+//! [`crate::integrators::estimator`] (next-event estimation's terms and
+//! weights, the emission weights, Russian roulette after the third
+//! vertex), evaluated on fixed positions instead of sampled ones. Every discrete decision — BSDF
 //! component (reflect or refract at a smooth dielectric) and Russian
 //! roulette — is decided with the seed's numbers, as LQMC requires (Sec.
 //! 3.1: "we do not change the random numbers of the seed path responsible
@@ -15,19 +16,25 @@
 //! the discrete probabilities belong in `p_t` of the contribution and not in
 //! the suffix density (see `estimator`).
 
-use super::path_record::{CameraVertex, SurfaceVertex, Terminal};
+use super::path_record::{CameraVertex, LightConnection, SurfaceVertex, Terminal};
 use super::segment_cache::{
     IncomingIndependence, SegmentCache, SegmentReuse, SurfaceStep, SurfaceTerminal,
 };
 use super::statistics::FailureReason;
 use crate::camera::CameraProjection;
-use crate::geometry::{offset_ray_origin, spawn_ray, spawn_ray_to_point};
-use crate::integrators::path::{PathSettings, emission_weight};
+use crate::geometry::offset_ray_origin;
+use crate::integrators::estimator::PathSettings;
+use crate::integrators::estimator::mis::{emission_weight, environment_emission};
+use crate::integrators::estimator::next_event::{NextEventTerms, VertexScatter};
+use crate::integrators::estimator::roulette::{roulette_throughput, russian_roulette};
+use crate::integrators::estimator::shadow::light_visible_from_hit;
+use crate::integrators::path_space::PreviousScattering;
+use crate::light::LightSample;
 use crate::material::{BsdfModel, SurfaceBsdf};
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 /// Directions of a specular scattering recomputed for a member must agree
 /// with the recorded ones to this cosine.
@@ -115,6 +122,226 @@ pub(super) fn full_path_next_event(input: &WalkInput<'_>) -> bool {
         && input.breakup.is_some_and(|b| b > input.vertices.len())
 }
 
+/// The next event of the path `input` at its last scattering vertex `m`
+/// (reference point `reference`, where `scatter` scatters from `wo`): the
+/// light sample of its connection and the terms of its estimate
+/// ([`NextEventTerms`], the path tracers' own). The full-path breakup
+/// b = k samples the light point again with the member's light-position
+/// numbers. `Evaluation` where no light arrives or none is scattered
+/// towards it.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(super) fn fixed_next_event(
+    scene: &Scene,
+    input: &WalkInput<'_>,
+    connection: &LightConnection,
+    m: usize,
+    reference: Vec3,
+    scatter: VertexScatter<'_>,
+    wo: Vec3,
+    numbers: &mut dyn SampleSource,
+    wavelengths: &SampledWavelengths,
+) -> Result<(LightSample, NextEventTerms), FailureReason> {
+    let resampled = full_path_next_event(input)
+        .then(|| numbers.get_2d(layout::vertex(m, layout::LIGHT_POSITION)));
+    let sample = connection_light_sample(scene, connection, reference, resampled, wavelengths)?;
+    if sample.radiance.is_black() || !(sample.pdf > 0.0 && sample.pdf.is_finite()) {
+        return Err(FailureReason::Evaluation);
+    }
+    let terms = NextEventTerms::new(
+        scatter,
+        wo,
+        sample.wi,
+        wavelengths,
+        connection.selection_probability,
+        sample.pdf,
+        sample.is_delta,
+    );
+    if terms.scattered.is_black() {
+        return Err(FailureReason::Evaluation);
+    }
+    Ok((sample, terms))
+}
+
+/// The light sample of a next-event connection as seen from `reference`
+/// (a member's vertex): with `resampled_position` (the full-path breakup
+/// b = k) the light point sampled again with those numbers; a delta light
+/// sampled again with the seed's numbers; an infinite light in the seed's
+/// direction; otherwise the seed's point on the light.
+#[inline(always)]
+fn connection_light_sample(
+    scene: &Scene,
+    connection: &LightConnection,
+    reference: Vec3,
+    resampled_position: Option<[f32; 2]>,
+    wavelengths: &SampledWavelengths,
+) -> Result<LightSample, FailureReason> {
+    let light = &scene.lights[connection.light_index];
+    let sample_again = |u_position: [f32; 2]| {
+        light
+            .sample_incident(
+                &scene.geometry,
+                reference,
+                connection.u_primitive,
+                u_position,
+                wavelengths,
+            )
+            .ok_or(FailureReason::Evaluation)
+    };
+    if let Some(u_position) = resampled_position {
+        return sample_again(u_position);
+    }
+    if connection.is_delta {
+        return sample_again(connection.u_position);
+    }
+    Ok(if connection.is_infinite {
+        let wi = connection.direction;
+        LightSample {
+            radiance: light.environment_radiance(wi, wavelengths),
+            wi,
+            point: connection.point,
+            normal: Vec3::ZERO,
+            uv: Vec2::ZERO,
+            pdf: light.pdf_incident(&scene.geometry, reference, reference + wi, Vec3::ZERO),
+            is_delta: false,
+            is_infinite: true,
+        }
+    } else {
+        let wi = (connection.point - reference).normalize();
+        LightSample {
+            radiance: light.emitted_radiance(
+                connection.stored_normal,
+                connection.uv,
+                -wi,
+                wavelengths,
+            ),
+            wi,
+            point: connection.point,
+            normal: connection.front_normal,
+            uv: connection.uv,
+            pdf: light.pdf_incident(
+                &scene.geometry,
+                reference,
+                connection.point,
+                connection.stored_normal,
+            ),
+            is_delta: false,
+            is_infinite: false,
+        }
+    })
+}
+
+/// The density of a (non-delta) next-event connection's light point from
+/// the vertex at `from`: the solid-angle density `solid_angle_pdf`, turned
+/// into an area density on the light for a light at a finite distance.
+#[inline(always)]
+pub(super) fn next_event_density(
+    connection: &LightConnection,
+    solid_angle_pdf: f32,
+    from: Vec3,
+) -> f64 {
+    let mut density = solid_angle_pdf as f64;
+    if !connection.is_infinite {
+        let to_light = connection.point - from;
+        let distance_squared = to_light.length_squared() as f64;
+        density *= connection.stored_normal.dot(to_light).abs() as f64
+            / distance_squared.sqrt()
+            / distance_squared;
+    }
+    density
+}
+
+/// The scattering at a fixed surface vertex `m` from `wo` into `wi`, the
+/// continuation to the next vertex.
+pub(super) struct FixedScattering {
+    /// The throughput's factor `f |cos| / p`.
+    pub factor: SampledSpectrum,
+    /// The solid-angle density `p` of `wi`.
+    pub pdf: f32,
+    /// The η² Russian roulette's throughput undoes (1 but for
+    /// transmissions).
+    pub eta_factor: f32,
+    /// The vertex scattered by a specular lobe.
+    pub specular: bool,
+}
+
+/// Scatters at the surface vertex `vertex` (vertex `m` of the layout, its
+/// BSDF `bsdf`) from `wo` into `wi` as the seed did: a specular lobe is
+/// sampled again with the seed's numbers (and must give the seed's lobe
+/// and, within [`SPECULAR_DIRECTION_COSINE`], `wi`; `wavelengths` then
+/// loses its secondary ones where the lobe disperses), other lobes are
+/// evaluated.
+#[inline(always)]
+pub(super) fn scatter_at_surface(
+    vertex: &SurfaceVertex,
+    bsdf: &SurfaceBsdf,
+    wo: Vec3,
+    wi: Vec3,
+    m: usize,
+    numbers: &mut dyn SampleSource,
+    wavelengths: &mut SampledWavelengths,
+) -> Result<FixedScattering, FailureReason> {
+    let specular = vertex.sampled.is_specular();
+    let (value, pdf, eta_factor) = if specular {
+        let u_component = numbers.get(layout::vertex(m, layout::SCATTER_COMPONENT));
+        let u = numbers.get_2d(layout::vertex(m, layout::SCATTER_DIRECTION));
+        let sample = bsdf
+            .sample(wo, u_component, u, wavelengths)
+            .ok_or(FailureReason::Evaluation)?;
+        if sample.flags != vertex.sampled || sample.wi.dot(wi) < SPECULAR_DIRECTION_COSINE {
+            return Err(FailureReason::ModeChange);
+        }
+        let eta_factor = if sample.is_transmission() {
+            sample.eta * sample.eta
+        } else {
+            1.0
+        };
+        (sample.value, sample.pdf, eta_factor)
+    } else {
+        let eta_factor = non_specular_eta(vertex, bsdf, wo, wi)?;
+        (
+            bsdf.evaluate(wo, wi, wavelengths),
+            bsdf.pdf(wo, wi),
+            eta_factor,
+        )
+    };
+    if not_positive(pdf) || value.is_black() {
+        return Err(FailureReason::Evaluation);
+    }
+    let cosine = wi.dot(bsdf.frame.normal()).abs();
+    Ok(FixedScattering {
+        factor: value * (cosine / pdf),
+        pdf,
+        eta_factor,
+        specular,
+    })
+}
+
+/// Russian roulette at vertex `m` on `roulette_throughput` with the seed's
+/// number: the probability to divide the throughput by, or the failure
+/// `RussianRoulette` where the member's path ends.
+#[inline(always)]
+pub(super) fn survive_roulette(
+    roulette_throughput: f32,
+    m: usize,
+    settings: &PathSettings,
+    numbers: &mut dyn SampleSource,
+) -> Result<f32, FailureReason> {
+    russian_roulette(
+        roulette_throughput,
+        m as u32,
+        settings.russian_roulette_depth,
+        || numbers.get(layout::vertex(m, layout::RUSSIAN_ROULETTE)),
+    )
+    .ok_or(FailureReason::RussianRoulette)
+}
+
+/// Whether `value` is zero, negative or NaN.
+#[inline(always)]
+pub(super) fn not_positive(value: f32) -> bool {
+    value.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+}
+
 /// Evaluates the path; `numbers` answers the seed's numbers by dimension;
 /// `segments` records or reuses traced segments in scenes with media (see
 /// [`super::segment_cache`]; surface scenes trace no segment again).
@@ -135,9 +362,12 @@ pub fn walk(
         .unwrap_or_else(|| SampledWavelengths::sample_visible(camera.u_wavelength));
     let mut throughput = SampledSpectrum::splat(1.0);
     let mut eta_scale = 1.0f32;
-    let mut specular_bounce = true;
-    let mut previous_reference = camera.origin;
-    let mut previous_bsdf_pdf = 0.0f32;
+    // The last scattering, for the emission weights (the camera at first).
+    let mut previous = PreviousScattering {
+        point: camera.origin,
+        pdf: 0.0,
+        delta: true,
+    };
     let mut suffix_density = 1.0f64;
     // Step `s` generates x_{s+1} from x_s; the suffix density is the
     // product over the steps s ≥ b.
@@ -232,115 +462,38 @@ pub fn walk(
         let last = m + 1 == scattering_count;
 
         if last && let Terminal::NextEvent(connection) = input.terminal {
-            let light = &scene.lights[connection.light_index];
-            // The full-path breakup b = k samples the light point again
-            // with the member's light-position numbers.
-            let resampled = if full_path_next_event(input) {
-                Some(
-                    light
-                        .sample_incident(
-                            &scene.geometry,
-                            reference,
-                            connection.u_primitive,
-                            numbers.get_2d(layout::vertex(m, layout::LIGHT_POSITION)),
-                            &wavelengths,
-                        )
-                        .ok_or(FailureReason::Evaluation)?,
-                )
-            } else {
-                None
-            };
-            let (radiance, wi, solid_angle_pdf) = if let Some(sample) = &resampled {
-                (sample.radiance, sample.wi, sample.pdf)
-            } else if connection.is_delta {
-                let sample = light
-                    .sample_incident(
-                        &scene.geometry,
-                        reference,
-                        connection.u_primitive,
-                        connection.u_position,
-                        &wavelengths,
-                    )
-                    .ok_or(FailureReason::Evaluation)?;
-                (sample.radiance, sample.wi, 1.0)
-            } else if connection.is_infinite {
-                let wi = connection.direction;
-                (
-                    light.environment_radiance(wi, &wavelengths),
-                    wi,
-                    light.pdf_incident(&scene.geometry, reference, reference + wi, Vec3::ZERO),
-                )
-            } else {
-                let wi = (connection.point - reference).normalize();
-                (
-                    light.emitted_radiance(
-                        connection.stored_normal,
-                        connection.uv,
-                        -wi,
-                        &wavelengths,
-                    ),
-                    wi,
-                    light.pdf_incident(
-                        &scene.geometry,
-                        reference,
-                        connection.point,
-                        connection.stored_normal,
-                    ),
-                )
-            };
-            if radiance.is_black() || !(solid_angle_pdf > 0.0 && solid_angle_pdf.is_finite()) {
-                return Err(FailureReason::Evaluation);
+            let (sample, terms) = fixed_next_event(
+                scene,
+                input,
+                connection,
+                m,
+                reference,
+                VertexScatter::Surface(&bsdf),
+                wo,
+                numbers,
+                &wavelengths,
+            )?;
+            if m < input.rebuilt_vertices && !light_visible_from_hit(scene, &vertex.hit, &sample) {
+                return Err(FailureReason::Occluded);
             }
-            let value = bsdf.evaluate(wo, wi, &wavelengths) * wi.dot(bsdf.frame.normal()).abs();
-            if value.is_black() {
-                return Err(FailureReason::Evaluation);
-            }
-            if m < input.rebuilt_vertices {
-                let (point, front_normal) = resampled
-                    .map_or((connection.point, connection.front_normal), |sample| {
-                        (sample.point, sample.normal)
-                    });
-                let visible = if connection.is_infinite {
-                    let ray = spawn_ray(&vertex.hit, wi);
-                    !scene.geometry.occluded(&ray, f32::INFINITY)
-                } else {
-                    match spawn_ray_to_point(&vertex.hit, point, front_normal) {
-                        Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
-                        None => false,
-                    }
-                };
-                if !visible {
-                    return Err(FailureReason::Occluded);
-                }
-            }
-            let light_pdf = connection.selection_probability * solid_angle_pdf;
-            let weight = if connection.is_delta {
+            let weight = terms.weight(settings.heuristic);
+            let end_density = if connection.is_delta {
                 1.0
             } else {
-                settings.heuristic.weight(light_pdf, bsdf.pdf(wo, wi))
-            };
-            let next_event_density = if connection.is_delta {
-                1.0
-            } else {
-                let mut density = solid_angle_pdf as f64;
-                if !connection.is_infinite {
-                    let to_light = connection.point - vertex.hit.point;
-                    let distance_squared = to_light.length_squared() as f64;
-                    density *= connection.stored_normal.dot(to_light).abs() as f64
-                        / distance_squared.sqrt()
-                        / distance_squared;
-                }
-                density
+                next_event_density(connection, sample.pdf, vertex.hit.point)
             };
             if in_suffix(step) && !connection.is_delta {
-                suffix_density *= next_event_density;
+                suffix_density *= end_density;
             }
-            let end_value = value * radiance * (weight / light_pdf);
+            // The weight over the light's density in two divisions, as the
+            // walk has always evaluated it (see
+            // `NextEventTerms::weight_over_density`).
+            let end_value = terms.scattered * sample.radiance * (weight / terms.light_pdf());
             if let SegmentReuse::Record(cache) = segments {
                 cache.surface_terminal = Some(SurfaceTerminal {
                     wavelengths,
                     value: end_value,
-                    density_factor: next_event_density,
+                    density_factor: end_density,
                 });
             }
             return Ok(WalkedPath {
@@ -360,37 +513,14 @@ pub fn walk(
         } else {
             return Err(FailureReason::Evaluation);
         };
-        let specular = vertex.sampled.is_specular();
         let wavelengths_before = wavelengths;
-        let (value, pdf, eta_factor) = if specular {
-            let u_component = numbers.get(layout::vertex(m, layout::SCATTER_COMPONENT));
-            let u = numbers.get_2d(layout::vertex(m, layout::SCATTER_DIRECTION));
-            let sample = bsdf
-                .sample(wo, u_component, u, &mut wavelengths)
-                .ok_or(FailureReason::Evaluation)?;
-            if sample.flags != vertex.sampled || sample.wi.dot(wi) < SPECULAR_DIRECTION_COSINE {
-                return Err(FailureReason::ModeChange);
-            }
-            let eta_factor = if sample.is_transmission() {
-                sample.eta * sample.eta
-            } else {
-                1.0
-            };
-            (sample.value, sample.pdf, eta_factor)
-        } else {
-            let eta_factor = non_specular_eta(vertex, &bsdf, wo, wi)?;
-            (
-                bsdf.evaluate(wo, wi, &wavelengths),
-                bsdf.pdf(wo, wi),
-                eta_factor,
-            )
-        };
+        let FixedScattering {
+            factor,
+            pdf,
+            eta_factor,
+            specular,
+        } = scatter_at_surface(vertex, &bsdf, wo, wi, m, numbers, &mut wavelengths)?;
         eta_scale *= eta_factor;
-        if pdf.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || value.is_black() {
-            return Err(FailureReason::Evaluation);
-        }
-        let cosine = wi.dot(bsdf.frame.normal()).abs();
-        let factor = value * (cosine / pdf);
         throughput *= factor;
         let density_factor = if specular {
             1.0
@@ -417,17 +547,17 @@ pub fn walk(
                 specular,
             });
         }
-        specular_bounce = specular;
-        previous_bsdf_pdf = pdf;
-        previous_reference = reference;
-        let roulette_throughput = (throughput * eta_scale).max_component();
-        throughput /= crate::integrators::path::russian_roulette(
-            roulette_throughput,
-            m as u32,
-            settings.russian_roulette_depth,
-            || numbers.get(layout::vertex(m, layout::RUSSIAN_ROULETTE)),
-        )
-        .ok_or(FailureReason::RussianRoulette)?;
+        previous = PreviousScattering {
+            point: reference,
+            pdf,
+            delta: specular,
+        };
+        throughput /= survive_roulette(
+            roulette_throughput(throughput, eta_scale, None),
+            m,
+            settings,
+            numbers,
+        )?;
     }
 
     let contribution = match input.terminal {
@@ -450,9 +580,7 @@ pub fn walk(
                 scene,
                 settings,
                 *light_index,
-                specular_bounce,
-                previous_reference,
-                previous_bsdf_pdf,
+                &previous,
                 emitter.raw_hit.point,
                 emitter.raw_hit.geometric_normal,
             );
@@ -468,22 +596,17 @@ pub fn walk(
         Terminal::Environment { direction } => {
             let mut end_value = SampledSpectrum::zero();
             let mut total = SampledSpectrum::zero();
-            for &index in &scene.environment_lights {
-                let light = &scene.lights[index as usize];
-                let emitted = light.environment_radiance(*direction, &wavelengths);
-                let weight = emission_weight(
-                    scene,
-                    settings,
-                    index,
-                    specular_bounce,
-                    previous_reference,
-                    previous_bsdf_pdf,
-                    previous_reference + *direction,
-                    Vec3::ZERO,
-                );
-                total += throughput * emitted * weight;
-                end_value += emitted * weight;
-            }
+            environment_emission(
+                scene,
+                settings,
+                &previous,
+                *direction,
+                &wavelengths,
+                |emitted, weight| {
+                    total += throughput * emitted * weight;
+                    end_value += emitted * weight;
+                },
+            );
             if let SegmentReuse::Record(cache) = segments {
                 cache.surface_terminal = Some(SurfaceTerminal {
                     wavelengths,
@@ -495,6 +618,16 @@ pub fn walk(
         }
         Terminal::NextEvent(_) => return Err(FailureReason::Evaluation),
     };
+    finish(contribution, wavelengths, suffix_density)
+}
+
+/// The walked path, or `Evaluation` for a black contribution.
+#[inline]
+pub(super) fn finish(
+    contribution: SampledSpectrum,
+    wavelengths: SampledWavelengths,
+    suffix_density: f64,
+) -> Result<WalkedPath, FailureReason> {
     if contribution.is_black() {
         return Err(FailureReason::Evaluation);
     }
@@ -533,14 +666,12 @@ fn reuse_seed_steps(
         if in_suffix(m + 1) && !step.specular {
             state.suffix_density *= step.density_factor;
         }
-        let roulette_throughput = (state.throughput * state.eta_scale).max_component();
-        state.throughput /= crate::integrators::path::russian_roulette(
-            roulette_throughput,
-            m as u32,
-            settings.russian_roulette_depth,
-            || numbers.get(layout::vertex(m, layout::RUSSIAN_ROULETTE)),
-        )
-        .ok_or(FailureReason::RussianRoulette)?;
+        state.throughput /= survive_roulette(
+            roulette_throughput(state.throughput, state.eta_scale, None),
+            m,
+            settings,
+            numbers,
+        )?;
     }
     // A next-event connection is the last step, `scattering_count`.
     if cache.surface_steps.len() < scattering_count && in_suffix(scattering_count) {

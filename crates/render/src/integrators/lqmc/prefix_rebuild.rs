@@ -19,9 +19,9 @@ use super::statistics::FailureReason;
 pub use crate::film::ImagePlane;
 use crate::geometry::{Ray, SurfaceHit, spawn_ray, spawn_ray_through};
 use crate::integrators::TraceCounters;
-use crate::integrators::path::oriented_hit;
 use crate::integrators::path_space::{
-    ScattererRef, Scattering, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState, walk,
+    ScattererRef, Scattering, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState,
+    oriented_hit, walk,
 };
 use crate::material::SurfaceBsdf;
 use crate::sampler::{DynSource, SampleSource};

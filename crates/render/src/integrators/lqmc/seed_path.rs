@@ -26,14 +26,20 @@
 use super::classification::lobe_roughness;
 use super::medium_segment::medium_roughness;
 use super::path_record::{CameraVertex, LightConnection, SplatEvent, SurfaceVertex, Terminal};
-use crate::geometry::{Ray, SurfaceHit, spawn_ray, spawn_ray_to_point};
+use crate::geometry::{Ray, SurfaceHit};
 use crate::integrators::TraceCounters;
-use crate::integrators::path::{PathSettings, emission_weight, oriented_hit};
+use crate::integrators::estimator::PathSettings;
+use crate::integrators::estimator::mis::{emission_weight, environment_emission};
+use crate::integrators::estimator::next_event::{
+    NextEventTerms, VertexScatter, sample_vertex_light,
+};
+use crate::integrators::estimator::shadow::{
+    light_visible_from_hit, shadow_ray, shadow_transmittance_with,
+};
 use crate::integrators::path_space::{
     ScattererRef, Scattering, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState,
-    medium_leaving, walk,
+    medium_leaving, oriented_hit, walk,
 };
-use crate::integrators::volpath::{shadow_ray, shadow_transmittance_with};
 use crate::material::SurfaceBsdf;
 use crate::sampler::{DynSource, SampleSource, layout};
 use crate::scene::Scene;
@@ -173,9 +179,7 @@ impl WalkObserver for SeedRecorder<'_> {
                 scene,
                 self.settings,
                 light_index,
-                walk.previous.delta,
-                walk.previous.point,
-                walk.previous.pdf,
+                &walk.previous,
                 hit.point,
                 hit.geometric_normal,
             );
@@ -198,21 +202,14 @@ impl WalkObserver for SeedRecorder<'_> {
         // The path tracer's value (`path::PathRadiance::escaped`).
         let value = (!scene.has_media()).then(|| {
             let mut total = SampledSpectrum::zero();
-            for &index in &scene.environment_lights {
-                let emitted =
-                    scene.lights[index as usize].environment_radiance(direction, wavelengths);
-                let weight = emission_weight(
-                    scene,
-                    self.settings,
-                    index,
-                    walk.previous.delta,
-                    walk.previous.point,
-                    walk.previous.pdf,
-                    walk.previous.point + direction,
-                    Vec3::ZERO,
-                );
-                total += walk.beta * emitted * weight;
-            }
+            environment_emission(
+                scene,
+                self.settings,
+                &walk.previous,
+                direction,
+                wavelengths,
+                |emitted, weight| total += walk.beta * emitted * weight,
+            );
             (total, *wavelengths)
         });
         self.push_event(
@@ -352,13 +349,7 @@ fn sample_light(
     sampler: &mut dyn SampleSource,
     counters: &mut TraceCounters,
 ) -> Option<LightConnection> {
-    let light_sample = crate::integrators::path::sample_vertex_light(
-        scene,
-        reference,
-        block,
-        wavelengths,
-        sampler,
-    )?;
+    let light_sample = sample_vertex_light(scene, reference, block, wavelengths, sampler)?;
     let sample = &light_sample.sample;
     if scene.has_media() {
         let (ray, t_max) = shadow_ray(reference, hit, sample)?;
@@ -380,27 +371,18 @@ fn sample_light(
     } else {
         let hit = hit.expect("without media every vertex is on a surface");
         counters.shadow_rays += 1;
-        let visible = if sample.is_infinite {
-            let ray = spawn_ray(hit, sample.wi);
-            !scene.geometry.occluded(&ray, f32::INFINITY)
-        } else {
-            match spawn_ray_to_point(hit, sample.point, sample.normal) {
-                Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
-                None => false,
-            }
-        };
-        if !visible {
+        if !light_visible_from_hit(scene, hit, sample) {
             return None;
         }
     }
     Some(LightConnection::from_sample(scene, light_sample))
 }
 
-/// Next-event estimation at a surface vertex of a scene without media, as
-/// the path tracer's (`path::sample_light`): the light sample's connection
-/// and its contribution `β f |cos| Le w / p`, if the BSDF passes light that
-/// way and the light is visible (no shadow ray otherwise, as the path
-/// tracer).
+/// Next-event estimation at a surface vertex of a scene without media, with
+/// the path tracer's terms and weight ([`NextEventTerms`]): the light
+/// sample's connection and its contribution `β f |cos| Le w / p`, if the
+/// BSDF passes light that way and the light is visible (no shadow ray
+/// otherwise, as the path tracer).
 #[allow(clippy::too_many_arguments)]
 fn sample_surface_light(
     scene: &Scene,
@@ -414,39 +396,20 @@ fn sample_surface_light(
     sampler: &mut dyn SampleSource,
     counters: &mut TraceCounters,
 ) -> Option<(LightConnection, SampledSpectrum)> {
-    let light_sample = crate::integrators::path::sample_vertex_light(
-        scene,
-        reference,
-        walk.block,
-        wavelengths,
-        sampler,
-    )?;
-    let sample = &light_sample.sample;
-    let (value, bsdf_pdf) = bsdf.evaluate_with_pdf(wo, sample.wi, wavelengths);
-    let value = value * sample.wi.dot(bsdf.frame.normal()).abs();
-    if value.is_black() {
+    let light_sample = sample_vertex_light(scene, reference, walk.block, wavelengths, sampler)?;
+    let terms =
+        NextEventTerms::of_sample(VertexScatter::Surface(bsdf), wo, &light_sample, wavelengths);
+    if terms.scattered.is_black() {
         return None;
     }
     counters.shadow_rays += 1;
-    let visible = if sample.is_infinite {
-        let ray = spawn_ray(hit, sample.wi);
-        !scene.geometry.occluded(&ray, f32::INFINITY)
-    } else {
-        match spawn_ray_to_point(hit, sample.point, sample.normal) {
-            Some((ray, t_max)) => !scene.geometry.occluded(&ray, t_max),
-            None => false,
-        }
-    };
-    if !visible {
+    if !light_visible_from_hit(scene, hit, &light_sample.sample) {
         return None;
     }
-    let light_pdf = light_sample.selection_probability * sample.pdf;
-    let weight_over_pdf = if sample.is_delta {
-        1.0 / light_pdf
-    } else {
-        settings.heuristic.weight_over_density(light_pdf, bsdf_pdf)
-    };
-    let contribution = walk.beta * value * sample.radiance * weight_over_pdf;
+    let contribution = walk.beta
+        * terms.scattered
+        * light_sample.sample.radiance
+        * terms.weight_over_density(settings.heuristic);
     Some((
         LightConnection::from_sample(scene, light_sample),
         contribution,

@@ -4,6 +4,9 @@
 //! through the rescaled path probabilities `r_u`, `r_l`, balance heuristic
 //! against next-event estimation, transmittance of shadow rays) of a given
 //! vertex sequence, and the density of its suffix (see [`super::path_walk`]).
+//! The next-event terms, the balance weights of emission and next events
+//! and Russian roulette are the volumetric path tracer's own, called from
+//! [`crate::integrators::estimator`].
 //!
 //! Every segment is traced again between its two vertices (through
 //! index-matched boundaries) for its transmittance at the path's own
@@ -21,17 +24,22 @@
 use super::medium_segment::{SegmentTarget, trace_segment};
 use super::path_record::{CameraVertex, SurfaceVertex, Terminal};
 use super::path_walk::{
-    SPECULAR_DIRECTION_COSINE, WalkInput, WalkedPath, full_path_next_event, non_specular_eta,
+    FixedScattering, WalkInput, WalkedPath, finish, fixed_next_event, next_event_density,
+    not_positive, scatter_at_surface, survive_roulette,
 };
 use super::segment_cache::SegmentReuse;
 use super::statistics::FailureReason;
 use crate::geometry::{Ray, offset_ray_origin, spawn_ray, spawn_ray_through};
 use crate::integrators::TraceCounters;
-use crate::integrators::path::PathSettings;
-use crate::integrators::path_space::medium_leaving;
-use crate::integrators::volpath::{shadow_ray, shadow_transmittance_with};
-use crate::light::LightSample;
-use crate::sampler::{SampleSource, layout};
+use crate::integrators::estimator::PathSettings;
+use crate::integrators::estimator::mis::{
+    balance_weighted_emission, emission_light_density, environment_emission_densities,
+};
+use crate::integrators::estimator::next_event::VertexScatter;
+use crate::integrators::estimator::roulette::roulette_throughput;
+use crate::integrators::estimator::shadow::{shadow_ray, shadow_transmittance_with};
+use crate::integrators::path_space::{PreviousScattering, medium_leaving};
+use crate::sampler::SampleSource;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec3;
@@ -53,44 +61,27 @@ fn segment_ray(
     }
 }
 
-/// The path state between vertices (volpath's `PathState`).
+/// The path state between vertices (volpath's walk state, with the
+/// rescaled light-sampling probability kept along).
 struct State {
     beta: SampledSpectrum,
     r_u: SampledSpectrum,
     r_l: SampledSpectrum,
-    specular_bounce: bool,
-    previous_point: Vec3,
+    /// The last scattering (the camera at first).
+    previous: PreviousScattering,
     medium: Option<u32>,
 }
 
 impl State {
-    /// Balance-weighted emission found after the last vertex (volpath's
-    /// `add_emission`).
+    /// Balance-weighted emission found after the last vertex, as volpath
+    /// weighs it ([`balance_weighted_emission`]).
     fn emission(&self, emitted: SampledSpectrum, light_pdf: f32) -> SampledSpectrum {
-        let denominator = if self.specular_bounce {
-            self.r_u.average()
-        } else {
-            (self.r_u + self.r_l * light_pdf).average()
-        };
-        if denominator > 0.0 && !emitted.is_black() {
-            self.beta * emitted / denominator
-        } else {
-            SampledSpectrum::zero()
+        if emitted.is_black() {
+            return SampledSpectrum::zero();
         }
-    }
-
-    /// The light density of found emission (volpath's `light_density`).
-    fn light_density(&self, scene: &Scene, light_index: u32, point: Vec3, normal: Vec3) -> f32 {
-        if self.specular_bounce {
-            return 0.0;
-        }
-        scene.light_sampler.probability(light_index as usize)
-            * scene.lights[light_index as usize].pdf_incident(
-                &scene.geometry,
-                self.previous_point,
-                point,
-                normal,
-            )
+        let r_l = (!self.previous.delta).then_some(self.r_l);
+        balance_weighted_emission(self.beta, emitted, self.r_u, r_l, light_pdf)
+            .unwrap_or(SampledSpectrum::zero())
     }
 
     /// Multiplies in the free flight of a traced segment that ends at
@@ -148,8 +139,11 @@ pub fn walk_volumetric(
         beta: SampledSpectrum::splat(1.0),
         r_u: SampledSpectrum::splat(1.0),
         r_l: SampledSpectrum::splat(1.0),
-        specular_bounce: true,
-        previous_point: camera.origin,
+        previous: PreviousScattering {
+            point: camera.origin,
+            pdf: 0.0,
+            delta: true,
+        },
         medium: scene.camera_medium,
     };
     let mut eta_scale = 1.0f32;
@@ -227,9 +221,10 @@ pub fn walk_volumetric(
                 wo,
                 &wavelengths,
             );
-            let light_pdf = state.light_density(
+            let light_pdf = emission_light_density(
                 scene,
                 light_index,
+                &state.previous,
                 vertex.raw_hit.point,
                 vertex.raw_hit.geometric_normal,
             );
@@ -261,18 +256,10 @@ pub fn walk_volumetric(
             Some(_) => offset_ray_origin(vertex.hit.point, vertex.hit.geometric_normal, wo),
             None => vertex.raw_hit.point,
         };
-        let scatter = |wi: Vec3, wavelengths: &SampledWavelengths| -> (SampledSpectrum, f32) {
-            match (&surface, phase) {
-                (Some(bsdf), _) => (
-                    bsdf.evaluate(wo, wi, wavelengths) * wi.dot(bsdf.frame.normal()).abs(),
-                    bsdf.pdf(wo, wi),
-                ),
-                (None, Some(phase)) => {
-                    let value = phase.evaluate(wo, wi);
-                    (SampledSpectrum::splat(value), phase.pdf(wo, wi))
-                }
-                (None, None) => (SampledSpectrum::zero(), 0.0),
-            }
+        let scatter = match (&surface, phase) {
+            (Some(bsdf), _) => VertexScatter::Surface(bsdf),
+            (None, Some(phase)) => VertexScatter::Medium(phase),
+            (None, None) => return Err(FailureReason::Evaluation),
         };
         let hit = if vertex.is_medium() {
             None
@@ -281,71 +268,17 @@ pub fn walk_volumetric(
         };
 
         if last && let Terminal::NextEvent(connection) = input.terminal {
-            let light = &scene.lights[connection.light_index];
-            // The full-path breakup b = k samples the light point again
-            // with the member's light-position numbers.
-            let sample = if full_path_next_event(input) {
-                light
-                    .sample_incident(
-                        &scene.geometry,
-                        reference,
-                        connection.u_primitive,
-                        numbers.get_2d(layout::vertex(m, layout::LIGHT_POSITION)),
-                        &wavelengths,
-                    )
-                    .ok_or(FailureReason::Evaluation)?
-            } else if connection.is_delta {
-                light
-                    .sample_incident(
-                        &scene.geometry,
-                        reference,
-                        connection.u_primitive,
-                        connection.u_position,
-                        &wavelengths,
-                    )
-                    .ok_or(FailureReason::Evaluation)?
-            } else if connection.is_infinite {
-                let wi = connection.direction;
-                LightSample {
-                    radiance: light.environment_radiance(wi, &wavelengths),
-                    wi,
-                    point: connection.point,
-                    normal: Vec3::ZERO,
-                    uv: glam::Vec2::ZERO,
-                    pdf: light.pdf_incident(&scene.geometry, reference, reference + wi, Vec3::ZERO),
-                    is_delta: false,
-                    is_infinite: true,
-                }
-            } else {
-                let wi = (connection.point - reference).normalize();
-                LightSample {
-                    radiance: light.emitted_radiance(
-                        connection.stored_normal,
-                        connection.uv,
-                        -wi,
-                        &wavelengths,
-                    ),
-                    wi,
-                    point: connection.point,
-                    normal: connection.front_normal,
-                    uv: connection.uv,
-                    pdf: light.pdf_incident(
-                        &scene.geometry,
-                        reference,
-                        connection.point,
-                        connection.stored_normal,
-                    ),
-                    is_delta: false,
-                    is_infinite: false,
-                }
-            };
-            if sample.radiance.is_black() || !(sample.pdf > 0.0 && sample.pdf.is_finite()) {
-                return Err(FailureReason::Evaluation);
-            }
-            let (value, scatter_pdf) = scatter(sample.wi, &wavelengths);
-            if value.is_black() {
-                return Err(FailureReason::Evaluation);
-            }
+            let (sample, terms) = fixed_next_event(
+                scene,
+                input,
+                connection,
+                m,
+                reference,
+                scatter,
+                wo,
+                numbers,
+                &wavelengths,
+            )?;
             let (ray, t_max) =
                 shadow_ray(reference, hit, &sample).ok_or(FailureReason::Evaluation)?;
             let shadow_medium = medium_leaving(scene, hit, state.medium, sample.wi);
@@ -363,29 +296,15 @@ pub fn walk_volumetric(
             if transmittance.is_black() {
                 return Err(FailureReason::Occluded);
             }
-            let light_pdf = connection.selection_probability * sample.pdf;
-            let r_l = state.r_u * light_pdf;
-            let denominator = if sample.is_delta {
-                r_l.average()
-            } else {
-                (r_l + state.r_u * scatter_pdf).average()
-            };
+            let denominator = terms.balance_denominator(state.r_u);
             if not_positive(denominator) {
                 return Err(FailureReason::Evaluation);
             }
             if in_suffix(m + 1) && !connection.is_delta {
-                let mut density = sample.pdf as f64;
-                if !connection.is_infinite {
-                    let to_light = connection.point - vertex.raw_hit.point;
-                    let distance_squared = to_light.length_squared() as f64;
-                    density *= connection.stored_normal.dot(to_light).abs() as f64
-                        / distance_squared.sqrt()
-                        / distance_squared;
-                }
-                suffix_density *= density;
+                suffix_density *= next_event_density(connection, sample.pdf, vertex.raw_hit.point);
             }
             return finish(
-                state.beta * value * transmittance * sample.radiance / denominator,
+                state.beta * terms.scattered * transmittance * sample.radiance / denominator,
                 wavelengths,
                 suffix_density,
             );
@@ -401,34 +320,20 @@ pub fn walk_volumetric(
         };
         match &surface {
             Some(bsdf) => {
-                let specular = vertex.sampled.is_specular();
-                let (value, pdf) = if specular {
-                    let u_component = numbers.get(layout::vertex(m, layout::SCATTER_COMPONENT));
-                    let u = numbers.get_2d(layout::vertex(m, layout::SCATTER_DIRECTION));
-                    let sample = bsdf
-                        .sample(wo, u_component, u, &mut wavelengths)
-                        .ok_or(FailureReason::Evaluation)?;
-                    if sample.flags != vertex.sampled
-                        || sample.wi.dot(wi) < SPECULAR_DIRECTION_COSINE
-                    {
-                        return Err(FailureReason::ModeChange);
-                    }
-                    if sample.is_transmission() {
-                        eta_scale *= sample.eta * sample.eta;
-                    }
-                    (sample.value, sample.pdf)
-                } else {
-                    eta_scale *= non_specular_eta(vertex, bsdf, wo, wi)?;
-                    (bsdf.evaluate(wo, wi, &wavelengths), bsdf.pdf(wo, wi))
-                };
-                if not_positive(pdf) || value.is_black() {
-                    return Err(FailureReason::Evaluation);
-                }
-                let cosine = wi.dot(bsdf.frame.normal()).abs();
-                state.beta *= value * (cosine / pdf);
+                let FixedScattering {
+                    factor,
+                    pdf,
+                    eta_factor,
+                    specular,
+                } = scatter_at_surface(vertex, bsdf, wo, wi, m, numbers, &mut wavelengths)?;
+                eta_scale *= eta_factor;
+                state.beta *= factor;
                 state.r_l = state.r_u / pdf;
-                state.specular_bounce = specular;
-                state.previous_point = reference;
+                state.previous = PreviousScattering {
+                    point: reference,
+                    pdf,
+                    delta: specular,
+                };
                 direction_density = (!specular).then_some(pdf as f64);
                 state.medium = medium_leaving(scene, hit, state.medium, wi);
             }
@@ -440,8 +345,11 @@ pub fn walk_volumetric(
                 }
                 state.beta *= phase.evaluate(wo, wi) / pdf;
                 state.r_l = state.r_u / pdf;
-                state.specular_bounce = false;
-                state.previous_point = reference;
+                state.previous = PreviousScattering {
+                    point: reference,
+                    pdf,
+                    delta: false,
+                };
                 direction_density = Some(pdf as f64);
             }
         }
@@ -449,14 +357,12 @@ pub fn walk_volumetric(
         if not_positive(r_u_mean) {
             return Err(FailureReason::Evaluation);
         }
-        let roulette_throughput = (state.beta * (eta_scale / r_u_mean)).max_component();
-        state.beta /= crate::integrators::path::russian_roulette(
-            roulette_throughput,
-            m as u32,
-            settings.russian_roulette_depth,
-            || numbers.get(layout::vertex(m, layout::RUSSIAN_ROULETTE)),
-        )
-        .ok_or(FailureReason::RussianRoulette)?;
+        state.beta /= survive_roulette(
+            roulette_throughput(state.beta, eta_scale, Some(r_u_mean)),
+            m,
+            settings,
+            numbers,
+        )?;
         if state.beta.is_black() {
             return Err(FailureReason::Evaluation);
         }
@@ -490,33 +396,12 @@ pub fn walk_volumetric(
         suffix_density *= flight_density * direction_density.unwrap_or(1.0);
     }
     let mut total = SampledSpectrum::zero();
-    for &index in &scene.environment_lights {
-        let emitted = scene.lights[index as usize].environment_radiance(direction, &wavelengths);
-        let light_pdf =
-            state.light_density(scene, index, state.previous_point + direction, Vec3::ZERO);
-        total += state.emission(emitted, light_pdf);
-    }
+    environment_emission_densities(
+        scene,
+        &state.previous,
+        direction,
+        &wavelengths,
+        |emitted, light_pdf| total += state.emission(emitted, light_pdf),
+    );
     finish(total, wavelengths, suffix_density)
-}
-
-/// Whether `value` is zero, negative or NaN.
-fn not_positive(value: f32) -> bool {
-    value.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
-}
-
-/// The walked path, or `Evaluation` for a black contribution.
-fn finish(
-    contribution: SampledSpectrum,
-    wavelengths: SampledWavelengths,
-    suffix_density: f64,
-) -> Result<WalkedPath, FailureReason> {
-    if contribution.is_black() {
-        return Err(FailureReason::Evaluation);
-    }
-    Ok(WalkedPath {
-        contribution,
-        wavelengths,
-        suffix_density,
-        reused_seed_steps: false,
-    })
 }

@@ -57,10 +57,12 @@
 //! Participating media: the walks are volumetric and connections carry the
 //! transmittance as in BDPT, but merging happens on surfaces only.
 
+mod merging;
+
 use super::bdpt::mis::{Strategies, VertexDensities};
-use super::bdpt::{Bidirectional, BidirectionalScratch, LightOrigin};
+use super::bdpt::{BdptSettings, Bidirectional, BidirectionalScratch, LightOrigin};
 use super::driver::{PassWork, PixelSampleIndex, SplatEstimator, render_splat_paths};
-use super::path::PathSettings;
+use super::estimator::PathSettings;
 use super::path_space::{Scatterer, Vertex};
 use super::{Integrator, IntegratorDetails, IntegratorRender, RenderError, RunControl};
 use super::{MisHeuristic, TraceCounters};
@@ -69,6 +71,7 @@ use crate::sampler::{PixelSampler, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec3;
+use merging::{MergeScratch, MergingPass};
 use rayon::prelude::*;
 use std::sync::{Arc, Mutex, RwLock};
 
@@ -543,25 +546,6 @@ pub(crate) struct GridPoint {
     pub position: Vec3,
 }
 
-/// What a camera subpath of an iteration needs of it.
-pub(crate) struct MergingPass<'a> {
-    /// The iteration's wavelengths.
-    pub wavelengths: SampledWavelengths,
-    /// The iteration's time sample (0.5 without motion blur).
-    pub time_sample: f32,
-    /// The techniques and η.
-    pub strategies: Strategies,
-    /// Photon mapping: merge at the first non-specular vertex, no MIS.
-    pub first_merge_only: bool,
-    /// 1 / (π r² N).
-    pub normalisation: f32,
-    /// The light subpaths.
-    pub lights: &'a LightStore,
-    /// The pixel whose camera subpath merges: it connects to the light
-    /// subpath traced for it.
-    pub pixel: (u32, u32),
-}
-
 /// An iteration: its shared numbers and its light subpaths.
 struct Iteration {
     wavelengths: SampledWavelengths,
@@ -622,9 +606,11 @@ struct LightPassTile {
     mergeable: Vec<GridPoint>,
 }
 
-/// A work unit: the bidirectional scratch and the iteration it renders.
+/// A work unit: the bidirectional and merging scratch and the iteration it
+/// renders.
 struct VcmUnit {
     scratch: BidirectionalScratch,
+    merging: MergeScratch,
     iteration: Option<Arc<Iteration>>,
 }
 
@@ -684,7 +670,12 @@ impl Integrator for VcmIntegrator {
         let [width, height] = scene.camera.resolution();
         let (_, scene_radius) = scene.geometry.bounds().bounding_sphere();
         let estimator = VcmEstimator {
-            bidirectional: Bidirectional::for_vertex_merging(scene, &self.settings)?,
+            bidirectional: Bidirectional::new(
+                scene,
+                &self.settings,
+                BdptSettings::default(),
+                "vcm",
+            )?,
             vcm: self.vcm,
             heuristic: self.settings.heuristic,
             scene_radius,
@@ -743,6 +734,7 @@ impl SplatEstimator for VcmEstimator<'_> {
     fn new_unit(&self) -> VcmUnit {
         VcmUnit {
             scratch: BidirectionalScratch::default(),
+            merging: MergeScratch::default(),
             iteration: self
                 .iteration
                 .read()
@@ -752,7 +744,7 @@ impl SplatEstimator for VcmEstimator<'_> {
     }
 
     fn merge_unit(&self, total: &mut u64, unit: VcmUnit, _kept: bool) {
-        *total += unit.scratch.merges;
+        *total += unit.merging.count;
     }
 
     /// One iteration per pass.
@@ -929,7 +921,7 @@ impl SplatEstimator for VcmEstimator<'_> {
         let Some(iteration) = &unit.iteration else {
             return;
         };
-        let pass = MergingPass {
+        let mut pass = MergingPass {
             wavelengths: iteration.wavelengths,
             time_sample: iteration.time_sample,
             strategies: iteration.strategies,
@@ -937,10 +929,12 @@ impl SplatEstimator for VcmEstimator<'_> {
             normalisation: iteration.normalisation,
             lights: &iteration.lights,
             pixel: path.pixel,
+            scratch: &mut unit.merging,
         };
-        self.bidirectional.trace_merging_sample(
+        self.bidirectional.trace_pixel_sample(
             &mut unit.scratch,
-            &pass,
+            path.pixel,
+            Some(&mut pass),
             sampler,
             splats,
             counters,
