@@ -219,22 +219,19 @@ impl StrategyFilms {
     }
 }
 
-/// An emitter the camera subpath reached (a strategy with s = 0).
+/// Light the camera subpath reached (a strategy with s = 0): an emitter
+/// its segment met, or the environments it escaped to.
 #[derive(Debug, Clone, Copy)]
-struct EmitterHit {
+struct ReachedLight {
     /// Scattering vertices of the camera subpath before it.
     vertices_before: usize,
-    light_index: u32,
-    point: Vec3,
-    /// The geometric normal as stored (the light flips it itself).
-    stored_normal: Vec3,
-    uv: Vec2,
-    /// Unit direction towards the previous vertex.
-    wo: Vec3,
+    /// What it reached.
+    end: ReachedEnd,
     /// The subpath's throughput on arrival.
     beta: SampledSpectrum,
-    /// Area density of the point sampled from the previous vertex
-    /// (without the free flight).
+    /// The density of the end sampled from the previous vertex: per unit
+    /// area at an emitter (without the free flight), per unit solid angle
+    /// towards the environments (0 after a delta).
     pdf_forward: f32,
     /// Per wavelength, the probability of passing the segment to it.
     arrival_transmittance: SampledSpectrum,
@@ -242,21 +239,21 @@ struct EmitterHit {
     spectral_density_ratio: SampledSpectrum,
 }
 
-/// An escape of the camera subpath to the environments (s = 0).
+/// Where the camera subpath reached light.
 #[derive(Debug, Clone, Copy)]
-struct EnvironmentEscape {
-    /// Scattering vertices of the camera subpath before it.
-    vertices_before: usize,
-    /// The unit direction of escape.
-    direction: Vec3,
-    /// The subpath's throughput on escape.
-    beta: SampledSpectrum,
-    /// The solid-angle density of the direction (0 after a delta).
-    pdf_forward: f32,
-    /// Per wavelength, the probability of passing the segment.
-    arrival_transmittance: SampledSpectrum,
-    /// The walk's spectral density ratio on escape.
-    spectral_density_ratio: SampledSpectrum,
+enum ReachedEnd {
+    /// A point of an emitter.
+    Emitter {
+        light_index: u32,
+        point: Vec3,
+        /// The geometric normal as stored (the light flips it itself).
+        stored_normal: Vec3,
+        uv: Vec2,
+        /// Unit direction towards the previous vertex.
+        wo: Vec3,
+    },
+    /// The environments, in a unit direction.
+    Environment { direction: Vec3 },
 }
 
 /// The light subpath's first vertex: the point on the light.
@@ -284,8 +281,7 @@ pub(crate) struct LightOrigin {
 #[derive(Default)]
 pub struct BidirectionalScratch {
     camera: Vec<Vertex>,
-    emitters: Vec<EmitterHit>,
-    escapes: Vec<EnvironmentEscape>,
+    reached: Vec<ReachedLight>,
     light: Vec<Vertex>,
     camera_densities: Vec<VertexDensities>,
     light_densities: Vec<VertexDensities>,
@@ -352,11 +348,10 @@ pub(crate) struct Bidirectional<'a> {
 }
 
 /// The camera subpath's observer: records the vertices with their
-/// densities, and the emitters reached.
+/// densities, and the light reached (emitters, then the environments).
 struct CameraSubpathRecorder<'a> {
     vertices: &'a mut Vec<Vertex>,
-    emitters: &'a mut Vec<EmitterHit>,
-    escapes: &'a mut Vec<EnvironmentEscape>,
+    reached: &'a mut Vec<ReachedLight>,
     camera_point: Vec3,
 }
 
@@ -383,13 +378,15 @@ impl WalkObserver for CameraSubpathRecorder<'_> {
                 hit.geometric_normal,
             )
         };
-        self.emitters.push(EmitterHit {
+        self.reached.push(ReachedLight {
             vertices_before: self.vertices.len(),
-            light_index,
-            point: hit.point,
-            stored_normal: hit.geometric_normal,
-            uv: hit.uv,
-            wo,
+            end: ReachedEnd::Emitter {
+                light_index,
+                point: hit.point,
+                stored_normal: hit.geometric_normal,
+                uv: hit.uv,
+                wo,
+            },
             beta: walk.beta,
             pdf_forward,
             arrival_transmittance: walk.segment_transmittance,
@@ -398,9 +395,9 @@ impl WalkObserver for CameraSubpathRecorder<'_> {
     }
 
     fn escaped(&mut self, walk: &WalkState, direction: Vec3, _wavelengths: &SampledWavelengths) {
-        self.escapes.push(EnvironmentEscape {
+        self.reached.push(ReachedLight {
             vertices_before: self.vertices.len(),
-            direction,
+            end: ReachedEnd::Environment { direction },
             beta: walk.beta,
             pdf_forward: if walk.previous.delta {
                 0.0
@@ -845,16 +842,14 @@ impl Bidirectional<'_> {
         }
         let BidirectionalScratch {
             camera: camera_vertices,
-            emitters,
-            escapes,
+            reached,
             light: light_vertices,
             camera_densities,
             light_densities,
             strategy_splats,
         } = scratch;
         camera_vertices.clear();
-        emitters.clear();
-        escapes.clear();
+        reached.clear();
         walk(
             scene,
             WalkStart {
@@ -877,8 +872,7 @@ impl Bidirectional<'_> {
             counters,
             &mut CameraSubpathRecorder {
                 vertices: camera_vertices,
-                emitters,
-                escapes,
+                reached,
                 camera_point: camera_ray.origin,
             },
         );
@@ -921,14 +915,35 @@ impl Bidirectional<'_> {
         // camera subpath's raster position.
         let mut camera_side = SampledSpectrum::zero();
 
-        // s = 0: emitters the camera subpath reached.
-        for hit in emitters.iter() {
-            let light = &scene.lights[hit.light_index as usize];
-            let emitted = light.emitted_radiance(hit.stored_normal, hit.uv, hit.wo, &wavelengths);
+        // s = 0: emitters the camera subpath reached, and the
+        // environments it escaped to.
+        for reached in reached.iter() {
+            let emitted = match reached.end {
+                ReachedEnd::Emitter {
+                    light_index,
+                    stored_normal,
+                    uv,
+                    wo,
+                    ..
+                } => scene.lights[light_index as usize].emitted_radiance(
+                    stored_normal,
+                    uv,
+                    wo,
+                    &wavelengths,
+                ),
+                ReachedEnd::Environment { direction } => {
+                    let mut emitted = SampledSpectrum::zero();
+                    for &index in &scene.environment_lights {
+                        emitted += scene.lights[index as usize]
+                            .environment_radiance(direction, &wavelengths);
+                    }
+                    emitted
+                }
+            };
             if emitted.is_black() {
                 continue;
             }
-            let t = hit.vertices_before + 2;
+            let t = reached.vertices_before + 2;
             if !wanted(0, t) {
                 continue;
             }
@@ -938,98 +953,64 @@ impl Bidirectional<'_> {
                 t - 1,
                 camera_densities,
             );
-            let choice = scene.light_sampler.probability(hit.light_index as usize);
-            let emission_pdf =
-                light.pdf_emission(&scene.geometry, hit.point, hit.wo, hit.stored_normal);
+            let previous = (t >= 3).then(|| &camera_vertices[t - 3]);
+            // The density of the end as a light subpath's origin, and of
+            // z_{t−2} as that subpath's first vertex.
+            let (origin_density, predecessor_density) = match reached.end {
+                ReachedEnd::Emitter {
+                    light_index,
+                    point,
+                    stored_normal,
+                    wo,
+                    ..
+                } => {
+                    let light = &scene.lights[light_index as usize];
+                    let choice = scene.light_sampler.probability(light_index as usize);
+                    let emission_pdf =
+                        light.pdf_emission(&scene.geometry, point, wo, stored_normal);
+                    (
+                        choice * emission_pdf.position,
+                        previous.map(|previous| {
+                            solid_angle_to_area(
+                                emission_pdf.direction,
+                                point,
+                                previous.point,
+                                previous.geometric_normal,
+                            )
+                        }),
+                    )
+                }
+                // From the sky: the disk's density, times the cosine there.
+                ReachedEnd::Environment { direction } => (
+                    self.environment_density(direction),
+                    previous.map(|previous| self.disk_density(direction, previous)),
+                ),
+            };
             camera_densities.push(VertexDensities {
-                forward: hit.pdf_forward,
-                reverse: choice * emission_pdf.position,
-                forward_free_flight: hit.arrival_transmittance,
+                forward: reached.pdf_forward,
+                reverse: origin_density,
+                forward_free_flight: reached.arrival_transmittance,
                 reverse_free_flight: SampledSpectrum::splat(1.0),
                 delta: false,
                 on_surface: true,
             });
-            if t >= 3 {
-                let previous = &camera_vertices[t - 3];
-                camera_densities[t - 2].set_reverse(
-                    solid_angle_to_area(
-                        emission_pdf.direction,
-                        hit.point,
-                        previous.point,
-                        previous.geometric_normal,
-                    ),
-                    hit.arrival_transmittance * previous.extinction,
-                );
+            if let (Some(previous), Some(density)) = (previous, predecessor_density) {
+                camera_densities[t - 2]
+                    .set_reverse(density, reached.arrival_transmittance * previous.extinction);
             }
-            let weight = match pass
-                .as_ref()
-                .and_then(|pass| pass.reached_light_weight(camera_vertices, hit.vertices_before))
-            {
+            let weight = match pass.as_ref().and_then(|pass| {
+                pass.reached_light_weight(camera_vertices, reached.vertices_before)
+            }) {
                 Some(weight) => weight,
                 None => strategy_weight(
                     camera_densities,
                     &[],
                     false,
                     strategies,
-                    self.media.then_some(&hit.spectral_density_ratio),
+                    self.media.then_some(&reached.spectral_density_ratio),
                 ),
             };
-            let value = hit.beta * emitted * weight;
-            self.record(strategy_splats, 0, t, raster, &value, &wavelengths);
-            camera_side += value;
-        }
-
-        // s = 0: escapes to the environments.
-        for escape in escapes.iter() {
-            let mut emitted = SampledSpectrum::zero();
-            for &index in &scene.environment_lights {
-                emitted += scene.lights[index as usize]
-                    .environment_radiance(escape.direction, &wavelengths);
-            }
-            if emitted.is_black() {
-                continue;
-            }
-            let t = escape.vertices_before + 2;
-            if !wanted(0, t) {
-                continue;
-            }
-            self.subpath_densities(
-                VertexDensities::default(),
-                camera_vertices,
-                t - 1,
-                camera_densities,
-            );
-            camera_densities.push(VertexDensities {
-                forward: escape.pdf_forward,
-                reverse: self.environment_density(escape.direction),
-                forward_free_flight: escape.arrival_transmittance,
-                reverse_free_flight: SampledSpectrum::splat(1.0),
-                delta: false,
-                on_surface: true,
-            });
-            if t >= 3 {
-                // The density of z_{t−2} as the first vertex of a light
-                // subpath from the sky: the disk's, times the cosine there.
-                let previous = &camera_vertices[t - 3];
-                camera_densities[t - 2].set_reverse(
-                    self.disk_density(escape.direction, previous),
-                    escape.arrival_transmittance * previous.extinction,
-                );
-            }
-            let weight = match pass
-                .as_ref()
-                .and_then(|pass| pass.reached_light_weight(camera_vertices, escape.vertices_before))
-            {
-                Some(weight) => weight,
-                None => strategy_weight(
-                    camera_densities,
-                    &[],
-                    false,
-                    strategies,
-                    self.media.then_some(&escape.spectral_density_ratio),
-                ),
-            };
-            let value = escape.beta * emitted * weight;
+            let value = reached.beta * emitted * weight;
             self.record(strategy_splats, 0, t, raster, &value, &wavelengths);
             camera_side += value;
         }
@@ -1084,7 +1065,7 @@ impl Bidirectional<'_> {
             to_linear_srgb(&camera_side, &wavelengths)
         };
         // Vertex merging with the pass's light vertices.
-        if let Some(pass) = pass.as_deref_mut()
+        if let Some(pass) = pass
             && strategies.merging.is_some()
         {
             let merged = pass.merges(
