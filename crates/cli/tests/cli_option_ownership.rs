@@ -242,6 +242,13 @@ fn every_integrator_option_of_the_help_is_a_case() {
         let integrator_heading = ["LQMC", "BDPT", "Metropolis", "VCM", "Path tracer"]
             .iter()
             .any(|name| heading.starts_with(name));
+        // An option's own line starts with it, indented by a few spaces;
+        // wrapped help text (clap wraps at 100 columns without a terminal)
+        // is indented to the description column and may name options too.
+        let indentation = line.len() - line.trim_start().len();
+        if indentation > 8 || !line.trim_start().starts_with('-') {
+            continue;
+        }
         let Some(long) = line.split_whitespace().find(|word| word.starts_with("--")) else {
             continue;
         };
