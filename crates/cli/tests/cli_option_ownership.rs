@@ -17,6 +17,10 @@ const LQMC: &[&str] = &["lqmc"];
 const BDPT: &[&str] = &["bdpt"];
 const VCM: &[&str] = &["vcm"];
 const METROPOLIS: &[&str] = &["pssmlt", "erpt", "mmlt"];
+/// Every integrator but mmlt, whose chains draw every number of their own.
+const SAMPLER_USERS: &[&str] = &[
+    "path", "volpath", "lqmc", "light", "bdpt", "pssmlt", "erpt", "vcm",
+];
 /// Few bootstrap samples, for fast Metropolis renders.
 const SHORT_BOOTSTRAP: &[&str] = &["--mlt-bootstrap", "64"];
 
@@ -54,6 +58,8 @@ const CASES: &[Case] = &[
         &["--sampler", "independent"],
     ),
     case(&["--splat-film"], &["path", "volpath"], &[]),
+    case(&["--sampler", "independent"], SAMPLER_USERS, &[]),
+    case(&["--randomize", "none"], SAMPLER_USERS, &[]),
     case(&["--explore", "aperture,image"], LQMC, &[]),
     case(&["--breakup", "2"], LQMC, &[]),
     case(&["--lattice-size", "normal=23"], LQMC, &[]),
@@ -225,6 +231,97 @@ fn the_rule_applies_to_the_integrator_chosen_for_the_scene() {
     }
 }
 
+/// Options read only under a condition: pssmlt reads the sampler only for
+/// its direct-light pass, and the volume walks of lqmc, erpt and pssmlt
+/// over paths weigh by the balance heuristic in scenes with media.
+#[test]
+fn options_read_only_under_a_condition_are_refused_where_it_fails() {
+    let directory = ScratchDirectory::new("option_ownership_conditional");
+    let refused: &[(&str, &[&str], &str)] = &[
+        (
+            "pssmlt",
+            &["--sampler", "sobol"],
+            "--sampler is read by pssmlt only for its direct-light pass",
+        ),
+        (
+            "pssmlt",
+            &["--randomize", "none"],
+            "--randomize is read by pssmlt only for its direct-light pass",
+        ),
+    ];
+    let in_media: &[(&str, &[&str])] = &[
+        ("lqmc", &[]),
+        ("erpt", SHORT_BOOTSTRAP),
+        ("pssmlt", SHORT_BOOTSTRAP),
+    ];
+    let mut runs: Vec<(Vec<String>, String)> = refused
+        .iter()
+        .map(|(integrator, extra, message)| {
+            (
+                render_arguments(&directory, integrator, extra),
+                message.to_string(),
+            )
+        })
+        .collect();
+    for (integrator, extra) in in_media {
+        let mut args = render_arguments(
+            &directory,
+            integrator,
+            &[[*extra, &["--mis", "power"]].concat()].concat(),
+        );
+        args[1] = "builtin:translucent-spheres".into();
+        runs.push((
+            args,
+            format!("--mis does not apply to {integrator} in a scene with participating media"),
+        ));
+    }
+    for (args, message) in runs {
+        let output = lqmc(&args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{args:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
+        assert!(stderr.contains(&message), "{args:?}: {stderr}");
+    }
+    // Where the condition holds, they render.
+    let accepted: &[(&str, &[&str])] = &[
+        (
+            "pssmlt",
+            &[
+                "--sampler",
+                "sobol",
+                "--mlt-direct-spp",
+                "1",
+                "--mlt-bootstrap",
+                "64",
+            ],
+        ),
+        (
+            "pssmlt",
+            &[
+                "--mis",
+                "power",
+                "--mlt-base",
+                "bdpt",
+                "--mlt-bootstrap",
+                "64",
+            ],
+        ),
+        ("mmlt", &["--mis", "power", "--mlt-bootstrap", "64"]),
+    ];
+    for (integrator, extra) in accepted {
+        let mut args = render_arguments(&directory, integrator, extra);
+        if extra.contains(&"--mis") {
+            args[1] = "builtin:translucent-spheres".into();
+        }
+        let output = lqmc(&args);
+        assert!(
+            output.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+    }
+}
+
 /// The table above covers every option under an integrator's heading in
 /// `lqmc render --help`.
 #[test]
@@ -252,7 +349,8 @@ fn every_integrator_option_of_the_help_is_a_case() {
         let Some(long) = line.split_whitespace().find(|word| word.starts_with("--")) else {
             continue;
         };
-        if integrator_heading || long == "--mis" || long == "--pattern-size" {
+        let shared_but_owned = ["--mis", "--pattern-size", "--sampler", "--randomize"];
+        if integrator_heading || shared_but_owned.contains(&long) {
             assert!(
                 CASES.iter().any(|case| option(case) == long),
                 "{long} (under {heading}) has no case"

@@ -10,12 +10,20 @@
 //! always, light tracing has no MIS); `--pattern-size` by those whose
 //! pixel samples come from the sampler (pssmlt's and mmlt's chains draw
 //! their own numbers); `--splat-film` by path and volpath only (LQMC always
-//! splats).
+//! splats); `--sampler` and `--randomize` by every integrator but mmlt,
+//! whose chains draw every number of their own.
+//!
+//! Two options are read only under conditions, checked once the scene is
+//! loaded by [`check_conditional_options`]: pssmlt reads the sampler only
+//! for its direct-light pass (`--mlt-direct-spp`), and in a scene with
+//! participating media the volume walks of lqmc, erpt and pssmlt over
+//! paths weigh by the balance heuristic whatever `--mis` says.
 
 use crate::error::{CliError, usage};
 use clap::ArgMatches;
 use clap::parser::ValueSource;
 use render::integrators::IntegratorKind;
+use render::integrators::pssmlt::MltBase;
 
 const LQMC: &[IntegratorKind] = &[IntegratorKind::Lqmc];
 const BDPT: &[IntegratorKind] = &[IntegratorKind::Bdpt];
@@ -53,10 +61,24 @@ const PIXEL_SAMPLE_USERS: &[IntegratorKind] = &[
     IntegratorKind::Vcm,
 ];
 
+/// The integrators that draw numbers from the render's sampler.
+const SAMPLER_USERS: &[IntegratorKind] = &[
+    IntegratorKind::Path,
+    IntegratorKind::VolPath,
+    IntegratorKind::Lqmc,
+    IntegratorKind::Light,
+    IntegratorKind::Bdpt,
+    IntegratorKind::Pssmlt,
+    IntegratorKind::Erpt,
+    IntegratorKind::Vcm,
+];
+
 /// Each integrator-specific option (its long name) with the integrators
 /// that read it.
 pub const OPTION_USERS: &[(&str, &[IntegratorKind])] = &[
     ("mis", MIS_USERS),
+    ("sampler", SAMPLER_USERS),
+    ("randomize", SAMPLER_USERS),
     ("pattern-size", PIXEL_SAMPLE_USERS),
     ("splat-film", PATH_TRACERS),
     ("explore", LQMC),
@@ -111,6 +133,11 @@ fn given(matches: &ArgMatches) -> impl Iterator<Item = (&'static str, &'static [
     })
 }
 
+/// Whether `--long` was given on the command line `matches` holds.
+fn given_option(matches: &ArgMatches, long: &str) -> bool {
+    given(matches).any(|(given, _)| given == long)
+}
+
 /// `kinds` by name, joined as a list: `pssmlt, erpt and mmlt`.
 fn names(kinds: &[IntegratorKind]) -> String {
     let names: Vec<&str> = kinds.iter().map(|kind| kind.name()).collect();
@@ -150,6 +177,45 @@ pub fn check_render_options(
             }
         ))),
     }
+}
+
+/// Refuses an option of `matches` (a render's) that `integrator` reads only
+/// under a condition the other options or the scene do not meet:
+/// `--sampler` or `--randomize` with pssmlt but without its direct-light
+/// pass, and `--mis` where a volume walk that always weighs by the balance
+/// heuristic renders the scene (`scene_has_media`).
+pub fn check_conditional_options(
+    matches: &ArgMatches,
+    integrator: IntegratorKind,
+    scene_has_media: bool,
+) -> Result<(), CliError> {
+    if integrator == IntegratorKind::Pssmlt && !given_option(matches, "mlt-direct-spp") {
+        if let Some(long) = ["sampler", "randomize"]
+            .into_iter()
+            .find(|long| given_option(matches, long))
+        {
+            return Err(usage(format!(
+                "--{long} is read by pssmlt only for its direct-light pass (--mlt-direct-spp); \
+                 its chains draw their own numbers"
+            )));
+        }
+    }
+    let path_base = matches
+        .get_one::<MltBase>("mlt_base")
+        .is_none_or(|base| *base == MltBase::Path);
+    let balance_always = match integrator {
+        IntegratorKind::Lqmc | IntegratorKind::Erpt => true,
+        IntegratorKind::Pssmlt => path_base,
+        _ => false,
+    };
+    if scene_has_media && balance_always && given_option(matches, "mis") {
+        return Err(usage(format!(
+            "--mis does not apply to {} in a scene with participating media: \
+             its volume walk weighs by the balance heuristic, as volpath's does",
+            integrator.name()
+        )));
+    }
+    Ok(())
 }
 
 /// Refuses an integrator-specific option of `matches` (a study's) that none

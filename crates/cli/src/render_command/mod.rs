@@ -19,7 +19,9 @@ pub use request::{RenderRequest, parse_time_budget, render_metadata, traced_samp
 pub use scene::{build_scene, default_path_tracer, load_scene_description};
 
 use crate::error::{CliError, usage};
-use crate::integrator_options::ownership::{Choice, check_render_options};
+use crate::integrator_options::ownership::{
+    Choice, check_conditional_options, check_render_options,
+};
 use crate::live_view::LiveView;
 use crate::replications::ReplicationRequest;
 use clap::ArgMatches;
@@ -97,6 +99,7 @@ fn prepare<'a>(
             kind
         }
     };
+    check_conditional_options(matches, kind, scene.has_media())?;
     let (request, replications) = render_request(args, &scene, kind)?;
     replicated::check_outputs(args, replications.as_ref(), format)?;
     if let Some(directory) = &args.integrators.bdpt.strategy_images {
