@@ -189,16 +189,16 @@ pub fn check_conditional_options(
     integrator: IntegratorKind,
     scene_has_media: bool,
 ) -> Result<(), CliError> {
-    if integrator == IntegratorKind::Pssmlt && !given_option(matches, "mlt-direct-spp") {
-        if let Some(long) = ["sampler", "randomize"]
+    if integrator == IntegratorKind::Pssmlt
+        && !given_option(matches, "mlt-direct-spp")
+        && let Some(long) = ["sampler", "randomize"]
             .into_iter()
             .find(|long| given_option(matches, long))
-        {
-            return Err(usage(format!(
-                "--{long} is read by pssmlt only for its direct-light pass (--mlt-direct-spp); \
-                 its chains draw their own numbers"
-            )));
-        }
+    {
+        return Err(usage(format!(
+            "--{long} is read by pssmlt only for its direct-light pass (--mlt-direct-spp); \
+             its chains draw their own numbers"
+        )));
     }
     let path_base = matches
         .get_one::<MltBase>("mlt_base")
