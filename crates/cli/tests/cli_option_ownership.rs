@@ -57,7 +57,7 @@ const CASES: &[Case] = &[
         &["path", "volpath", "lqmc", "light", "bdpt", "erpt", "vcm"],
         &["--sampler", "independent"],
     ),
-    case(&["--splat-film"], &["path", "volpath"], &[]),
+    case(&["--splat-film"], &["path", "volpath", "lqmc"], &[]),
     case(&["--sampler", "independent"], SAMPLER_USERS, &[]),
     case(&["--randomize", "none"], SAMPLER_USERS, &[]),
     case(&["--explore", "aperture,image"], LQMC, &[]),

@@ -20,7 +20,7 @@ pub mod headings {
     /// Options of the paths every integrator builds.
     pub const PATH: &str = "Path options";
     /// Options of the camera-path tracers path and volpath.
-    pub const PATH_TRACER: &str = "Path tracer options (path, volpath)";
+    pub const PATH_TRACER: &str = "Path tracer options (path, volpath; lqmc's seeds)";
     /// Options of LQMC.
     pub const LQMC: &str = "LQMC options";
     /// Options of BDPT.
@@ -72,14 +72,14 @@ impl PathArgs {
     }
 }
 
-/// Options of the camera-path tracers (path, volpath).
+/// Options of the camera-path tracers (path, volpath) and LQMC's seeds.
 #[derive(Args, Debug, Default)]
 #[command(next_help_heading = headings::PATH_TRACER)]
 pub struct PathTracerArgs {
     /// Place each sample uniformly in its pixel and splat it over the
     /// pixels of the scene's filter (Mitsuba's film) instead of
-    /// importance-sampling the filter (pbrt-v4's, the default); LQMC always
-    /// splats, so this is its like-for-like baseline.
+    /// importance-sampling the filter (pbrt-v4's, the default). LQMC: its
+    /// seeds too (its explored members are always splatted).
     #[arg(long)]
     pub splat_film: bool,
 }

@@ -9,8 +9,8 @@
 //! (volpath weighs techniques and wavelengths by the balance heuristic
 //! always, light tracing has no MIS); `--pattern-size` by those whose
 //! pixel samples come from the sampler (pssmlt's and mmlt's chains draw
-//! their own numbers); `--splat-film` by path and volpath only (LQMC always
-//! splats); `--sampler` and `--randomize` by every integrator but mmlt,
+//! their own numbers); `--splat-film` by path, volpath and lqmc (whose seeds
+//! otherwise land as the path tracer's camera samples); `--sampler` and `--randomize` by every integrator but mmlt,
 //! whose chains draw every number of their own.
 //!
 //! Two options are read only under conditions, checked once the scene is
@@ -38,8 +38,12 @@ const METROPOLIS: &[IntegratorKind] = &[
     IntegratorKind::Erpt,
     IntegratorKind::Mmlt,
 ];
-/// The camera-path tracers, whose film `--splat-film` changes.
-const PATH_TRACERS: &[IntegratorKind] = &[IntegratorKind::Path, IntegratorKind::VolPath];
+/// The camera-path tracers and LQMC, whose film `--splat-film` changes.
+const CAMERA_SAMPLE_FILMS: &[IntegratorKind] = &[
+    IntegratorKind::Path,
+    IntegratorKind::VolPath,
+    IntegratorKind::Lqmc,
+];
 /// The integrators that weigh their techniques by the MIS heuristic chosen.
 const MIS_USERS: &[IntegratorKind] = &[
     IntegratorKind::Path,
@@ -80,7 +84,7 @@ pub const OPTION_USERS: &[(&str, &[IntegratorKind])] = &[
     ("sampler", SAMPLER_USERS),
     ("randomize", SAMPLER_USERS),
     ("pattern-size", PIXEL_SAMPLE_USERS),
-    ("splat-film", PATH_TRACERS),
+    ("splat-film", CAMERA_SAMPLE_FILMS),
     ("explore", LQMC),
     ("breakup", LQMC),
     ("lattice-size", LQMC),

@@ -266,6 +266,47 @@ impl Filter {
         }
     }
 
+    /// The normalised 1-D factor of axis `axis` at `offset` (zero outside
+    /// the radius): every filter here is separable, and
+    /// [`Filter::evaluate`] is the product of the two axes' factors.
+    pub fn axis_value(&self, axis: usize, offset: f32) -> f64 {
+        let radius = self.radius()[axis] as f64;
+        let offset = offset as f64;
+        if offset.abs() > radius {
+            return 0.0;
+        }
+        match self {
+            Self::Box(_) => 0.5 / radius,
+            Self::Triangle(_) => (radius - offset.abs()) / (radius * radius),
+            Self::Gaussian(filter) => filter.axis_value(axis, offset as f32).unwrap_or(0.0),
+        }
+    }
+
+    /// The density of camera-sample positions at raster `position` when
+    /// every pixel of an image of `resolution` places equally many by
+    /// filter importance sampling ([`Filter::sample`] around its centre),
+    /// per pixel: `Σ_p f(position − centre_p)`, the sum of the weights a
+    /// splat at `position` gives the image's pixels. One inside the image
+    /// for the default box; near one inside it, falling off across its
+    /// border, for wider filters.
+    pub fn sample_density(&self, resolution: [u32; 2], position: [f32; 2]) -> f64 {
+        let radius = self.radius();
+        let mut density = 1.0;
+        for axis in 0..2 {
+            let x = position[axis] as f64;
+            let reach = radius[axis] as f64;
+            // Pixel centres c = i + ½ with |x − c| ≤ reach.
+            let first = (x - reach - 0.5).ceil().max(0.0) as i64;
+            let last = ((x + reach - 0.5).floor() as i64).min(resolution[axis] as i64 - 1);
+            let mut sum = 0.0;
+            for pixel in first..=last {
+                sum += self.axis_value(axis, (pixel as f64 + 0.5 - x) as f32);
+            }
+            density *= sum;
+        }
+        density
+    }
+
     /// An offset distributed exactly as [`Filter::evaluate`], from `u` in
     /// `[0, 1)²`, with weight `f / pdf = 1`.
     pub fn sample(&self, u: [f32; 2]) -> FilterSample {
@@ -287,6 +328,46 @@ impl Default for Filter {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The separable factors multiply to the filter, and the sample density
+    /// is the sum of the pixels' filter values (one inside the image for
+    /// the box, a partition of unity for the tent; zero beyond the reach).
+    #[test]
+    fn sample_density_sums_the_pixels_filter_values() {
+        for (name, filter) in filters_under_test() {
+            for offset in [[0.1, -0.3], [0.7, 0.2], [-1.2, 1.4], [2.5, 0.0]] {
+                let product = filter.axis_value(0, offset[0]) * filter.axis_value(1, offset[1]);
+                let value = filter.evaluate(offset) as f64;
+                assert!(
+                    (product - value).abs() <= 1e-6 * value.max(1e-6),
+                    "{name}: {offset:?}"
+                );
+            }
+            let resolution = [7, 5];
+            for position in [[3.3, 2.1], [0.2, 4.9], [-0.7, 1.5], [7.6, -0.4], [1.0, 1.0]] {
+                let mut sum = 0.0;
+                for y in 0..resolution[1] {
+                    for x in 0..resolution[0] {
+                        let offset = [
+                            position[0] - (x as f32 + 0.5),
+                            position[1] - (y as f32 + 0.5),
+                        ];
+                        sum += filter.evaluate(offset) as f64;
+                    }
+                }
+                let density = filter.sample_density(resolution, position);
+                assert!(
+                    (density - sum).abs() < 1e-5,
+                    "{name} at {position:?}: {density} vs {sum}"
+                );
+            }
+        }
+        let tent = Filter::Triangle(TriangleFilter::default());
+        assert!((tent.sample_density([9, 9], [4.3, 4.8]) - 1.0).abs() < 1e-6);
+        let unit_box = Filter::Box(BoxFilter::default());
+        assert_eq!(unit_box.sample_density([4, 4], [2.3, 0.1]), 1.0);
+        assert_eq!(unit_box.sample_density([4, 4], [-0.2, 0.1]), 0.0);
+    }
     use crate::statistics::chi_square_test;
     use qmc::random::SeekablePcg;
 

@@ -78,7 +78,7 @@ use super::TraceCounters;
 use super::camera_path::{CameraPathIntegrator, CameraPathRadiance};
 use super::estimator::PathSettings;
 use super::estimator::mis::{
-    balance_weighted_emission, emission_light_density, environment_emission_densities,
+    emission_light_density, environment_emission_densities, volumetric_emission,
 };
 use super::estimator::next_event::{VertexScatter, next_event_through_media};
 use super::path_space::{ScattererRef, VertexAt, WalkObserver, WalkState};
@@ -130,16 +130,9 @@ pub struct VolPathRadiance<'a> {
 impl VolPathRadiance<'_> {
     /// Adds emission `emitted` found after the walk's last scattering,
     /// balance-weighted against next-event estimation with light density
-    /// `light_pdf` ([`balance_weighted_emission`]). The rescaled
-    /// light-sampling probability of the path is its unidirectional one
-    /// over the density of the last sampled direction.
+    /// `light_pdf` ([`volumetric_emission`]).
     fn add_emission(&mut self, walk: &WalkState, emitted: SampledSpectrum, light_pdf: f32) {
-        if emitted.is_black() {
-            return;
-        }
-        let r_u = walk.spectral_density_ratio;
-        let r_l = (!walk.previous.delta).then(|| r_u / walk.previous.pdf);
-        if let Some(value) = balance_weighted_emission(walk.beta, emitted, r_u, r_l, light_pdf) {
+        if let Some(value) = volumetric_emission(walk, emitted, light_pdf) {
             self.radiance += value;
         }
     }

@@ -14,7 +14,7 @@
 //! [`crate::integrators::volpath`]).
 
 use super::PathSettings;
-use crate::integrators::path_space::PreviousScattering;
+use crate::integrators::path_space::{PreviousScattering, WalkState};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec3;
@@ -155,4 +155,24 @@ pub(crate) fn balance_weighted_emission(
         Some(r_l) => (r_u + r_l * light_pdf).average(),
     };
     (denominator > 0.0).then(|| beta * emitted / denominator)
+}
+
+/// Emission `emitted` found by a walk through media after its last
+/// scattering, balance-weighted against next-event estimation with light
+/// density `light_pdf` ([`balance_weighted_emission`]): the path's rescaled
+/// light-sampling probability is its unidirectional one over the density
+/// of the last sampled direction. `None` where nothing arrives. What the
+/// volumetric path tracer adds, and LQMC's seeds record, for emission.
+#[inline(always)]
+pub(crate) fn volumetric_emission(
+    walk: &WalkState,
+    emitted: SampledSpectrum,
+    light_pdf: f32,
+) -> Option<SampledSpectrum> {
+    if emitted.is_black() {
+        return None;
+    }
+    let r_u = walk.spectral_density_ratio;
+    let r_l = (!walk.previous.delta).then(|| r_u / walk.previous.pdf);
+    balance_weighted_emission(walk.beta, emitted, r_u, r_l, light_pdf)
 }

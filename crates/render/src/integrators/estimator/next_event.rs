@@ -6,7 +6,7 @@
 //! own sampling over the light's density.
 
 use super::PathSettings;
-use super::shadow::{ShadowTarget, shadow_ray, shadow_transmittance, unoccluded};
+use super::shadow::{ShadowTarget, shadow_ray, shadow_transmittance_with, unoccluded};
 use crate::geometry::{OffsetPoint, SurfaceHit};
 use crate::integrators::path_space::medium_leaving;
 use crate::integrators::{MisHeuristic, TraceCounters};
@@ -362,28 +362,71 @@ pub(crate) fn next_event_through_media(
     sampler: &mut dyn SampleSource,
     counters: &mut TraceCounters,
 ) -> SampledSpectrum {
-    let Some(light) = sample_vertex_light(scene, reference, depth, wavelengths, sampler) else {
-        return SampledSpectrum::zero();
-    };
+    sampled_next_event_through_media(
+        scene,
+        reference,
+        hit,
+        medium,
+        scatter,
+        wo,
+        r_u,
+        depth,
+        wavelengths,
+        sampler,
+        counters,
+        true,
+    )
+    .map_or(SampledSpectrum::zero(), |(_, value)| value)
+}
+
+/// [`next_event_through_media`] with the light sample it connected to, for
+/// a walk with or without null crossings (`null_crossings`: whether shadow
+/// rays pass thin sheets and masks with their null lobe's weight,
+/// [`shadow_transmittance_with`]). `None` where no light arrives: no light
+/// sample, `scatter` passes none of it towards the light, or the shadow ray
+/// is blocked. LQMC's seeds record the sample as the event's connection.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn sampled_next_event_through_media(
+    scene: &Scene,
+    reference: Vec3,
+    hit: Option<&SurfaceHit>,
+    medium: Option<u32>,
+    scatter: VertexScatter<'_>,
+    wo: Vec3,
+    r_u: SampledSpectrum,
+    depth: u32,
+    wavelengths: &SampledWavelengths,
+    sampler: &mut dyn SampleSource,
+    counters: &mut TraceCounters,
+    null_crossings: bool,
+) -> Option<(VertexLightSample, SampledSpectrum)> {
+    let light = sample_vertex_light(scene, reference, depth, wavelengths, sampler)?;
     let terms = NextEventTerms::of_sample(scatter, wo, &light, wavelengths);
     if terms.scattered.is_black() {
-        return SampledSpectrum::zero();
+        return None;
     }
     let sample = &light.sample;
-    let (ray, t_max) = match shadow_ray(reference, hit, sample) {
-        Some(segment) => segment,
-        None => return SampledSpectrum::zero(),
-    };
+    let (ray, t_max) = shadow_ray(reference, hit, sample)?;
     // The medium the shadow ray starts in: at a surface, the side `wi` leaves to.
     let start_medium = medium_leaving(scene, hit, medium, sample.wi);
-    let transmittance =
-        shadow_transmittance(scene, ray, t_max, start_medium, wavelengths, counters);
+    let transmittance = shadow_transmittance_with(
+        scene,
+        ray,
+        t_max,
+        start_medium,
+        null_crossings,
+        wavelengths,
+        counters,
+    );
     if transmittance.is_black() {
-        return SampledSpectrum::zero();
+        return None;
     }
     let denominator = terms.balance_denominator(r_u);
-    if denominator <= 0.0 {
-        return SampledSpectrum::zero();
-    }
-    terms.scattered * transmittance * sample.radiance / denominator
+    let value = if denominator > 0.0 {
+        terms.scattered * transmittance * sample.radiance / denominator
+    } else {
+        SampledSpectrum::zero()
+    };
+    Some((light, value))
 }

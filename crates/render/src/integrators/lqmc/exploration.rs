@@ -12,12 +12,14 @@ use super::lattice_step::{LatticeMembers, TileGrid, lattice_members};
 use super::path_record::{CameraVertex, SplatEvent, SurfaceVertex};
 use super::path_walk::{WalkInput, walk};
 use super::prefix_rebuild::{ImagePlane, MemberCamera, MemberSource, rebuild_member};
+use super::seed_film::SeedFilm;
 use super::seed_path::{SeedPath, trace_seed_path};
 use super::segment_cache::{SegmentCache, SegmentReuse};
 use super::settings::{BreakupChoice, LqmcSettings};
 use super::statistics::{FailureReason, LqmcStatistics};
 use crate::film::SplatBuffer;
 use crate::integrators::TraceCounters;
+use crate::integrators::driver::UnitOutput;
 use crate::integrators::estimator::PathSettings;
 use crate::sampler::{SampleSource, layout};
 use crate::scene::Scene;
@@ -45,6 +47,8 @@ pub struct LqmcContext<'a> {
     /// The render's seed (keys the tile jitter, the breakup draw and the
     /// dimension scrambling).
     pub seed: u64,
+    /// Where seeds lie and how their values land.
+    pub film: SeedFilm,
 }
 
 /// The sample density per class (the paper's Fig. 11): one splat of value
@@ -81,26 +85,31 @@ pub struct LqmcScratch {
     member_splats: Vec<([f32; 2], [f32; 3])>,
     member_densities: Vec<f64>,
     weights: Vec<f64>,
-    /// The sum of the sample's events splatted directly (at the seed's
-    /// raster position): one splat per sample, as the path tracer's.
+    /// The sum of the sample's events not explored, scaled by
+    /// [`SeedFilm::unexplored_scale`]: the seed's camera sample (or one
+    /// splat at its raster position with `--splat-film`), as the path
+    /// tracer's.
     direct_sum: [f32; 3],
 }
 
 /// Renders one pixel sample: `sampler` is positioned at it.
-#[allow(clippy::too_many_arguments)]
 pub fn render_pixel_sample(
     context: &LqmcContext<'_>,
     pixel: (u32, u32),
     sample_index: u64,
     sampler: &mut dyn SampleSource,
     scratch: &mut LqmcScratch,
-    splats: &mut SplatBuffer,
+    output: &mut UnitOutput,
     statistics: &mut LqmcStatistics,
-    counters: &mut TraceCounters,
 ) {
-    let film = sampler.get_2d(layout::FILM);
-    let image_plane = ImagePlane::new(context.scene);
-    let raster = image_plane.seed_raster(context.scene, pixel, film);
+    let UnitOutput {
+        tile,
+        splats,
+        counters,
+    } = output;
+    let raster = context
+        .film
+        .seed_raster(context.scene, pixel, sampler.get_2d(layout::FILM));
     let mut seed_path = std::mem::take(&mut scratch.seed_path);
     trace_seed_path(
         context.scene,
@@ -132,7 +141,13 @@ pub fn render_pixel_sample(
             counters,
         );
     }
-    if scratch.direct_sum != [0.0; 3]
+    if context.film.adds_camera_samples() {
+        let _ = tile.add_sample(
+            [pixel.0 as usize, pixel.1 as usize],
+            scratch.direct_sum,
+            1.0,
+        );
+    } else if scratch.direct_sum != [0.0; 3]
         && let Some(camera) = &seed_path.camera
     {
         let _ = splats.add(camera.raster.to_array(), scratch.direct_sum);
@@ -160,9 +175,9 @@ fn handle_event(
     let settings = context.settings;
     let camera = seed_path.camera.as_ref().expect("traced");
     let vertices = &seed_path.vertices[event.vertex_range()];
-    let image_plane = ImagePlane::new(scene);
+    let unexplored_scale = context.film.unexplored_scale();
     let splat_value = |contribution: &SampledSpectrum, wavelengths: &SampledWavelengths| {
-        to_linear_srgb(contribution, wavelengths).map(|channel| channel * image_plane.area_scale)
+        to_linear_srgb(contribution, wavelengths).map(|channel| channel * unexplored_scale)
     };
     // The event splatted as it is: with the path tracer's value the seed's
     // walk computed, or else (scenes with media) its value walk's.
@@ -361,6 +376,7 @@ fn explore(
     let dimension_count = scratch.dimensions.len();
     let image_plane = ImagePlane::new(scene);
     let seed_image_numbers = image_plane.numbers(camera.raster);
+    let seed_density = context.film.seed_density(camera.raster);
 
     // The seed's explored numbers, tiles, jitter and lattice dimensions.
     scratch.seed_numbers.clear();
@@ -574,7 +590,15 @@ fn explore(
         });
         match member {
             Ok((member_vertex, walked, probability)) => {
-                let density = probability * walked.suffix_density;
+                // The density with which the member would have been drawn
+                // as a seed (`seed_film`): the same for every member that
+                // keeps the seed's raster position.
+                let position_density = if member_vertex.raster == camera.raster {
+                    seed_density
+                } else {
+                    context.film.seed_density(member_vertex.raster)
+                };
+                let density = probability * walked.suffix_density * position_density;
                 if !(density > 0.0 && density.is_finite()) {
                     statistics.fail(FailureReason::Evaluation);
                     if j == seed_member {
@@ -588,7 +612,7 @@ fn explore(
                 scratch.member_splats.push((
                     member_vertex.raster.to_array(),
                     to_linear_srgb(&walked.contribution, &walked.wavelengths)
-                        .map(|channel| channel * image_plane.area_scale),
+                        .map(|channel| channel * context.film.member_scale(position_density)),
                 ));
                 scratch.member_densities.push(density);
             }
@@ -697,5 +721,91 @@ fn scramble_lattice_dimensions(
         let pick = (to_unit_f64(hash2(key, round as u64)) * others.len() as f64) as usize;
         let other = others.swap_remove(pick.min(others.len() - 1));
         lattice_dimension.swap(image_index, other);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampler::{Randomization, SamplerKind};
+    use crate::scene::builtin::builtin_scene;
+
+    /// The value a seed records for an event (the path tracer's, `volpath`'s
+    /// through media) is the value LQMC's value walk computes for the same
+    /// path: the unexplored events and the explored sets weigh the
+    /// techniques alike, which the estimator's unbiasedness needs.
+    #[test]
+    fn recorded_event_values_are_the_value_walks() {
+        for name in ["cornell-box", "translucent-spheres", "volumetric-caustic"] {
+            let mut description = builtin_scene(name).unwrap();
+            description.camera.resolution = [16, 12];
+            let scene = Scene::build(&description).unwrap();
+            let settings = LqmcSettings::default();
+            let context = LqmcContext {
+                scene: &scene,
+                settings: &settings,
+                path_settings: PathSettings::default(),
+                seed: 3,
+                film: SeedFilm::new(&scene, false),
+            };
+            let mut sampler = SamplerKind::Independent
+                .create(3, Randomization::Seeded, (16, 12), 4, None)
+                .unwrap();
+            let mut seed_path = SeedPath::default();
+            let mut counters = TraceCounters::default();
+            let mut compared = 0;
+            for y in 0..12 {
+                for x in 0..16 {
+                    for sample_index in 0..4 {
+                        sampler.start_pixel_sample((x, y), sample_index);
+                        let film = sampler.get_2d(layout::FILM);
+                        let raster = context.film.seed_raster(&scene, (x, y), film);
+                        trace_seed_path(
+                            &scene,
+                            &context.path_settings,
+                            raster,
+                            &mut *sampler,
+                            &mut counters,
+                            &mut seed_path,
+                        );
+                        let camera = seed_path.camera.as_ref().unwrap();
+                        let wavelengths = SampledWavelengths::sample_visible(camera.u_wavelength);
+                        for (event, recorded) in
+                            seed_path.events.iter().zip(&seed_path.event_values)
+                        {
+                            let Some((recorded, _)) = recorded else {
+                                continue;
+                            };
+                            let vertices = &seed_path.vertices[event.vertex_range()];
+                            let walked = walk(
+                                &scene,
+                                &context.path_settings,
+                                &seed_walk_input(
+                                    &context,
+                                    camera,
+                                    vertices,
+                                    event,
+                                    Some(wavelengths),
+                                ),
+                                &mut *sampler,
+                                &mut SegmentReuse::None,
+                            );
+                            let walked = walked
+                                .map_or(SampledSpectrum::zero(), |walked| walked.contribution);
+                            for lane in 0..crate::spectrum::SPECTRUM_SAMPLE_COUNT {
+                                let (a, b) = (recorded[lane], walked[lane]);
+                                assert!(
+                                    (a - b).abs() <= 2e-3 * a.abs().max(b.abs()) + 1e-6,
+                                    "{name} pixel ({x}, {y}) sample {sample_index}: \
+                                     recorded {recorded:?}, walked {walked:?}, {event:?}"
+                                );
+                            }
+                            compared += 1;
+                        }
+                    }
+                }
+            }
+            assert!(compared > 10, "{name}: {compared} events compared");
+        }
     }
 }

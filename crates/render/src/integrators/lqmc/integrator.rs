@@ -5,12 +5,15 @@
 //! ([`ProgressionVariance`]) and a cut-short progression is dropped whole.
 
 use super::exploration::{ClassDensity, LqmcContext, LqmcScratch, render_pixel_sample};
+use super::seed_film::SeedFilm;
 use super::{LqmcSettings, LqmcStatistics, ProgressionVariance};
 use crate::film::{BoxFilter, Film, Filter};
 use crate::integrators::driver::{
     PixelSampleEstimator, PixelSampleIndex, UnitOutput, render_pixel_samples,
 };
 use crate::integrators::estimator::PathSettings;
+use crate::integrators::path::PathIntegrator;
+use crate::integrators::volpath::VolPathIntegrator;
 use crate::integrators::{
     AuxiliaryImage, Integrator, IntegratorDetails, IntegratorRender, RenderError, RunControl,
 };
@@ -56,12 +59,27 @@ impl IntegratorDetails for LqmcDetails {
 
 impl Integrator for LqmcIntegrator {
     fn render(&self, scene: &Scene, run: &RunControl<'_>) -> Result<IntegratorRender, RenderError> {
+        // Nothing to explore: every seed would be a path-traced sample, so
+        // the path tracer renders them, at its cost (the seeds' recording
+        // is saved) and with its image, bit for bit.
+        if self.settings.explores_nothing() && !self.settings.gather_density {
+            log::info!(
+                "lqmc explores no class: its seeds are rendered by the path tracer ({})",
+                if scene.has_media() { "volpath" } else { "path" }
+            );
+            return if scene.has_media() {
+                VolPathIntegrator::new(self.path_settings).render(scene, run)
+            } else {
+                PathIntegrator::new(self.path_settings).render(scene, run)
+            };
+        }
         let estimator = LqmcEstimator {
             context: LqmcContext {
                 scene,
                 settings: &self.settings,
                 path_settings: self.path_settings,
                 seed: run.seed,
+                film: SeedFilm::new(scene, self.path_settings.splat_film),
             },
         };
         let output = render_pixel_samples(&estimator, scene, run)?;
@@ -152,9 +170,8 @@ impl PixelSampleEstimator for LqmcEstimator<'_> {
             sample.sample_index,
             &mut DynSource(sampler),
             scratch,
-            &mut output.splats,
+            output,
             statistics,
-            &mut output.counters,
         );
     }
 

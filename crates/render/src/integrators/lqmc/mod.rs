@@ -14,6 +14,7 @@
 //! media too), [`classification`] (classes, breakup CDF),
 //! [`explored_dimensions`] (dimensions and tiles), [`lattice_step`] (tile
 //! transform, closest point, shift), [`prefix_rebuild`] (members),
+//! [`seed_film`] (where seeds lie on the image and how their values land),
 //! [`path_walk`] (contribution and suffix density of a path),
 //! [`medium_segment`] and [`volume_walk`] (the same
 //! through homogeneous media, as `volpath` traces them), [`segment_cache`]
@@ -33,6 +34,7 @@ pub mod medium_segment;
 pub mod path_record;
 pub mod path_walk;
 pub mod prefix_rebuild;
+pub mod seed_film;
 pub mod seed_path;
 pub mod segment_cache;
 pub mod settings;

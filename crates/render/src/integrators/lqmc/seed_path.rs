@@ -7,10 +7,11 @@
 //! function, next-event estimation through media and index-matched
 //! boundaries, Russian roulette on the MIS-rescaled throughput). The
 //! observer `SeedRecorder` records each vertex and each splat event
-//! (every emitter reached, every next-event connection) for exploration;
-//! in surface scenes it also computes each event's value as the path
-//! tracer does (the value a seed splats when its event is not explored);
-//! the values of explored events are computed again by
+//! (every emitter reached, every next-event connection) for exploration,
+//! and computes each event's value as the path tracer does, `path`'s in
+//! surface scenes and `volpath`'s through media (the value a seed adds when
+//! its event is not explored, so that it is not walked a second time); the
+//! values of explored events are computed again by
 //! [`super::path_walk::walk`] and [`super::volume_walk`], which record what
 //! the members reuse.
 //!
@@ -29,16 +30,17 @@ use super::path_record::{CameraVertex, LightConnection, SplatEvent, SurfaceVerte
 use crate::geometry::{Ray, SurfaceHit};
 use crate::integrators::TraceCounters;
 use crate::integrators::estimator::PathSettings;
-use crate::integrators::estimator::mis::{emission_weight, environment_emission};
+use crate::integrators::estimator::mis::{
+    emission_light_density, emission_weight, environment_emission, environment_emission_densities,
+    volumetric_emission,
+};
 use crate::integrators::estimator::next_event::{
-    NextEventTerms, VertexScatter, sample_vertex_light,
+    NextEventTerms, VertexScatter, sample_vertex_light, sampled_next_event_through_media,
 };
-use crate::integrators::estimator::shadow::{
-    light_visible_from_hit, shadow_ray, shadow_transmittance_with,
-};
+use crate::integrators::estimator::shadow::light_visible_from_hit;
 use crate::integrators::path_space::{
     ScattererRef, Scattering, VertexAt, WalkObserver, WalkSettings, WalkStart, WalkState,
-    medium_leaving, oriented_hit, walk,
+    oriented_hit, walk,
 };
 use crate::material::SurfaceBsdf;
 use crate::sampler::{DynSource, SampleSource, layout};
@@ -57,9 +59,8 @@ pub struct SeedPath {
     /// The splat events, in the order the path tracer adds them.
     pub events: Vec<SplatEvent>,
     /// Per event, its contribution and the wavelengths it was computed at,
-    /// as the path tracer's estimate (surface scenes; `None` in scenes with
-    /// media and for index-matched emitters, whose values only the value
-    /// walks compute).
+    /// as the path tracer's estimate (`None` for index-matched emitters,
+    /// whose values only the value walks compute).
     pub event_values: Vec<Option<(SampledSpectrum, SampledWavelengths)>>,
     /// Emitting index-matched boundaries passed: (vertices before, hit, light).
     passed_emitters: Vec<(usize, SurfaceHit, u32)>,
@@ -167,14 +168,24 @@ impl WalkObserver for SeedRecorder<'_> {
             self.path.passed_emitters.push((prefix, *hit, light_index));
             return;
         }
-        // The path tracer's value (`path::PathRadiance::emitter`).
-        let value = (!scene.has_media()).then(|| {
-            let emitted = scene.lights[light_index as usize].emitted_radiance(
+        // The path tracer's value (`path::PathRadiance::emitter`,
+        // `volpath::VolPathRadiance::emitter` in scenes with media).
+        let emitted = scene.lights[light_index as usize].emitted_radiance(
+            hit.geometric_normal,
+            hit.uv,
+            wo,
+            wavelengths,
+        );
+        let contribution = if scene.has_media() {
+            let light_pdf = emission_light_density(
+                scene,
+                light_index,
+                &walk.previous,
+                hit.point,
                 hit.geometric_normal,
-                hit.uv,
-                wo,
-                wavelengths,
             );
+            volumetric_emission(walk, emitted, light_pdf).unwrap_or(SampledSpectrum::zero())
+        } else {
             let weight = emission_weight(
                 scene,
                 self.settings,
@@ -183,8 +194,9 @@ impl WalkObserver for SeedRecorder<'_> {
                 hit.point,
                 hit.geometric_normal,
             );
-            (walk.beta * emitted * weight, *wavelengths)
-        });
+            walk.beta * emitted * weight
+        };
+        let value = Some((contribution, *wavelengths));
         self.push_event(
             SplatEvent::of_first_vertices(
                 self.path.vertices.len(),
@@ -199,9 +211,22 @@ impl WalkObserver for SeedRecorder<'_> {
         if scene.environment_lights.is_empty() {
             return;
         }
-        // The path tracer's value (`path::PathRadiance::escaped`).
-        let value = (!scene.has_media()).then(|| {
-            let mut total = SampledSpectrum::zero();
+        // The path tracer's value (`path::PathRadiance::escaped`,
+        // `volpath::VolPathRadiance::escaped` in scenes with media).
+        let mut total = SampledSpectrum::zero();
+        if scene.has_media() {
+            environment_emission_densities(
+                scene,
+                &walk.previous,
+                direction,
+                wavelengths,
+                |emitted, light_pdf| {
+                    if let Some(value) = volumetric_emission(walk, emitted, light_pdf) {
+                        total += value;
+                    }
+                },
+            );
+        } else {
             environment_emission(
                 scene,
                 self.settings,
@@ -210,8 +235,8 @@ impl WalkObserver for SeedRecorder<'_> {
                 wavelengths,
                 |emitted, weight| total += walk.beta * emitted * weight,
             );
-            (total, *wavelengths)
-        });
+        }
+        let value = Some((total, *wavelengths));
         self.push_event(
             SplatEvent::of_first_vertices(
                 self.path.vertices.len(),
@@ -232,7 +257,7 @@ impl WalkObserver for SeedRecorder<'_> {
         let scene = self.scene;
         let mut value = None;
         let connection = match vertex.scatterer {
-            ScattererRef::Medium { .. } => {
+            ScattererRef::Medium { phase } => {
                 let medium = vertex.medium.expect("medium vertices lie in a medium");
                 self.path.vertices.push(SurfaceVertex::in_medium(
                     vertex.point,
@@ -240,16 +265,22 @@ impl WalkObserver for SeedRecorder<'_> {
                     medium,
                     medium_roughness(scene, medium),
                 ));
-                sample_light(
+                volumetric_next_event(
                     scene,
-                    None,
+                    walk,
                     vertex.point,
+                    None,
                     vertex.medium,
-                    walk.block,
+                    VertexScatter::Medium(phase),
+                    vertex.wo,
                     wavelengths,
                     &mut DynSource(sampler),
                     counters,
                 )
+                .map(|(connection, contribution)| {
+                    value = Some((contribution, *wavelengths));
+                    connection
+                })
             }
             ScattererRef::Surface { hit, bsdf, offset } => {
                 let flags = bsdf.flags();
@@ -259,12 +290,14 @@ impl WalkObserver for SeedRecorder<'_> {
                     return ControlFlow::Continue(());
                 }
                 if scene.has_media() {
-                    sample_light(
+                    volumetric_next_event(
                         scene,
-                        Some(hit),
+                        walk,
                         offset.origin(),
+                        Some(hit),
                         vertex.medium,
-                        walk.block,
+                        VertexScatter::Surface(bsdf),
+                        vertex.wo,
                         wavelengths,
                         &mut DynSource(sampler),
                         counters,
@@ -282,11 +315,11 @@ impl WalkObserver for SeedRecorder<'_> {
                         &mut DynSource(sampler),
                         counters,
                     )
-                    .map(|(connection, contribution)| {
-                        value = Some((contribution, *wavelengths));
-                        connection
-                    })
                 }
+                .map(|(connection, contribution)| {
+                    value = Some((contribution, *wavelengths));
+                    connection
+                })
             }
         };
         if let Some(connection) = connection {
@@ -334,48 +367,44 @@ fn record_passed_emitters(scene: &Scene, path: &mut SeedPath) {
     }
 }
 
-/// Next-event estimation's light sample at a vertex (a surface `hit`, whose
-/// offset reference point is `reference`, or a medium point), if some light
-/// arrives: through the media and boundaries in scenes with media,
-/// unoccluded otherwise.
+/// Next-event estimation at a vertex of a walk through media (a medium
+/// point, or a surface point `reference` offset off `hit`), with the
+/// volumetric path tracer's terms and balance weight
+/// ([`sampled_next_event_through_media`]): the light sample's connection
+/// and its contribution `β · scattered · T · Le / mean(r_l + r_u p)`, if
+/// some light arrives. The seed's walk has no null crossings: shadow rays
+/// stop at thin sheets and masks, which its paths pass by sampling them.
 #[allow(clippy::too_many_arguments)]
-fn sample_light(
+fn volumetric_next_event(
     scene: &Scene,
-    hit: Option<&SurfaceHit>,
+    walk: &WalkState,
     reference: Vec3,
+    hit: Option<&SurfaceHit>,
     medium: Option<u32>,
-    block: u32,
+    scatter: VertexScatter<'_>,
+    wo: Vec3,
     wavelengths: &SampledWavelengths,
     sampler: &mut dyn SampleSource,
     counters: &mut TraceCounters,
-) -> Option<LightConnection> {
-    let light_sample = sample_vertex_light(scene, reference, block, wavelengths, sampler)?;
-    let sample = &light_sample.sample;
-    if scene.has_media() {
-        let (ray, t_max) = shadow_ray(reference, hit, sample)?;
-        let start_medium = medium_leaving(scene, hit, medium, sample.wi);
-        // The seed's walk has no null crossings: shadow rays stop at thin
-        // sheets and masks, which its paths pass by sampling them.
-        let transmittance = shadow_transmittance_with(
-            scene,
-            ray,
-            t_max,
-            start_medium,
-            false,
-            wavelengths,
-            counters,
-        );
-        if transmittance.is_black() {
-            return None;
-        }
-    } else {
-        let hit = hit.expect("without media every vertex is on a surface");
-        counters.shadow_rays += 1;
-        if !light_visible_from_hit(scene, hit, sample) {
-            return None;
-        }
-    }
-    Some(LightConnection::from_sample(scene, light_sample))
+) -> Option<(LightConnection, SampledSpectrum)> {
+    let (light_sample, contribution) = sampled_next_event_through_media(
+        scene,
+        reference,
+        hit,
+        medium,
+        scatter,
+        wo,
+        walk.spectral_density_ratio,
+        walk.block,
+        wavelengths,
+        sampler,
+        counters,
+        false,
+    )?;
+    Some((
+        LightConnection::from_sample(scene, light_sample),
+        walk.beta * contribution,
+    ))
 }
 
 /// Next-event estimation at a surface vertex of a scene without media, with

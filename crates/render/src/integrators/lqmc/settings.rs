@@ -273,6 +273,14 @@ impl LqmcSettings {
                 || !matches!(dimensions, [only] if only.kind == DimensionKind::Wavelength))
     }
 
+    /// Whether no path can be explored: no class is, or no effect.
+    pub fn explores_nothing(&self) -> bool {
+        self.effects == ExploredEffects::none()
+            || PathClass::ALL
+                .iter()
+                .all(|class| !self.class_parameters(*class).explore)
+    }
+
     /// The parameters of `class`.
     pub fn class_parameters(&self, class: PathClass) -> &ClassParameters {
         match class {
