@@ -468,6 +468,32 @@ fn exploring_nothing_renders_as_the_path_tracer() {
     }
 }
 
+/// With its defaults LQMC explores nothing on the Cornell box (it has no
+/// caustic paths), and its seeds are the path tracer's camera samples: the
+/// same rays, values and sums, so the same image up to the order in which
+/// the film adds its passes (LQMC's are one sample per pixel each).
+#[test]
+fn unexplored_seeds_are_the_path_tracers_samples() {
+    let scene = scene("cornell-box");
+    let (lqmc, _, statistics) =
+        render_once(&scene, IntegratorKind::Lqmc, LqmcSettings::default(), 4, 9);
+    assert_eq!(
+        statistics.explorations.iter().sum::<u64>(),
+        0,
+        "{statistics:?}"
+    );
+    let (path, ..) = render_once(&scene, IntegratorKind::Path, LqmcSettings::default(), 4, 9);
+    for (index, (a, b)) in lqmc.pixels().iter().zip(path.pixels()).enumerate() {
+        for channel in 0..3 {
+            let (a, b) = (a[channel], b[channel]);
+            assert!(
+                (a - b).abs() <= 1e-5 * a.abs().max(b.abs()) + 1e-7,
+                "pixel {index} channel {channel}: lqmc {a}, path {b}"
+            );
+        }
+    }
+}
+
 /// Media in LQMC paths (issue 5): rough glass spheres (two lobes, reflect
 /// and refract, chosen by the seed's component number) filled with
 /// scattering media, the breakup drawn from the roughness CDF (media count

@@ -85,11 +85,61 @@ pub struct LqmcScratch {
     member_splats: Vec<([f32; 2], [f32; 3])>,
     member_densities: Vec<f64>,
     weights: Vec<f64>,
-    /// The sum of the sample's events not explored, scaled by
-    /// [`SeedFilm::unexplored_scale`]: the seed's camera sample (or one
-    /// splat at its raster position with `--splat-film`), as the path
-    /// tracer's.
-    direct_sum: [f32; 3],
+    /// The sum of the sample's events not explored: the seed's camera
+    /// sample (or one splat at its raster position with `--splat-film`),
+    /// as the path tracer's.
+    unexplored: UnexploredSum,
+}
+
+/// The values of a seed's events that are not explored, summed as the path
+/// tracer sums its sample's: spectrally while the wavelengths stay the
+/// same (one conversion to RGB per sample, and the same sum, term by
+/// term), in RGB across a change of wavelengths (a dispersive vertex
+/// terminated the secondary ones).
+#[derive(Debug, Default)]
+struct UnexploredSum {
+    spectral: Option<(SampledSpectrum, SampledWavelengths)>,
+    rgb: [f32; 3],
+}
+
+impl UnexploredSum {
+    /// Starts an empty sum.
+    fn clear(&mut self) {
+        self.spectral = None;
+        self.rgb = [0.0; 3];
+    }
+
+    /// Adds an event's `contribution` at `wavelengths`.
+    #[inline]
+    fn add(&mut self, contribution: &SampledSpectrum, wavelengths: &SampledWavelengths) {
+        match &mut self.spectral {
+            Some((sum, summed_at)) if summed_at == wavelengths => *sum += *contribution,
+            _ => {
+                self.flush();
+                self.spectral = Some((*contribution, *wavelengths));
+            }
+        }
+    }
+
+    /// Moves the spectral part into the RGB part.
+    fn flush(&mut self) {
+        if let Some((sum, wavelengths)) = self.spectral.take() {
+            let rgb = to_linear_srgb(&sum, &wavelengths);
+            for (total, value) in self.rgb.iter_mut().zip(rgb) {
+                *total += value;
+            }
+        }
+    }
+
+    /// The sum in linear sRGB, times `scale`.
+    fn rgb(&mut self, scale: f32) -> [f32; 3] {
+        self.flush();
+        if scale == 1.0 {
+            self.rgb
+        } else {
+            self.rgb.map(|channel| channel * scale)
+        }
+    }
 }
 
 /// Renders one pixel sample: `sampler` is positioned at it.
@@ -120,10 +170,8 @@ pub fn render_pixel_sample(
         &mut seed_path,
     );
     let sample_key = hash3(context.seed, crate::sampler::pixel_key(pixel), sample_index);
-    let seed_wavelengths = seed_path
-        .camera
-        .map(|camera| SampledWavelengths::sample_visible(camera.u_wavelength));
-    scratch.direct_sum = [0.0; 3];
+    let seed_wavelengths = seed_path.wavelengths;
+    scratch.unexplored.clear();
     for (event_index, event) in seed_path.events.iter().enumerate() {
         let event_key = hash2(sample_key, event_index as u64);
         handle_event(
@@ -141,16 +189,13 @@ pub fn render_pixel_sample(
             counters,
         );
     }
+    let unexplored = scratch.unexplored.rgb(context.film.unexplored_scale());
     if context.film.adds_camera_samples() {
-        let _ = tile.add_sample(
-            [pixel.0 as usize, pixel.1 as usize],
-            scratch.direct_sum,
-            1.0,
-        );
-    } else if scratch.direct_sum != [0.0; 3]
+        let _ = tile.add_sample([pixel.0 as usize, pixel.1 as usize], unexplored, 1.0);
+    } else if unexplored != [0.0; 3]
         && let Some(camera) = &seed_path.camera
     {
-        let _ = splats.add(camera.raster.to_array(), scratch.direct_sum);
+        let _ = splats.add(camera.raster.to_array(), unexplored);
     }
     scratch.seed_path = seed_path;
 }
@@ -175,22 +220,18 @@ fn handle_event(
     let settings = context.settings;
     let camera = seed_path.camera.as_ref().expect("traced");
     let vertices = &seed_path.vertices[event.vertex_range()];
-    let unexplored_scale = context.film.unexplored_scale();
-    let splat_value = |contribution: &SampledSpectrum, wavelengths: &SampledWavelengths| {
-        to_linear_srgb(contribution, wavelengths).map(|channel| channel * unexplored_scale)
-    };
-    // The event splatted as it is: with the path tracer's value the seed's
-    // walk computed, or else (scenes with media) its value walk's.
-    let direct = |direct_sum: &mut [f32; 3],
+    // The event added as it is: with the path tracer's value the seed's
+    // walk computed, or else (index-matched emitters) its value walk's.
+    let direct = |unexplored: &mut UnexploredSum,
                   statistics: &mut LqmcStatistics,
                   sampler: &mut dyn SampleSource,
                   segment_cache: &mut SegmentCache| {
-        let rgb = match recorded_value {
+        match recorded_value {
             Some((contribution, wavelengths)) => {
                 if contribution.is_black() {
                     return;
                 }
-                splat_value(&contribution, &wavelengths)
+                unexplored.add(&contribution, &wavelengths);
             }
             None => {
                 segment_cache.clear();
@@ -203,19 +244,16 @@ fn handle_event(
                 ) else {
                     return;
                 };
-                splat_value(&walked.contribution, &walked.wavelengths)
+                unexplored.add(&walked.contribution, &walked.wavelengths);
             }
-        };
+        }
         statistics.events += 1;
         statistics.direct_splats += 1;
-        for (sum, value) in direct_sum.iter_mut().zip(rgb) {
-            *sum += value;
-        }
     };
     // Paths of fewer than three vertices are not explored.
     if event.last_vertex() < 2 {
         return direct(
-            &mut scratch.direct_sum,
+            &mut scratch.unexplored,
             statistics,
             sampler,
             &mut scratch.segment_cache,
@@ -230,7 +268,7 @@ fn handle_event(
     let parameters = *settings.class_parameters(class);
     if !parameters.explore {
         return direct(
-            &mut scratch.direct_sum,
+            &mut scratch.unexplored,
             statistics,
             sampler,
             &mut scratch.segment_cache,
@@ -252,7 +290,7 @@ fn handle_event(
     scratch.breakup_weights = weights;
     let Some(breakup) = breakup else {
         return direct(
-            &mut scratch.direct_sum,
+            &mut scratch.unexplored,
             statistics,
             sampler,
             &mut scratch.segment_cache,
@@ -274,7 +312,7 @@ fn handle_event(
     ) else {
         statistics.unevaluable_seeds += 1;
         return direct(
-            &mut scratch.direct_sum,
+            &mut scratch.unexplored,
             statistics,
             sampler,
             &mut scratch.segment_cache,
@@ -302,10 +340,9 @@ fn handle_event(
     statistics.events += 1;
     if !explored {
         statistics.direct_splats += 1;
-        let rgb = splat_value(&walked.contribution, &walked.wavelengths);
-        for (sum, value) in scratch.direct_sum.iter_mut().zip(rgb) {
-            *sum += value;
-        }
+        scratch
+            .unexplored
+            .add(&walked.contribution, &walked.wavelengths);
     }
 }
 

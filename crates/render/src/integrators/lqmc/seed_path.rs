@@ -62,6 +62,10 @@ pub struct SeedPath {
     /// as the path tracer's estimate (`None` for index-matched emitters,
     /// whose values only the value walks compute).
     pub event_values: Vec<Option<(SampledSpectrum, SampledWavelengths)>>,
+    /// The wavelengths the camera ray started with (before the walk
+    /// terminated any secondary ones), which the value walks start with
+    /// (`None` before tracing).
+    pub wavelengths: Option<SampledWavelengths>,
     /// Emitting index-matched boundaries passed: (vertices before, hit, light).
     passed_emitters: Vec<(usize, SurfaceHit, u32)>,
 }
@@ -80,8 +84,19 @@ pub fn trace_seed_path(
     path.events.clear();
     path.event_values.clear();
     path.passed_emitters.clear();
-    let u_lens = sampler.get_2d(layout::LENS);
-    let u_time = sampler.get(layout::TIME);
+    // Numbers the camera does not use (a pinhole's lens, a closed
+    // shutter's time) are not drawn, as the path tracer's
+    // (`driver::CameraPathStart::at_position`).
+    let u_lens = if scene.camera.uses_lens_sample() {
+        sampler.get_2d(layout::LENS)
+    } else {
+        [0.5; 2]
+    };
+    let u_time = if scene.camera.uses_time_sample() {
+        sampler.get(layout::TIME)
+    } else {
+        0.5
+    };
     let u_wavelength = sampler.get(layout::WAVELENGTH);
     let camera_ray = scene.camera.generate_ray(raster, u_lens, u_time);
     path.camera = Some(CameraVertex {
@@ -92,6 +107,7 @@ pub fn trace_seed_path(
         origin: camera_ray.origin,
     });
     let mut wavelengths = SampledWavelengths::sample_visible(u_wavelength);
+    path.wavelengths = Some(wavelengths);
     walk(
         scene,
         WalkStart::camera(
@@ -435,10 +451,12 @@ fn sample_surface_light(
     if !light_visible_from_hit(scene, hit, &light_sample.sample) {
         return None;
     }
+    // Multiplied in the path tracer's order (`next_event_at_surface`), so
+    // that the sums agree bit for bit.
     let contribution = walk.beta
-        * terms.scattered
-        * light_sample.sample.radiance
-        * terms.weight_over_density(settings.heuristic);
+        * (terms.scattered
+            * light_sample.sample.radiance
+            * terms.weight_over_density(settings.heuristic));
     Some((
         LightConnection::from_sample(scene, light_sample),
         contribution,
