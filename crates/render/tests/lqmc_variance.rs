@@ -18,8 +18,13 @@
 //! 2. The per-pixel z-test against a path-traced reference of many samples
 //!    (its film variance added), with this variance: with M = 16
 //!    progressions `z` is close to Student's t with 15 degrees of freedom,
-//!    for which P(|t| > 3) = 0.9 %; the fraction above 3 must stay under
-//!    2.5 % (skewed pixel distributions give some more). `lqmc compare`'s
+//!    for which P(|t| > 3) = 0.9 %; skewed pixel distributions give more.
+//!    The path tracer's film variance (exact for independent samples) at
+//!    the same samples per pixel is the yardstick: since LQMC's seeds land
+//!    as its camera samples (issue 34) their pixels are as skewed, and the
+//!    fraction was 3.34 % for LQMC against 3.71 % for the path tracer
+//!    when this was written. LQMC's fraction must stay under the path
+//!    tracer's plus one percentage point, or under 2.5 %. `lqmc compare`'s
 //!    Šidák-corrected z-test (α = 0.01 over all pixels) with this layer is
 //!    run and reported but not asserted: its normal threshold (|z| ≈ 4.6)
 //!    ignores the reference's noise and the t tails of a 16-progression
@@ -169,5 +174,34 @@ fn lqmc_variance_layer_matches_independent_renders_and_passes_the_z_test() {
         100.0 * fraction
     );
     assert!(tests > count * SEEDS as usize / 2, "{tests} tests");
-    assert!(fraction < 0.025, "{fraction}");
+    // The yardstick: the path tracer's renders of as many samples, with
+    // their film variance.
+    let path_renders: Vec<(Image, Image)> = (0..SEEDS)
+        .map(|seed| render_once(&scene, IntegratorKind::Path, PROGRESSIONS, 2000 + seed))
+        .collect();
+    let (mut path_above_three, mut path_tests) = (0, 0);
+    for (image, variance) in &path_renders {
+        for ((value, variance), (reference, reference_variance)) in values(image)
+            .zip(values(variance))
+            .zip(values(&reference).zip(values(&reference_variance)))
+        {
+            let total = variance + reference_variance;
+            if total <= 0.0 {
+                continue;
+            }
+            path_tests += 1;
+            if (value - reference).abs() > 3.0 * total.sqrt() {
+                path_above_three += 1;
+            }
+        }
+    }
+    let path_fraction = path_above_three as f64 / path_tests as f64;
+    eprintln!(
+        "the path tracer's film variance at {PROGRESSIONS} spp: |z| > 3 in {:.2} % of {path_tests} pixel channels",
+        100.0 * path_fraction
+    );
+    assert!(
+        fraction < 0.025_f64.max(path_fraction + 0.01),
+        "lqmc {fraction}, path {path_fraction}"
+    );
 }

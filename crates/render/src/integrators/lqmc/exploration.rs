@@ -169,11 +169,15 @@ pub fn render_pixel_sample(
         counters,
         &mut seed_path,
     );
-    let sample_key = hash3(context.seed, crate::sampler::pixel_key(pixel), sample_index);
     let seed_wavelengths = seed_path.wavelengths;
     scratch.unexplored.clear();
     for (event_index, event) in seed_path.events.iter().enumerate() {
-        let event_key = hash2(sample_key, event_index as u64);
+        // The key of the event's random choices, hashed only for events
+        // that come to a breakup draw.
+        let event_key = || {
+            let sample_key = hash3(context.seed, crate::sampler::pixel_key(pixel), sample_index);
+            hash2(sample_key, event_index as u64)
+        };
         handle_event(
             context,
             &seed_path,
@@ -209,7 +213,7 @@ fn handle_event(
     recorded_value: Option<(SampledSpectrum, SampledWavelengths)>,
     seed_wavelengths: Option<SampledWavelengths>,
     sample_index: u64,
-    event_key: u64,
+    event_key: impl FnOnce() -> u64,
     sampler: &mut dyn SampleSource,
     scratch: &mut LqmcScratch,
     splats: &mut SplatBuffer,
@@ -286,7 +290,7 @@ fn handle_event(
         },
         &mut weights,
     );
-    let breakup = draw_breakup(&weights, to_unit_f64(hash2(event_key, BREAKUP_KEY)));
+    let breakup = draw_breakup(&weights, to_unit_f64(hash2(event_key(), BREAKUP_KEY)));
     scratch.breakup_weights = weights;
     let Some(breakup) = breakup else {
         return direct(

@@ -35,7 +35,8 @@ use crate::integrators::estimator::mis::{
     volumetric_emission,
 };
 use crate::integrators::estimator::next_event::{
-    NextEventTerms, VertexScatter, sample_vertex_light, sampled_next_event_through_media,
+    AreaRadianceCache, NextEventTerms, VertexScatter, sample_vertex_light_with_cache,
+    sampled_next_event_through_media,
 };
 use crate::integrators::estimator::shadow::light_visible_from_hit;
 use crate::integrators::path_space::{
@@ -127,6 +128,7 @@ pub fn trace_seed_path(
             scene,
             settings,
             path,
+            area_radiance: AreaRadianceCache::new(),
         },
     );
     record_passed_emitters(scene, path);
@@ -139,6 +141,8 @@ struct SeedRecorder<'a> {
     scene: &'a Scene,
     settings: &'a PathSettings,
     path: &'a mut SeedPath,
+    /// The path's area-light radiance, as the path tracer caches it.
+    area_radiance: AreaRadianceCache,
 }
 
 impl SeedRecorder<'_> {
@@ -186,11 +190,13 @@ impl WalkObserver for SeedRecorder<'_> {
         }
         // The path tracer's value (`path::PathRadiance::emitter`,
         // `volpath::VolPathRadiance::emitter` in scenes with media).
-        let emitted = scene.lights[light_index as usize].emitted_radiance(
+        let area_radiance = &mut self.area_radiance;
+        let emitted = scene.lights[light_index as usize].emitted_radiance_with_area_radiance(
             hit.geometric_normal,
             hit.uv,
             wo,
             wavelengths,
+            |spectrum| area_radiance.radiance(light_index as usize, spectrum, wavelengths),
         );
         let contribution = if scene.has_media() {
             let light_pdf = emission_light_density(
@@ -330,6 +336,7 @@ impl WalkObserver for SeedRecorder<'_> {
                         wavelengths,
                         &mut DynSource(sampler),
                         counters,
+                        &mut self.area_radiance,
                     )
                 }
                 .map(|(connection, contribution)| {
@@ -440,8 +447,16 @@ fn sample_surface_light(
     wavelengths: &SampledWavelengths,
     sampler: &mut dyn SampleSource,
     counters: &mut TraceCounters,
+    area_radiance: &mut AreaRadianceCache,
 ) -> Option<(LightConnection, SampledSpectrum)> {
-    let light_sample = sample_vertex_light(scene, reference, walk.block, wavelengths, sampler)?;
+    let light_sample = sample_vertex_light_with_cache(
+        scene,
+        reference,
+        walk.block,
+        wavelengths,
+        sampler,
+        area_radiance,
+    )?;
     let terms =
         NextEventTerms::of_sample(VertexScatter::Surface(bsdf), wo, &light_sample, wavelengths);
     if terms.scattered.is_black() {
