@@ -417,29 +417,32 @@ fn glass_sphere_box_caustic() {
 
 /// With `--splat-film` LQMC's seeds are spread uniformly over the image
 /// plane and splatted, as before issue 34 (by default they land as the
-/// path tracer's camera samples and only members are splatted).
+/// path tracer's camera samples and only members are splatted). On
+/// dof-spheres, whose filter is pbrt-v4's Gaussian, the two films differ
+/// (with a box filter of radius ½ they place and weigh seeds alike).
 #[test]
-fn glass_sphere_box_caustic_splat_film() {
+fn dof_spheres_roughness_breakup_splat_film() {
     let statistics = assert_scene_converges_on_film(
-        "glass-sphere-box splat film",
-        &scene("glass-sphere-box"),
+        "dof-spheres splat film",
+        &scene("dof-spheres"),
         IntegratorKind::Path,
         LqmcSettings::paper_classes(),
         LQMC_SPP,
         256,
         true,
     );
-    assert!(statistics.explorations[1] > 0, "{statistics:?}");
+    assert!(statistics.breakups[1] > 100, "{statistics:?}");
 }
 
-/// Members weighted by the density of seed positions of a box filter
-/// (one inside the image, zero outside), image-plane breakup b = 1.
+/// Members weighted by the density of seed positions of a wide tent filter
+/// (radius 2: the density falls from one to a quarter across the image's
+/// border), image-plane breakup b = 1.
 #[test]
-fn cornell_box_box_filter_fixed_breakup_one() {
+fn cornell_box_tent_filter_fixed_breakup_one() {
     let mut description = small(builtin_scene("cornell-box").unwrap());
-    description.filter = render::scene::description::FilterDescription::Box { radius: 0.5 };
+    description.filter = render::scene::description::FilterDescription::Tent { radius: 2.0 };
     let statistics = assert_scene_converges(
-        "cornell-box box filter",
+        "cornell-box tent filter",
         &Scene::build(&description).unwrap(),
         IntegratorKind::Path,
         fixed(1),
@@ -490,6 +493,59 @@ fn unexplored_seeds_are_the_path_tracers_samples() {
                 (a - b).abs() <= 1e-5 * a.abs().max(b.abs()) + 1e-7,
                 "pixel {index} channel {channel}: lqmc {a}, path {b}"
             );
+        }
+    }
+}
+
+/// Screening the seeds (`lqmc::seed_screen`: traced by the path tracer
+/// first, recorded only if an event could be explored) takes no
+/// exploration away: the same explorations, members and failures as
+/// recording every seed, and the same image up to the rounding of the
+/// unexplored values' sums.
+#[test]
+fn screening_changes_no_exploration() {
+    for name in ["glass-sphere-box", "office", "cornell-box"] {
+        let scene = scene(name);
+        let screened = LqmcSettings::default();
+        let recorded = LqmcSettings {
+            screen_seeds: false,
+            ..screened
+        };
+        let (screened_image, _, screened_statistics) =
+            render_once(&scene, IntegratorKind::Lqmc, screened, 16, 11);
+        let (recorded_image, _, recorded_statistics) =
+            render_once(&scene, IntegratorKind::Lqmc, recorded, 16, 11);
+        assert!(screened_statistics.screened_seeds > 0, "{name}");
+        assert_eq!(recorded_statistics.screened_seeds, 0, "{name}");
+        assert_eq!(
+            screened_statistics.explorations, recorded_statistics.explorations,
+            "{name}"
+        );
+        assert_eq!(
+            screened_statistics.members, recorded_statistics.members,
+            "{name}"
+        );
+        assert_eq!(
+            screened_statistics.valid_members, recorded_statistics.valid_members,
+            "{name}"
+        );
+        assert_eq!(
+            screened_statistics.failures, recorded_statistics.failures,
+            "{name}"
+        );
+        for (index, (a, b)) in screened_image
+            .pixels()
+            .iter()
+            .zip(recorded_image.pixels())
+            .enumerate()
+        {
+            for channel in 0..3 {
+                let (a, b) = (a[channel], b[channel]);
+                assert!(
+                    (a - b).abs() <= 1e-4 * a.abs().max(b.abs()) + 1e-6,
+                    "{name} pixel {index} channel {channel}: screened {a}, recorded {b}"
+                );
+            }
         }
     }
 }

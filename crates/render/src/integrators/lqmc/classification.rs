@@ -8,6 +8,7 @@ use super::path_record::{CameraVertex, SplatEvent, SurfaceVertex, Terminal};
 use super::settings::{BreakupChoice, LqmcSettings};
 use crate::material::{BsdfFlags, SurfaceBsdf};
 use crate::scene::Scene;
+use glam::Vec3;
 
 /// The classes that choose the lattice size and the tiles.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -111,34 +112,60 @@ impl EventPath<'_> {
 /// the plane in focus, aperture diameter × |focus − distance| / distance,
 /// over the pixel size there).
 pub fn circle_of_confusion_pixels(scene: &Scene, path: &EventPath<'_>) -> f32 {
+    match path.vertices.first() {
+        Some(first) => circle_of_confusion_at(scene, path.camera.origin, first.hit.point),
+        None => 0.0,
+    }
+}
+
+/// The circle of confusion in pixels of a first hit at `point` seen from
+/// the lens point `origin` (0 for a pinhole).
+pub fn circle_of_confusion_at(scene: &Scene, origin: Vec3, point: Vec3) -> f32 {
     let camera = &scene.camera;
-    let Some(first) = path.vertices.first() else {
-        return 0.0;
-    };
     if camera.lens_radius() <= 0.0 {
         return 0.0;
     }
     let focus = camera.focus_distance();
-    let distance = (first.hit.point - path.camera.origin).length();
+    let distance = (point - origin).length();
     let diameter = 2.0 * camera.lens_radius() * (focus - distance).abs() / distance;
     diameter / (camera.pixel_size_at_unit_distance() * focus)
 }
 
 /// The class of a path.
 pub fn classify(scene: &Scene, settings: &LqmcSettings, path: &EventPath<'_>) -> PathClass {
-    if circle_of_confusion_pixels(scene, path) > settings.depth_of_field_threshold_pixels {
+    class_of(
+        settings,
+        || circle_of_confusion_pixels(scene, path),
+        path.vertices[..path.event.scattering_count()]
+            .iter()
+            .map(vertex_roughness),
+        path.event.is_next_event(),
+    )
+}
+
+/// The class of a path from what decides it: its first hit's circle of
+/// confusion in pixels, the roughness ([`vertex_roughness`]) of its
+/// scattering vertices in order from the camera, and whether next-event
+/// estimation made it. [`classify`] and the seeds' screening
+/// ([`super::seed_screen`]) both decide by it.
+pub fn class_of(
+    settings: &LqmcSettings,
+    circle_of_confusion: impl FnOnce() -> f32,
+    scattering_roughness: impl DoubleEndedIterator<Item = f32> + ExactSizeIterator,
+    is_next_event: bool,
+) -> PathClass {
+    if circle_of_confusion() > settings.depth_of_field_threshold_pixels {
         return PathClass::DepthOfField;
     }
-    let scattering = &path.vertices[..path.event.scattering_count()];
-    let chain = scattering
-        .iter()
+    let scattering = scattering_roughness.len();
+    let chain = scattering_roughness
         .rev()
-        .take_while(|vertex| vertex_roughness(vertex) < settings.caustic_roughness)
+        .take_while(|roughness| *roughness < settings.caustic_roughness)
         .count();
-    if chain > 0 && chain < scattering.len() {
+    if chain > 0 && chain < scattering {
         return PathClass::Caustic;
     }
-    if path.event.is_next_event() {
+    if is_next_event {
         PathClass::NextEvent
     } else {
         PathClass::Normal

@@ -13,7 +13,8 @@ use super::path_record::{CameraVertex, SplatEvent, SurfaceVertex};
 use super::path_walk::{WalkInput, walk};
 use super::prefix_rebuild::{ImagePlane, MemberCamera, MemberSource, rebuild_member};
 use super::seed_film::SeedFilm;
-use super::seed_path::{SeedPath, trace_seed_path};
+use super::seed_path::{SeedPath, seed_camera, trace_seed_path};
+use super::seed_screen::{ScreenScratch, path_traced_seed};
 use super::segment_cache::{SegmentCache, SegmentReuse};
 use super::settings::{BreakupChoice, LqmcSettings};
 use super::statistics::{FailureReason, LqmcStatistics};
@@ -49,6 +50,9 @@ pub struct LqmcContext<'a> {
     pub seed: u64,
     /// Where seeds lie and how their values land.
     pub film: SeedFilm,
+    /// Whether seeds are path-traced first and recorded only where an
+    /// event could be explored ([`super::seed_screen::screens_seeds`]).
+    pub screen_seeds: bool,
 }
 
 /// The sample density per class (the paper's Fig. 11): one splat of value
@@ -68,6 +72,7 @@ pub struct ClassDensity {
 pub struct LqmcScratch {
     /// The sample density per class, gathered when set.
     pub density: Option<ClassDensity>,
+    screen: ScreenScratch,
     seed_path: SeedPath,
     member_vertices: Vec<SurfaceVertex>,
     dimensions: Vec<ExploredDimension>,
@@ -160,6 +165,29 @@ pub fn render_pixel_sample(
     let raster = context
         .film
         .seed_raster(context.scene, pixel, sampler.get_2d(layout::FILM));
+    if context.screen_seeds {
+        let (camera, ray, wavelengths) = seed_camera(context.scene, raster, sampler);
+        if let Some((radiance, wavelengths)) = path_traced_seed(
+            context.scene,
+            context.settings,
+            &context.path_settings,
+            camera.origin,
+            ray,
+            wavelengths,
+            sampler,
+            counters,
+            &mut scratch.screen,
+        ) {
+            statistics.screened_seeds += 1;
+            let rgb = to_linear_srgb(&radiance, &wavelengths)
+                .map(|channel| channel * context.film.unexplored_scale());
+            land_unexplored(context, pixel, raster, rgb, tile, splats);
+            return;
+        }
+        // An event could be explored: the seed is traced again, from the
+        // same numbers along the same path, and recorded.
+        statistics.retraced_seeds += 1;
+    }
     let mut seed_path = std::mem::take(&mut scratch.seed_path);
     trace_seed_path(
         context.scene,
@@ -194,14 +222,26 @@ pub fn render_pixel_sample(
         );
     }
     let unexplored = scratch.unexplored.rgb(context.film.unexplored_scale());
-    if context.film.adds_camera_samples() {
-        let _ = tile.add_sample([pixel.0 as usize, pixel.1 as usize], unexplored, 1.0);
-    } else if unexplored != [0.0; 3]
-        && let Some(camera) = &seed_path.camera
-    {
-        let _ = splats.add(camera.raster.to_array(), unexplored);
-    }
+    land_unexplored(context, pixel, raster, unexplored, tile, splats);
     scratch.seed_path = seed_path;
+}
+
+/// Adds a seed's unexplored value `rgb` (scaled already): to its pixel as
+/// its camera sample, or splatted at its raster position with
+/// `--splat-film`.
+fn land_unexplored(
+    context: &LqmcContext<'_>,
+    pixel: (u32, u32),
+    raster: glam::Vec2,
+    rgb: [f32; 3],
+    tile: &mut crate::film::FilmTile,
+    splats: &mut SplatBuffer,
+) {
+    if context.film.adds_camera_samples() {
+        let _ = tile.add_sample([pixel.0 as usize, pixel.1 as usize], rgb, 1.0);
+    } else if rgb != [0.0; 3] {
+        let _ = splats.add(raster.to_array(), rgb);
+    }
 }
 
 /// Splats one event, explored or not.
@@ -788,6 +828,7 @@ mod tests {
                 path_settings: PathSettings::default(),
                 seed: 3,
                 film: SeedFilm::new(&scene, false),
+                screen_seeds: false,
             };
             let mut sampler = SamplerKind::Independent
                 .create(3, Randomization::Seeded, (16, 12), 4, None)

@@ -6,6 +6,7 @@
 
 use super::exploration::{ClassDensity, LqmcContext, LqmcScratch, render_pixel_sample};
 use super::seed_film::SeedFilm;
+use super::seed_screen::screens_seeds;
 use super::{LqmcSettings, LqmcStatistics, ProgressionVariance};
 use crate::film::{BoxFilter, Film, Filter};
 use crate::integrators::driver::{
@@ -80,6 +81,7 @@ impl Integrator for LqmcIntegrator {
                 path_settings: self.path_settings,
                 seed: run.seed,
                 film: SeedFilm::new(scene, self.path_settings.splat_film),
+                screen_seeds: screens_seeds(scene, &self.settings),
             },
         };
         let output = render_pixel_samples(&estimator, scene, run)?;

@@ -15,6 +15,7 @@
 //! [`explored_dimensions`] (dimensions and tiles), [`lattice_step`] (tile
 //! transform, closest point, shift), [`prefix_rebuild`] (members),
 //! [`seed_film`] (where seeds lie on the image and how their values land),
+//! [`seed_screen`] (seeds path-traced alone where nothing could be explored),
 //! [`path_walk`] (contribution and suffix density of a path),
 //! [`medium_segment`] and [`volume_walk`] (the same
 //! through homogeneous media, as `volpath` traces them), [`segment_cache`]
@@ -36,6 +37,7 @@ pub mod path_walk;
 pub mod prefix_rebuild;
 pub mod seed_film;
 pub mod seed_path;
+pub mod seed_screen;
 pub mod segment_cache;
 pub mod settings;
 pub mod statistics;

@@ -85,6 +85,33 @@ pub fn trace_seed_path(
     path.events.clear();
     path.event_values.clear();
     path.passed_emitters.clear();
+    let (camera, ray, mut wavelengths) = seed_camera(scene, raster, sampler);
+    path.camera = Some(camera);
+    path.wavelengths = Some(wavelengths);
+    walk(
+        scene,
+        WalkStart::camera(ray, scene.camera_medium),
+        &seed_walk_settings(scene, settings),
+        &mut wavelengths,
+        &mut DynSource(sampler),
+        counters,
+        &mut SeedRecorder {
+            scene,
+            settings,
+            path,
+            area_radiance: AreaRadianceCache::new(),
+        },
+    );
+    record_passed_emitters(scene, path);
+}
+
+/// The camera vertex of a seed through `raster` with the numbers of
+/// `sampler`, its ray and its wavelengths.
+pub fn seed_camera(
+    scene: &Scene,
+    raster: Vec2,
+    sampler: &mut dyn SampleSource,
+) -> (CameraVertex, Ray, SampledWavelengths) {
     // Numbers the camera does not use (a pinhole's lens, a closed
     // shutter's time) are not drawn, as the path tracer's
     // (`driver::CameraPathStart::at_position`).
@@ -100,38 +127,29 @@ pub fn trace_seed_path(
     };
     let u_wavelength = sampler.get(layout::WAVELENGTH);
     let camera_ray = scene.camera.generate_ray(raster, u_lens, u_time);
-    path.camera = Some(CameraVertex {
+    let camera = CameraVertex {
         raster,
         u_lens,
         u_time,
         u_wavelength,
         origin: camera_ray.origin,
-    });
-    let mut wavelengths = SampledWavelengths::sample_visible(u_wavelength);
-    path.wavelengths = Some(wavelengths);
-    walk(
-        scene,
-        WalkStart::camera(
-            Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time),
-            scene.camera_medium,
-        ),
-        &WalkSettings::camera(
-            WalkSettings::camera_vertices(settings.max_depth),
-            settings.russian_roulette_depth,
-            scene.has_media(),
-            false,
-        ),
-        &mut wavelengths,
-        &mut DynSource(sampler),
-        counters,
-        &mut SeedRecorder {
-            scene,
-            settings,
-            path,
-            area_radiance: AreaRadianceCache::new(),
-        },
-    );
-    record_passed_emitters(scene, path);
+    };
+    (
+        camera,
+        Ray::with_time(camera_ray.origin, camera_ray.direction, camera_ray.time),
+        SampledWavelengths::sample_visible(u_wavelength),
+    )
+}
+
+/// The walk of a seed path: the path tracer's (the volumetric one's in
+/// scenes with media), every surface a vertex (no null crossings).
+pub fn seed_walk_settings(scene: &Scene, settings: &PathSettings) -> WalkSettings {
+    WalkSettings::camera(
+        WalkSettings::camera_vertices(settings.max_depth),
+        settings.russian_roulette_depth,
+        scene.has_media(),
+        false,
+    )
 }
 
 /// The seed's observer of the walk: every surface reached is a vertex,

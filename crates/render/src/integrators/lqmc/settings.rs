@@ -202,6 +202,11 @@ pub struct LqmcSettings {
     /// Gather the sample density per class, returned as the render's
     /// `density` image (default off; `--lqmc-density`).
     pub gather_density: bool,
+    /// Trace seeds with the path tracer first and record only those with
+    /// an event that could be explored, where explorations are rare
+    /// (default on; see `lqmc::seed_screen`; off only to test that it
+    /// changes nothing).
+    pub screen_seeds: bool,
 }
 
 impl Default for LqmcSettings {
@@ -248,6 +253,7 @@ impl Default for LqmcSettings {
             scramble_dimensions: true,
             jitter_tiles: true,
             gather_density: false,
+            screen_seeds: true,
         }
     }
 }

@@ -70,7 +70,13 @@ impl FailureReason {
 /// Counters of an LQMC render (summed over tiles).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct LqmcStatistics {
-    /// Splat events of seed paths with a non-zero contribution.
+    /// Seeds traced by the path tracer alone: none of their events could
+    /// be explored (`seed_screen`).
+    pub screened_seeds: u64,
+    /// Seeds traced again to be recorded: the screen found an event that
+    /// could be explored.
+    pub retraced_seeds: u64,
+    /// Splat events of recorded seed paths with a non-zero contribution.
     pub events: u64,
     /// Events splatted without exploration.
     pub direct_splats: u64,
@@ -184,6 +190,8 @@ impl ClosestPointTiming {
 impl LqmcStatistics {
     /// Adds another tile's counters.
     pub fn add(&mut self, other: &LqmcStatistics) {
+        self.screened_seeds += other.screened_seeds;
+        self.retraced_seeds += other.retraced_seeds;
         self.events += other.events;
         self.direct_splats += other.direct_splats;
         for i in 0..4 {
@@ -218,6 +226,12 @@ impl LqmcStatistics {
         let explorations: u64 = self.explorations.iter().sum();
         let members: u64 = self.members.iter().sum();
         let failures: u64 = self.failures.iter().sum();
+        if self.screened_seeds + self.retraced_seeds > 0 {
+            lines.push(format!(
+                "LQMC: {} seeds path-traced alone (no event could be explored), {} traced again to be recorded",
+                self.screened_seeds, self.retraced_seeds
+            ));
+        }
         lines.push(format!(
             "LQMC: {} splat events, {} explored, {} splatted directly",
             self.events, explorations, self.direct_splats
