@@ -22,7 +22,7 @@ use crate::film::SplatBuffer;
 use crate::integrators::TraceCounters;
 use crate::integrators::driver::UnitOutput;
 use crate::integrators::estimator::PathSettings;
-use crate::sampler::{SampleSource, layout};
+use crate::sampler::{DynSource, SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
 use qmc::hash::{hash2, hash3, to_unit_f64};
@@ -148,24 +148,30 @@ impl UnexploredSum {
 }
 
 /// Renders one pixel sample: `sampler` is positioned at it.
-pub fn render_pixel_sample(
+///
+/// Generic over the sampler and always inlined, so that a screened seed
+/// (most seeds, where screening applies) is traced by code compiled as the
+/// path tracer's: with the concrete sampler, into the driver's AVX2 tile
+/// loop. A recorded seed goes on in [`render_recorded_seed`].
+#[inline(always)]
+pub fn render_pixel_sample<S: SampleSource + ?Sized>(
     context: &LqmcContext<'_>,
     pixel: (u32, u32),
     sample_index: u64,
-    sampler: &mut dyn SampleSource,
+    sampler: &mut S,
     scratch: &mut LqmcScratch,
     output: &mut UnitOutput,
     statistics: &mut LqmcStatistics,
 ) {
-    let UnitOutput {
-        tile,
-        splats,
-        counters,
-    } = output;
     let raster = context
         .film
         .seed_raster(context.scene, pixel, sampler.get_2d(layout::FILM));
     if context.screen_seeds {
+        let UnitOutput {
+            tile,
+            splats,
+            counters,
+        } = &mut *output;
         let (camera, ray, wavelengths) = seed_camera(context.scene, raster, sampler);
         if let Some((radiance, wavelengths)) = path_traced_seed(
             context.scene,
@@ -188,6 +194,36 @@ pub fn render_pixel_sample(
         // same numbers along the same path, and recorded.
         statistics.retraced_seeds += 1;
     }
+    render_recorded_seed(
+        context,
+        pixel,
+        sample_index,
+        raster,
+        &mut DynSource(sampler),
+        scratch,
+        output,
+        statistics,
+    );
+}
+
+/// Renders one pixel sample whose seed path goes through `raster`: records
+/// the seed and explores its events or adds them as they are.
+#[allow(clippy::too_many_arguments)]
+fn render_recorded_seed(
+    context: &LqmcContext<'_>,
+    pixel: (u32, u32),
+    sample_index: u64,
+    raster: glam::Vec2,
+    sampler: &mut dyn SampleSource,
+    scratch: &mut LqmcScratch,
+    output: &mut UnitOutput,
+    statistics: &mut LqmcStatistics,
+) {
+    let UnitOutput {
+        tile,
+        splats,
+        counters,
+    } = output;
     let mut seed_path = std::mem::take(&mut scratch.seed_path);
     trace_seed_path(
         context.scene,

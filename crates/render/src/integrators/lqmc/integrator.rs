@@ -18,7 +18,7 @@ use crate::integrators::volpath::VolPathIntegrator;
 use crate::integrators::{
     AuxiliaryImage, Integrator, IntegratorDetails, IntegratorRender, RenderError, RunControl,
 };
-use crate::sampler::{DynSource, PixelSampler};
+use crate::sampler::PixelSampler;
 use crate::scene::Scene;
 
 /// The LQMC integrator.
@@ -159,6 +159,9 @@ impl PixelSampleEstimator for LqmcEstimator<'_> {
         (scratch, LqmcStatistics::default())
     }
 
+    /// Always inlined into the driver's tile loop, as the path tracer's:
+    /// screened seeds are traced by the same code ([`render_pixel_sample`]).
+    #[inline(always)]
     fn estimate<S: PixelSampler + ?Sized>(
         &self,
         (scratch, statistics): &mut Self::Unit,
@@ -170,7 +173,7 @@ impl PixelSampleEstimator for LqmcEstimator<'_> {
             &self.context,
             sample.pixel,
             sample.sample_index,
-            &mut DynSource(sampler),
+            sampler,
             scratch,
             output,
             statistics,

@@ -107,10 +107,11 @@ pub fn trace_seed_path(
 
 /// The camera vertex of a seed through `raster` with the numbers of
 /// `sampler`, its ray and its wavelengths.
-pub fn seed_camera(
+#[inline(always)]
+pub fn seed_camera<S: SampleSource + ?Sized>(
     scene: &Scene,
     raster: Vec2,
-    sampler: &mut dyn SampleSource,
+    sampler: &mut S,
 ) -> (CameraVertex, Ray, SampledWavelengths) {
     // Numbers the camera does not use (a pinhole's lens, a closed
     // shutter's time) are not drawn, as the path tracer's

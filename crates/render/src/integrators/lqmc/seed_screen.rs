@@ -37,7 +37,7 @@ use crate::integrators::path::PathTracing;
 use crate::integrators::path_space::{
     ScattererRef, Scattering, VertexAt, WalkObserver, WalkStart, WalkState, walk,
 };
-use crate::sampler::{DynSource, SampleSource};
+use crate::sampler::SampleSource;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec3;
@@ -87,14 +87,15 @@ pub struct ScreenScratch {
 /// explored: its radiance and wavelengths (as the path tracer's estimate
 /// left them). `None` when it must be recorded.
 #[allow(clippy::too_many_arguments)]
-pub fn path_traced_seed(
+#[inline(always)]
+pub fn path_traced_seed<S: SampleSource + ?Sized>(
     scene: &Scene,
     settings: &LqmcSettings,
     path_settings: &PathSettings,
     camera_origin: Vec3,
     ray: Ray,
     mut wavelengths: SampledWavelengths,
-    sampler: &mut dyn SampleSource,
+    sampler: &mut S,
     counters: &mut TraceCounters,
     scratch: &mut ScreenScratch,
 ) -> Option<(SampledSpectrum, SampledWavelengths)> {
@@ -114,7 +115,7 @@ pub fn path_traced_seed(
         WalkStart::camera(ray, scene.camera_medium),
         &super::seed_path::seed_walk_settings(scene, path_settings),
         &mut wavelengths,
-        &mut DynSource(sampler),
+        sampler,
         counters,
         &mut screen,
     );
