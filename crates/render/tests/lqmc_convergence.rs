@@ -486,12 +486,18 @@ fn unexplored_seeds_are_the_path_tracers_samples() {
         "{statistics:?}"
     );
     let (path, ..) = render_once(&scene, IntegratorKind::Path, LqmcSettings::default(), 4, 9);
-    for (index, (a, b)) in lqmc.pixels().iter().zip(path.pixels()).enumerate() {
+    assert_images_agree("cornell-box, lqmc against path", &lqmc, &path, 1e-5, 1e-7);
+}
+
+/// Asserts that `a` and `b` agree per pixel channel within `relative` of
+/// the larger value plus `absolute`.
+fn assert_images_agree(what: &str, a: &Image, b: &Image, relative: f32, absolute: f32) {
+    for (index, (a, b)) in a.pixels().iter().zip(b.pixels()).enumerate() {
         for channel in 0..3 {
             let (a, b) = (a[channel], b[channel]);
             assert!(
-                (a - b).abs() <= 1e-5 * a.abs().max(b.abs()) + 1e-7,
-                "pixel {index} channel {channel}: lqmc {a}, path {b}"
+                (a - b).abs() <= relative * a.abs().max(b.abs()) + absolute,
+                "{what}: pixel {index} channel {channel}: {a} against {b}"
             );
         }
     }
@@ -533,20 +539,13 @@ fn screening_changes_no_exploration() {
             screened_statistics.failures, recorded_statistics.failures,
             "{name}"
         );
-        for (index, (a, b)) in screened_image
-            .pixels()
-            .iter()
-            .zip(recorded_image.pixels())
-            .enumerate()
-        {
-            for channel in 0..3 {
-                let (a, b) = (a[channel], b[channel]);
-                assert!(
-                    (a - b).abs() <= 1e-4 * a.abs().max(b.abs()) + 1e-6,
-                    "{name} pixel {index} channel {channel}: screened {a}, recorded {b}"
-                );
-            }
-        }
+        assert_images_agree(
+            &format!("{name}, screened against recorded"),
+            &screened_image,
+            &recorded_image,
+            1e-4,
+            1e-6,
+        );
     }
 }
 

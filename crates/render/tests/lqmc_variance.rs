@@ -88,6 +88,34 @@ fn values(image: &Image) -> impl Iterator<Item = f64> + '_ {
     image.pixels().iter().flatten().map(|value| *value as f64)
 }
 
+/// Over the pixel channels of `renders` (image, variance layer) with a
+/// positive total variance: how many differ from `reference` by more than
+/// three standard deviations (the render's and the reference's variance
+/// added), and how many were tested.
+fn count_above_three(
+    renders: &[(Image, Image)],
+    reference: &Image,
+    reference_variance: &Image,
+) -> (usize, usize) {
+    let (mut above_three, mut tests) = (0, 0);
+    for (image, variance) in renders {
+        for ((value, variance), (reference, reference_variance)) in values(image)
+            .zip(values(variance))
+            .zip(values(reference).zip(values(reference_variance)))
+        {
+            let total = variance + reference_variance;
+            if total <= 0.0 {
+                continue;
+            }
+            tests += 1;
+            if (value - reference).abs() > 3.0 * total.sqrt() {
+                above_three += 1;
+            }
+        }
+    }
+    (above_three, tests)
+}
+
 #[test]
 fn lqmc_variance_layer_matches_independent_renders_and_passes_the_z_test() {
     let scene = scene("dof-spheres");
@@ -136,23 +164,9 @@ fn lqmc_variance_layer_matches_independent_renders_and_passes_the_z_test() {
     assert!(t.abs() < 4.0, "ratio {ratio}, t = {t}");
 
     // 2. Per-pixel z-test against the path tracer, with the layer.
-    let mut above_three = 0;
-    let mut tests = 0;
+    let (above_three, tests) = count_above_three(&renders, &reference, &reference_variance);
     let mut failed_images = 0;
     for (image, variance) in &renders {
-        for ((value, variance), (reference, reference_variance)) in values(image)
-            .zip(values(variance))
-            .zip(values(&reference).zip(values(&reference_variance)))
-        {
-            let total = variance + reference_variance;
-            if total <= 0.0 {
-                continue;
-            }
-            tests += 1;
-            if (value - reference).abs() > 3.0 * total.sqrt() {
-                above_three += 1;
-            }
-        }
         let comparison = compare_images(
             image,
             &reference,
@@ -179,22 +193,8 @@ fn lqmc_variance_layer_matches_independent_renders_and_passes_the_z_test() {
     let path_renders: Vec<(Image, Image)> = (0..SEEDS)
         .map(|seed| render_once(&scene, IntegratorKind::Path, PROGRESSIONS, 2000 + seed))
         .collect();
-    let (mut path_above_three, mut path_tests) = (0, 0);
-    for (image, variance) in &path_renders {
-        for ((value, variance), (reference, reference_variance)) in values(image)
-            .zip(values(variance))
-            .zip(values(&reference).zip(values(&reference_variance)))
-        {
-            let total = variance + reference_variance;
-            if total <= 0.0 {
-                continue;
-            }
-            path_tests += 1;
-            if (value - reference).abs() > 3.0 * total.sqrt() {
-                path_above_three += 1;
-            }
-        }
-    }
+    let (path_above_three, path_tests) =
+        count_above_three(&path_renders, &reference, &reference_variance);
     let path_fraction = path_above_three as f64 / path_tests as f64;
     eprintln!(
         "the path tracer's film variance at {PROGRESSIONS} spp: |z| > 3 in {:.2} % of {path_tests} pixel channels",

@@ -672,6 +672,27 @@ pub struct CameraPathStart {
     pub wavelengths: SampledWavelengths,
 }
 
+/// The lens and time numbers of a camera sample. Numbers the camera does
+/// not use (a pinhole's lens, a closed shutter's time) are not drawn (a
+/// hash each saved): the centre of their range stands in.
+#[inline(always)]
+pub(crate) fn camera_numbers<S: crate::sampler::SampleSource + ?Sized>(
+    scene: &Scene,
+    sampler: &mut S,
+) -> ([f32; 2], f32) {
+    let u_lens = if scene.camera.uses_lens_sample() {
+        sampler.get_2d(layout::LENS)
+    } else {
+        [0.5; 2]
+    };
+    let u_time = if scene.camera.uses_time_sample() {
+        sampler.get(layout::TIME)
+    } else {
+        0.5
+    };
+    (u_lens, u_time)
+}
+
 impl CameraPathStart {
     /// The camera sample of `pixel` for the sampler's current numbers.
     #[inline]
@@ -721,18 +742,7 @@ impl CameraPathStart {
         position: crate::film::CameraSamplePosition,
         sampler: &mut S,
     ) -> Self {
-        // Numbers the camera does not use (a pinhole's lens, a closed
-        // shutter's time) are not drawn: a hash each saved.
-        let u_lens = if scene.camera.uses_lens_sample() {
-            sampler.get_2d(layout::LENS)
-        } else {
-            [0.5; 2]
-        };
-        let u_time = if scene.camera.uses_time_sample() {
-            sampler.get(layout::TIME)
-        } else {
-            0.5
-        };
+        let (u_lens, u_time) = camera_numbers(scene, sampler);
         let camera_ray =
             scene
                 .camera

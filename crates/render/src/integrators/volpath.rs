@@ -216,7 +216,9 @@ impl WalkObserver for VolPathRadiance<'_> {
             wavelengths,
             &mut DynSource(sampler),
             counters,
-        );
+            true,
+        )
+        .map_or(SampledSpectrum::zero(), |(_, value)| value);
         self.radiance += walk.beta * next_event;
         ControlFlow::Continue(())
     }

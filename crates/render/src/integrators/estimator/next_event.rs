@@ -346,48 +346,16 @@ pub(crate) fn next_event_at_surface<S: SampleSource + ?Sized>(
 /// media and index-matched boundaries to the light, balance-weighted over
 /// wavelengths and against `scatter`'s sampling
 /// ([`NextEventTerms::balance_denominator`]); `r_u` is the path's rescaled
-/// probability at the vertex. The result still has to be multiplied by the
-/// path throughput.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn next_event_through_media(
-    scene: &Scene,
-    reference: Vec3,
-    hit: Option<&SurfaceHit>,
-    medium: Option<u32>,
-    scatter: VertexScatter<'_>,
-    wo: Vec3,
-    r_u: SampledSpectrum,
-    depth: u32,
-    wavelengths: &SampledWavelengths,
-    sampler: &mut dyn SampleSource,
-    counters: &mut TraceCounters,
-) -> SampledSpectrum {
-    sampled_next_event_through_media(
-        scene,
-        reference,
-        hit,
-        medium,
-        scatter,
-        wo,
-        r_u,
-        depth,
-        wavelengths,
-        sampler,
-        counters,
-        true,
-    )
-    .map_or(SampledSpectrum::zero(), |(_, value)| value)
-}
-
-/// [`next_event_through_media`] with the light sample it connected to, for
-/// a walk with or without null crossings (`null_crossings`: whether shadow
-/// rays pass thin sheets and masks with their null lobe's weight,
-/// [`shadow_transmittance_with`]). `None` where no light arrives: no light
-/// sample, `scatter` passes none of it towards the light, or the shadow ray
-/// is blocked. LQMC's seeds record the sample as the event's connection.
+/// probability at the vertex. Returns the light sample with the value,
+/// which still has to be multiplied by the path throughput; `None` where no
+/// light arrives: no light sample, `scatter` passes none of it towards the
+/// light, or the shadow ray is blocked. `null_crossings` is the walk's
+/// setting: whether shadow rays pass thin sheets and masks with their null
+/// lobe's weight ([`shadow_transmittance_with`]); `volpath`'s walk does,
+/// LQMC's seeds (which record the sample as the event's connection) do not.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub(crate) fn sampled_next_event_through_media(
+pub(crate) fn next_event_through_media(
     scene: &Scene,
     reference: Vec3,
     hit: Option<&SurfaceHit>,

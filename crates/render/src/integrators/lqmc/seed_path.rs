@@ -29,14 +29,15 @@ use super::medium_segment::medium_roughness;
 use super::path_record::{CameraVertex, LightConnection, SplatEvent, SurfaceVertex, Terminal};
 use crate::geometry::{Ray, SurfaceHit};
 use crate::integrators::TraceCounters;
+use crate::integrators::driver::camera_numbers;
 use crate::integrators::estimator::PathSettings;
 use crate::integrators::estimator::mis::{
     emission_light_density, emission_weight, environment_emission, environment_emission_densities,
     volumetric_emission,
 };
 use crate::integrators::estimator::next_event::{
-    AreaRadianceCache, NextEventTerms, VertexScatter, sample_vertex_light_with_cache,
-    sampled_next_event_through_media,
+    AreaRadianceCache, NextEventTerms, VertexScatter, next_event_through_media,
+    sample_vertex_light_with_cache,
 };
 use crate::integrators::estimator::shadow::light_visible_from_hit;
 use crate::integrators::path_space::{
@@ -113,19 +114,7 @@ pub fn seed_camera<S: SampleSource + ?Sized>(
     raster: Vec2,
     sampler: &mut S,
 ) -> (CameraVertex, Ray, SampledWavelengths) {
-    // Numbers the camera does not use (a pinhole's lens, a closed
-    // shutter's time) are not drawn, as the path tracer's
-    // (`driver::CameraPathStart::at_position`).
-    let u_lens = if scene.camera.uses_lens_sample() {
-        sampler.get_2d(layout::LENS)
-    } else {
-        [0.5; 2]
-    };
-    let u_time = if scene.camera.uses_time_sample() {
-        sampler.get(layout::TIME)
-    } else {
-        0.5
-    };
+    let (u_lens, u_time) = camera_numbers(scene, sampler);
     let u_wavelength = sampler.get(layout::WAVELENGTH);
     let camera_ray = scene.camera.generate_ray(raster, u_lens, u_time);
     let camera = CameraVertex {
@@ -412,7 +401,7 @@ fn record_passed_emitters(scene: &Scene, path: &mut SeedPath) {
 /// Next-event estimation at a vertex of a walk through media (a medium
 /// point, or a surface point `reference` offset off `hit`), with the
 /// volumetric path tracer's terms and balance weight
-/// ([`sampled_next_event_through_media`]): the light sample's connection
+/// ([`next_event_through_media`]): the light sample's connection
 /// and its contribution `β · scattered · T · Le / mean(r_l + r_u p)`, if
 /// some light arrives. The seed's walk has no null crossings: shadow rays
 /// stop at thin sheets and masks, which its paths pass by sampling them.
@@ -429,7 +418,7 @@ fn volumetric_next_event(
     sampler: &mut dyn SampleSource,
     counters: &mut TraceCounters,
 ) -> Option<(LightConnection, SampledSpectrum)> {
-    let (light_sample, contribution) = sampled_next_event_through_media(
+    let (light_sample, contribution) = next_event_through_media(
         scene,
         reference,
         hit,
