@@ -21,7 +21,9 @@
 //! is cut short:
 //! - the camera samples of its finished tiles are kept: each pixel
 //!   averages its own samples, so a pixel with one sample more is not
-//!   biased;
+//!   biased (except for LQMC, whose seeds' camera samples belong with
+//!   their members' splats:
+//!   [`PixelSampleEstimator::keeps_camera_samples_of_partial_passes`]);
 //! - its splats are dropped: a splat image is normalised by one count for
 //!   the whole film (`1 / samples per pixel`), and a partial pass would
 //!   bias every pixel its tiles reached by `√(f(1−f))/(n+f)`.
@@ -218,6 +220,15 @@ pub trait PixelSampleEstimator: Sync {
         } else {
             samples_per_pixel.clamp(1, 4)
         }
+    }
+
+    /// Whether the camera samples of a partial pass's finished tiles are
+    /// kept (the default: each pixel averages its own samples, so one more
+    /// does not bias it). LQMC keeps none: its image is the mean of whole
+    /// progressions, whose spread its variance layer reports, and a seed's
+    /// camera sample without its members' splats would be half a sample.
+    fn keeps_camera_samples_of_partial_passes(&self) -> bool {
+        true
     }
 
     /// The total before any work unit, for a film of `resolution` pixels.
@@ -425,8 +436,11 @@ pub fn render_pixel_samples<E: PixelSampleEstimator>(
         // does not depend on the number of threads (the splats in parallel
         // over bands of rows, each pixel in that order).
         let mut splat_buffers = Vec::new();
+        let keep_tiles = complete || estimator.keeps_camera_samples_of_partial_passes();
         for (output, unit, count) in results.into_iter().flatten() {
-            film.merge_tile(&output.tile)?;
+            if keep_tiles {
+                film.merge_tile(&output.tile)?;
+            }
             if complete {
                 splat_buffers.push(output.splats);
             }

@@ -132,6 +132,12 @@ impl PixelSampleEstimator for LqmcEstimator<'_> {
         1
     }
 
+    /// A cut-short progression is dropped whole: the seeds' camera samples
+    /// with their members' splats.
+    fn keeps_camera_samples_of_partial_passes(&self) -> bool {
+        false
+    }
+
     fn new_total(&self, resolution: [usize; 2]) -> Result<LqmcTotal, RenderError> {
         let density = if self.context.settings.gather_density {
             let box_filter = Filter::Box(BoxFilter::new([0.5, 0.5])?);
