@@ -173,9 +173,12 @@ fn parse_integrator_entry(entry: &str) -> Result<IntegratorEntry, CliError> {
     let mut splat_film = false;
     for part in parts {
         if part == "splat" && !splat_film {
-            if !matches!(integrator, IntegratorKind::Path | IntegratorKind::VolPath) {
+            if !matches!(
+                integrator,
+                IntegratorKind::Path | IntegratorKind::VolPath | IntegratorKind::Lqmc
+            ) {
                 return Err(usage(format!(
-                    "--integrators: `{entry}`: `:splat` is for path and volpath (the others choose their film themselves)"
+                    "--integrators: `{entry}`: `:splat` is for path, volpath and lqmc (the others choose their film themselves)"
                 )));
             }
             splat_film = true;
@@ -234,14 +237,19 @@ mod tests {
 
     #[test]
     fn splatting_film_entries() {
-        let entries = parse_integrator_list("path:splat,path:sobol:splat,volpath").unwrap();
+        let entries =
+            parse_integrator_list("path:splat,path:sobol:splat,volpath,lqmc:splat").unwrap();
         let labels: Vec<String> = entries.iter().map(IntegratorEntry::label).collect();
-        assert_eq!(labels, ["path:splat", "path:sobol:splat", "volpath"]);
+        assert_eq!(
+            labels,
+            ["path:splat", "path:sobol:splat", "volpath", "lqmc:splat"]
+        );
         assert!(entries[0].splat_film && entries[1].splat_film && !entries[2].splat_film);
+        assert!(entries[3].splat_film);
         assert_eq!(entries[1].sampler, SamplerKind::Sobol);
         assert_eq!(entries[0].file_stem(), "path-splat");
         for bad in [
-            "lqmc:splat",
+            "bdpt:splat",
             "path:splat:sobol",
             "path:splat:splat",
             "path:sobol:halton",
