@@ -709,7 +709,7 @@ pub(crate) fn camera_numbers<S: crate::sampler::SampleSource + ?Sized>(
 
 impl CameraPathStart {
     /// The camera sample of `pixel` for the sampler's current numbers.
-    #[inline]
+    #[inline(always)]
     pub fn new<S: crate::sampler::SampleSource + ?Sized>(
         scene: &Scene,
         pixel: (u32, u32),
@@ -728,7 +728,7 @@ impl CameraPathStart {
     /// or, with `splat_film`, uniformly in the pixel's share of the
     /// [`crate::film::ImagePlane`] (weight: the plane's area scale), to be
     /// splatted over the filter's pixels by [`UnitOutput::add_camera_path`].
-    #[inline]
+    #[inline(always)]
     pub fn for_film<S: crate::sampler::SampleSource + ?Sized>(
         scene: &Scene,
         pixel: (u32, u32),
@@ -750,7 +750,7 @@ impl CameraPathStart {
     }
 
     /// The camera ray and wavelengths of a sample at `position`.
-    #[inline]
+    #[inline(always)]
     pub fn at_position<S: crate::sampler::SampleSource + ?Sized>(
         scene: &Scene,
         position: crate::film::CameraSamplePosition,

@@ -120,7 +120,10 @@ impl WalkObserver for PathRadiance<'_> {
         );
     }
 
-    #[inline]
+    // Always inlined, so that the walk compiled into the driver's AVX2 tile
+    // loop has its observer in it: with LQMC's seed screen as a second user
+    // LLVM stopped inlining it.
+    #[inline(always)]
     fn vertex<S: SampleSource + ?Sized>(
         &mut self,
         walk: &WalkState,
