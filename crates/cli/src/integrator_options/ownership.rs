@@ -9,9 +9,10 @@
 //! (volpath weighs techniques and wavelengths by the balance heuristic
 //! always, light tracing has no MIS); `--pattern-size` by those whose
 //! pixel samples come from the sampler (pssmlt's and mmlt's chains draw
-//! their own numbers); `--splat-film` by path, volpath and lqmc (whose seeds
-//! otherwise land as the path tracer's camera samples); `--sampler` and `--randomize` by every integrator but mmlt,
-//! whose chains draw every number of their own.
+//! their own numbers); `--splat-film` by path, volpath and lqmc (whose
+//! seeds otherwise land as the path tracer's camera samples); `--sampler`
+//! and `--randomize` by every integrator but mmlt, whose chains draw every
+//! number of their own.
 //!
 //! Two options are read only under conditions, checked once the scene is
 //! loaded by [`check_conditional_options`]: pssmlt reads the sampler only

@@ -58,11 +58,23 @@ impl PathClass {
 /// for a specular scattering, otherwise the roughness recorded with the
 /// vertex (see [`lobe_roughness`]; √(1 − g²) in media).
 pub fn vertex_roughness(vertex: &SurfaceVertex) -> f32 {
-    if vertex.sampled.is_specular() {
+    scattered_roughness(vertex.sampled, vertex.roughness)
+}
+
+/// The roughness of a vertex that sampled the lobes `sampled` and recorded
+/// `roughness` ([`vertex_roughness`]'s rule).
+pub fn scattered_roughness(sampled: BsdfFlags, roughness: f32) -> f32 {
+    if sampled.is_specular() {
         0.0
     } else {
-        vertex.roughness
+        roughness
     }
+}
+
+/// Whether a path whose last vertex is `x_k`, `k = last_vertex`, is long
+/// enough to be explored: paths of fewer than three vertices are not.
+pub fn long_enough_to_explore(last_vertex: usize) -> bool {
+    last_vertex >= 2
 }
 
 /// The effective roughness of the lobes `lobes` of `bsdf` (the sampled

@@ -5,6 +5,7 @@
 
 use super::classification::{
     EventPath, PathClass, breakup_probability, breakup_weights, classify, draw_breakup,
+    long_enough_to_explore,
 };
 use super::estimator::member_weights;
 use super::explored_dimensions::{DimensionKind, ExploredDimension, explored_dimensions};
@@ -136,14 +137,10 @@ impl UnexploredSum {
         }
     }
 
-    /// The sum in linear sRGB, times `scale`.
-    fn rgb(&mut self, scale: f32) -> [f32; 3] {
+    /// The sum in linear sRGB.
+    fn rgb(&mut self) -> [f32; 3] {
         self.flush();
-        if scale == 1.0 {
-            self.rgb
-        } else {
-            self.rgb.map(|channel| channel * scale)
-        }
+        self.rgb
     }
 }
 
@@ -185,8 +182,7 @@ pub fn render_pixel_sample<S: SampleSource + ?Sized>(
             &mut scratch.screen,
         ) {
             statistics.screened_seeds += 1;
-            let rgb = to_linear_srgb(&radiance, &wavelengths)
-                .map(|channel| channel * context.film.unexplored_scale());
+            let rgb = to_linear_srgb(&radiance, &wavelengths);
             land_unexplored(context, pixel, raster, rgb, tile, splats);
             return;
         }
@@ -257,14 +253,14 @@ fn render_recorded_seed(
             counters,
         );
     }
-    let unexplored = scratch.unexplored.rgb(context.film.unexplored_scale());
+    let unexplored = scratch.unexplored.rgb();
     land_unexplored(context, pixel, raster, unexplored, tile, splats);
     scratch.seed_path = seed_path;
 }
 
-/// Adds a seed's unexplored value `rgb` (scaled already): to its pixel as
-/// its camera sample, or splatted at its raster position with
-/// `--splat-film`.
+/// Adds a seed's unexplored value `rgb`: to its pixel as its camera
+/// sample, or splatted at its raster position with `--splat-film` (scaled
+/// by [`SeedFilm::unexplored_scale`]).
 fn land_unexplored(
     context: &LqmcContext<'_>,
     pixel: (u32, u32),
@@ -276,7 +272,8 @@ fn land_unexplored(
     if context.film.adds_camera_samples() {
         let _ = tile.add_sample([pixel.0 as usize, pixel.1 as usize], rgb, 1.0);
     } else if rgb != [0.0; 3] {
-        let _ = splats.add(raster.to_array(), rgb);
+        let scale = context.film.unexplored_scale();
+        let _ = splats.add(raster.to_array(), rgb.map(|channel| channel * scale));
     }
 }
 
@@ -330,8 +327,7 @@ fn handle_event(
         statistics.events += 1;
         statistics.direct_splats += 1;
     };
-    // Paths of fewer than three vertices are not explored.
-    if event.last_vertex() < 2 {
+    if !long_enough_to_explore(event.last_vertex()) {
         return direct(
             &mut scratch.unexplored,
             statistics,

@@ -216,26 +216,60 @@ impl SplatEvent {
         self.first_vertex..self.first_vertex + self.vertex_count
     }
 
+    /// How the event's path ends.
+    pub fn kind(&self) -> EventKind {
+        match self.terminal {
+            Terminal::Emission { .. } => EventKind::Emission,
+            Terminal::Environment { .. } => EventKind::Environment,
+            Terminal::NextEvent(_) => EventKind::NextEvent,
+        }
+    }
+
     /// Index `k` of the path's last vertex in the paper's numbering
     /// (`x_0` the camera, `x_k` on the light).
     pub fn last_vertex(&self) -> usize {
-        match self.terminal {
-            Terminal::Emission { .. } => self.vertex_count,
-            Terminal::Environment { .. } | Terminal::NextEvent(_) => self.vertex_count + 1,
-        }
+        self.kind().last_vertex(self.vertex_count)
     }
 
     /// Number of surface vertices that scatter (the emitter of an emission
     /// event does not).
     pub fn scattering_count(&self) -> usize {
-        match self.terminal {
-            Terminal::Emission { .. } => self.vertex_count - 1,
-            Terminal::Environment { .. } | Terminal::NextEvent(_) => self.vertex_count,
-        }
+        self.kind().scattering_count(self.vertex_count)
     }
 
     /// Whether this path was made by next-event estimation.
     pub fn is_next_event(&self) -> bool {
-        matches!(self.terminal, Terminal::NextEvent(_))
+        self.kind() == EventKind::NextEvent
+    }
+}
+
+/// How a splat event's path ends, without the ending's data: what its
+/// length in the paper's numbering depends on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EventKind {
+    /// An emitter reached by the last scattering (the last vertex is on it).
+    Emission,
+    /// The environment reached by the last scattering.
+    Environment,
+    /// A next-event connection from the last vertex.
+    NextEvent,
+}
+
+impl EventKind {
+    /// Index `k` of the last vertex of a path of `vertex_count` surface
+    /// vertices ending so.
+    pub fn last_vertex(self, vertex_count: usize) -> usize {
+        match self {
+            Self::Emission => vertex_count,
+            Self::Environment | Self::NextEvent => vertex_count + 1,
+        }
+    }
+
+    /// How many of `vertex_count` surface vertices scatter.
+    pub fn scattering_count(self, vertex_count: usize) -> usize {
+        match self {
+            Self::Emission => vertex_count - 1,
+            Self::Environment | Self::NextEvent => vertex_count,
+        }
     }
 }

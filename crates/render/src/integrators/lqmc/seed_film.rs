@@ -43,8 +43,8 @@ pub enum SeedFilm {
     },
     /// Uniform in each pixel's share of the image plane, all splatted.
     Splat {
-        /// The image plane's area over the image's.
-        area_scale: f32,
+        /// The image plane (its area scale: its area over the image's).
+        image_plane: ImagePlane,
     },
 }
 
@@ -53,7 +53,7 @@ impl SeedFilm {
     pub fn new(scene: &Scene, splat_film: bool) -> Self {
         if splat_film {
             Self::Splat {
-                area_scale: ImagePlane::new(scene).area_scale,
+                image_plane: ImagePlane::new(scene),
             }
         } else {
             Self::Pixel {
@@ -74,7 +74,7 @@ impl SeedFilm {
                     pixel.1 as f32 + 0.5 + offset[1],
                 )
             }
-            Self::Splat { .. } => ImagePlane::new(scene).seed_raster(scene, pixel, u),
+            Self::Splat { image_plane } => image_plane.seed_raster(scene, pixel, u),
         }
     }
 
@@ -90,7 +90,7 @@ impl SeedFilm {
     pub fn unexplored_scale(&self) -> f32 {
         match self {
             Self::Pixel { .. } => 1.0,
-            Self::Splat { area_scale } => *area_scale,
+            Self::Splat { image_plane } => image_plane.area_scale,
         }
     }
 
@@ -113,7 +113,7 @@ impl SeedFilm {
     pub fn member_scale(&self, density: f64) -> f32 {
         match self {
             Self::Pixel { .. } => (1.0 / density) as f32,
-            Self::Splat { area_scale } => *area_scale,
+            Self::Splat { image_plane } => image_plane.area_scale,
         }
     }
 }

@@ -27,7 +27,11 @@
 //! null surfaces), with only classes explored that are rare: caustic
 //! paths, and depth-of-field paths through a pinhole (none).
 
-use super::classification::{PathClass, circle_of_confusion_at, class_of, lobe_roughness};
+use super::classification::{
+    PathClass, circle_of_confusion_at, class_of, lobe_roughness, long_enough_to_explore,
+    scattered_roughness,
+};
+use super::path_record::EventKind;
 use super::settings::LqmcSettings;
 use crate::geometry::{Ray, SurfaceHit};
 use crate::integrators::TraceCounters;
@@ -37,6 +41,7 @@ use crate::integrators::path::PathTracing;
 use crate::integrators::path_space::{
     ScattererRef, Scattering, VertexAt, WalkObserver, WalkStart, WalkState, walk,
 };
+use crate::material::BsdfFlags;
 use crate::sampler::SampleSource;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -63,17 +68,14 @@ pub fn screens_seeds(scene: &Scene, settings: &LqmcSettings) -> bool {
 #[derive(Debug, Clone, Copy)]
 struct WatchedVertex {
     roughness: f32,
-    specular: bool,
+    sampled: BsdfFlags,
 }
 
-/// An event the path can make: the number of its vertices and whether it
-/// is a next-event connection (else an emitter or the environment
-/// reached, whose last vertex the path's last one is).
+/// An event the path can make: the number of its vertices and how it ends.
 #[derive(Debug, Clone, Copy)]
 struct PossibleEvent {
     vertex_count: usize,
-    next_event: bool,
-    emission: bool,
+    kind: EventKind,
 }
 
 /// Buffers of the screen, reused from one seed to the next.
@@ -142,22 +144,17 @@ impl SeedScreen<'_, '_> {
     /// that `settings` explores.
     fn could_explore(&self, settings: &LqmcSettings) -> bool {
         self.events.iter().any(|event| {
-            let last_vertex = event.vertex_count + usize::from(!event.emission);
-            if last_vertex < 2 {
+            if !long_enough_to_explore(event.kind.last_vertex(event.vertex_count)) {
                 return false;
             }
-            let scattering = event.vertex_count - usize::from(event.emission);
+            let scattering = event.kind.scattering_count(event.vertex_count);
             let class = class_of(
                 settings,
                 || self.circle_of_confusion,
-                self.vertices[..scattering].iter().map(|vertex| {
-                    if vertex.specular {
-                        0.0
-                    } else {
-                        vertex.roughness
-                    }
-                }),
-                event.next_event,
+                self.vertices[..scattering]
+                    .iter()
+                    .map(|vertex| scattered_roughness(vertex.sampled, vertex.roughness)),
+                event.kind == EventKind::NextEvent,
             );
             settings.class_parameters(class).explore
         })
@@ -184,8 +181,7 @@ impl WalkObserver for SeedScreen<'_, '_> {
         }
         self.events.push(PossibleEvent {
             vertex_count: self.vertices.len(),
-            next_event: false,
-            emission: true,
+            kind: EventKind::Emission,
         });
     }
 
@@ -195,8 +191,7 @@ impl WalkObserver for SeedScreen<'_, '_> {
         if !self.scene.environment_lights.is_empty() {
             self.events.push(PossibleEvent {
                 vertex_count: self.vertices.len(),
-                next_event: false,
-                emission: false,
+                kind: EventKind::Environment,
             });
         }
     }
@@ -214,7 +209,7 @@ impl WalkObserver for SeedScreen<'_, '_> {
         }
         self.vertices.push(WatchedVertex {
             roughness: 1.0,
-            specular: false,
+            sampled: BsdfFlags::NONE,
         });
         self.radiance.surface(walk, hit, wavelengths)
     }
@@ -236,8 +231,7 @@ impl WalkObserver for SeedScreen<'_, '_> {
             if flags.is_non_specular() {
                 self.events.push(PossibleEvent {
                     vertex_count: self.vertices.len(),
-                    next_event: true,
-                    emission: false,
+                    kind: EventKind::NextEvent,
                 });
             }
         }
@@ -250,7 +244,7 @@ impl WalkObserver for SeedScreen<'_, '_> {
         if let ScattererRef::Surface { bsdf, .. } = vertex.scatterer
             && let Some(last) = self.vertices.last_mut()
         {
-            last.specular = scattering.flags.is_specular();
+            last.sampled = scattering.flags;
             last.roughness = lobe_roughness(bsdf, scattering.flags);
         }
         self.radiance.scattered(vertex, scattering)
