@@ -403,6 +403,73 @@ fn equal_time_tables_match_the_images_it_wrote() {
     let crops = read_png(directory.join("with-file").join("crops.png")).unwrap();
     // 18 px tall, enlarged 8 times to 144 px.
     assert_eq!((crops.width(), crops.height()), (2 * 24 * 8 + 4, 144));
+
+    // The same reference with its own noise: a variance image whose mean is
+    // subtracted from every render's squared error and relative MSE.
+    let given_image = read_exr(&given).unwrap().image;
+    let mut variance_image = Image::new(24, 18);
+    let reference_values = values(&given_image);
+    let mut variances = Vec::new();
+    for (index, pixel) in variance_image.pixels_mut().iter_mut().enumerate() {
+        // Uneven, so that the relative correction is not the plain one scaled.
+        let variance = 1e-5 * (1 + index % 5) as f32;
+        *pixel = [variance; 3];
+        variances.extend([f64::from(variance); 3]);
+    }
+    let variance_path = directory.join("given-variance.exr");
+    write_exr(&variance_path, &variance_image, &[], &Default::default()).unwrap();
+    let with_noise = directory.join("with-noise");
+    let output = study(
+        &with_noise,
+        &[
+            &fewer_renders[..],
+            &[
+                "--reference",
+                given.to_str().unwrap(),
+                "--reference-variance",
+                variance_path.to_str().unwrap(),
+            ],
+        ]
+        .concat(),
+    );
+    assert_success(&output);
+    let table = read_table(&with_noise);
+    let count = variances.len() as f64;
+    let mean_variance = variances.iter().sum::<f64>() / count;
+    let mean_relative_variance = variances
+        .iter()
+        .zip(&reference_values)
+        .map(|(variance, r)| variance / (r * r + EPSILON))
+        .sum::<f64>()
+        / count;
+    assert_close(
+        number(&table["reference"]["mean_variance"]),
+        mean_variance,
+        "mean variance",
+    );
+    for row in table["rows"].as_array().unwrap() {
+        for entry in row["seeds"].as_array().unwrap() {
+            let name = entry["image"].as_str().unwrap();
+            let image = values(&read_exr(with_noise.join(name)).unwrap().image);
+            let (rmse, relative_mse, mad) = errors(&image, &reference_values);
+            assert_close(
+                number(&entry["rmse"]),
+                (rmse * rmse - mean_variance).max(0.0).sqrt(),
+                &format!("corrected RMSE of {name}"),
+            );
+            assert_close(
+                number(&entry["relative_mse"]),
+                (relative_mse - mean_relative_variance).max(0.0),
+                &format!("corrected relative MSE of {name}"),
+            );
+            assert_close(number(&entry["mad"]), mad, &format!("MAD of {name}"));
+        }
+    }
+    let markdown = std::fs::read_to_string(with_noise.join("table.md")).unwrap();
+    assert!(
+        markdown.contains("is subtracted from each render's squared error"),
+        "{markdown}"
+    );
 }
 
 #[test]
@@ -427,6 +494,10 @@ fn bad_study_input_is_one_line_and_status_two_before_rendering() {
             "unknown sampler `owen`",
         ),
         (vec![], "a reference is needed"),
+        (
+            vec!["--reference-spp", "4", "--reference-variance", "v.exr"],
+            "--reference-variance",
+        ),
         (
             vec!["--reference-spp", "4", "--crop", "20,10,10,10"],
             "lies outside the 24x18 image",

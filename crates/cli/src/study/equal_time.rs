@@ -82,6 +82,13 @@ pub struct EqualTimeArgs {
     /// and reused while it matches.
     #[arg(long, value_name = "N")]
     pub reference_spp: Option<u64>,
+    /// The reference's own noise: per pixel and channel the variance of the
+    /// reference's mean (the `variance` layer lqmc writes, or
+    /// `reference_variance.exr` beside another renderer's reference). Its
+    /// mean is subtracted from each render's squared error, so that RMSE and
+    /// relative MSE measure the render's error, not the reference's.
+    #[arg(long, value_name = "VAR.exr")]
+    pub reference_variance: Option<PathBuf>,
     /// The crop of crops.png, X,Y,W,H in pixels (default: a centred square
     /// of side min(width, height)/2).
     #[arg(long, value_name = "X,Y,W,H")]
@@ -109,9 +116,61 @@ struct Reference {
     /// given file as the user gave it (relative to the current directory
     /// where it lies inside it).
     shown_path: String,
+    /// The reference's noise, subtracted from the squared errors.
+    noise: Option<ReferenceNoise>,
     /// For a rendered reference: the integrator, spp, and whether an
     /// earlier study's was reused.
     rendered: Option<RenderedReference>,
+}
+
+/// A reference's own noise, as the means the measures subtract:
+/// E[(a − r)²] = E[(a − μ)²] + Var(r) for a render a independent of the
+/// reference r with mean μ, so the render's mean squared error is the
+/// measured one less the mean of Var(r) over pixels and channels, and its
+/// relative MSE the measured one less the mean of Var(r) / (r² + ε).
+#[derive(Clone, Debug)]
+struct ReferenceNoise {
+    /// The file, as shown in the tables.
+    shown_path: String,
+    /// The mean over pixels and channels of the variance of the reference.
+    mean_variance: f64,
+    /// The mean of variance / (reference² + ε), ε the relative MSE's.
+    mean_relative_variance: f64,
+}
+
+impl ReferenceNoise {
+    /// The noise of `reference` from its variance image (pixels where
+    /// either is not finite left out, as the comparison leaves them out).
+    fn measure(shown_path: String, reference: &Image, variance: &Image) -> Self {
+        let (mut sum, mut relative_sum, mut count) = (0.0f64, 0.0f64, 0usize);
+        for (value, variance) in reference.pixels().iter().zip(variance.pixels()) {
+            if !value.iter().chain(variance).all(|c| c.is_finite()) {
+                continue;
+            }
+            for channel in 0..3 {
+                let (value, variance) = (f64::from(value[channel]), f64::from(variance[channel]));
+                sum += variance;
+                relative_sum += variance / (value * value + RELATIVE_MSE_EPSILON);
+                count += 1;
+            }
+        }
+        let count = count.max(1) as f64;
+        Self {
+            shown_path,
+            mean_variance: sum / count,
+            mean_relative_variance: relative_sum / count,
+        }
+    }
+
+    /// RMSE and relative MSE with the reference's noise taken out (never
+    /// below zero).
+    fn corrected(&self, mut comparison: ImageComparison) -> ImageComparison {
+        comparison.rmse = (comparison.rmse * comparison.rmse - self.mean_variance)
+            .max(0.0)
+            .sqrt();
+        comparison.relative_mse = (comparison.relative_mse - self.mean_relative_variance).max(0.0);
+        comparison
+    }
 }
 
 struct RenderedReference {
@@ -362,6 +421,7 @@ fn rendered_reference(
                     return Ok(Reference {
                         image: contents.image,
                         shown_path: REFERENCE_FILE.into(),
+                        noise: None,
                         rendered: Some(RenderedReference {
                             integrator: integrator.name(),
                             samples_per_pixel,
@@ -397,6 +457,7 @@ fn rendered_reference(
     Ok(Reference {
         image,
         shown_path: REFERENCE_FILE.into(),
+        noise: None,
         rendered: Some(RenderedReference {
             integrator: integrator.name(),
             samples_per_pixel,
@@ -452,6 +513,27 @@ pub fn run(args: &EqualTimeArgs, matches: &ArgMatches) -> Result<(), CliError> {
         }
         ReferenceChoice::Render { .. } => None,
     };
+    let noise = match (&args.reference_variance, &given_reference) {
+        (Some(path), Some(image)) => {
+            let variance = read_image(path)
+                .map_err(|error| usage(format!("--reference-variance: {error}")))?;
+            if (variance.width(), variance.height()) != (width, height) {
+                return Err(usage(format!(
+                    "--reference-variance {} is {}x{}, but the reference is {width}x{height}",
+                    path.display(),
+                    variance.width(),
+                    variance.height()
+                )));
+            }
+            Some(ReferenceNoise::measure(shown_path(path), image, &variance))
+        }
+        (Some(_), None) => {
+            return Err(usage(
+                "--reference-variance is the variance of a reference given with --reference REF.exr",
+            ));
+        }
+        (None, _) => None,
+    };
     let scene = build_scene(&args.scene.scene, &description)?;
     for entry in &mut entries {
         entry.resolve_path_tracer(scene.has_media());
@@ -482,6 +564,7 @@ pub fn run(args: &EqualTimeArgs, matches: &ArgMatches) -> Result<(), CliError> {
         (ReferenceChoice::File(path), Some(image)) => Reference {
             image,
             shown_path: shown_path(&path),
+            noise,
             rendered: None,
         },
         (ReferenceChoice::Render { samples_per_pixel }, _) => {
@@ -624,6 +707,10 @@ fn measure_cells<'a>(
                 .map(|(record, image)| {
                     let comparison = compare_images(image, &reference.image, None)
                         .map_err(|error| CliError::Failure(error.to_string()))?;
+                    let comparison = match &reference.noise {
+                        Some(noise) => noise.corrected(comparison),
+                        None => comparison,
+                    };
                     Ok(SeedMeasures { record, comparison })
                 })
                 .collect::<Result<Vec<_>, CliError>>()?;
@@ -682,7 +769,17 @@ fn reference_text(reference: &Reference) -> String {
             },
             reference.shown_path
         ),
-        None => format!("the image {}", reference.shown_path),
+        None => match &reference.noise {
+            Some(noise) => format!(
+                "the image {}, whose own noise (the mean of its variance {}, {} over pixels and channels; \
+                 relative {}) is subtracted from each render's squared error and relative MSE (not from MAD)",
+                reference.shown_path,
+                noise.shown_path,
+                format_significant(noise.mean_variance, 4),
+                format_significant(noise.mean_relative_variance, 4)
+            ),
+            None => format!("the image {}", reference.shown_path),
+        },
     }
 }
 
@@ -819,10 +916,21 @@ fn json_table(conditions: &StudyConditions, reference: &Reference, cells: &[Cell
             ("spp", Json::Integer(rendered.samples_per_pixel)),
             ("seed", Json::Integer(REFERENCE_SEED)),
         ]),
-        None => Json::object(vec![
-            ("image", Json::String(reference.shown_path.clone())),
-            ("source", Json::String("file".into())),
-        ]),
+        None => {
+            let mut fields = vec![
+                ("image", Json::String(reference.shown_path.clone())),
+                ("source", Json::String("file".into())),
+            ];
+            if let Some(noise) = &reference.noise {
+                fields.push(("variance", Json::String(noise.shown_path.clone())));
+                fields.push(("mean_variance", Json::Number(noise.mean_variance)));
+                fields.push((
+                    "mean_relative_variance",
+                    Json::Number(noise.mean_relative_variance),
+                ));
+            }
+            Json::object(fields)
+        }
     };
     let integrators = conditions
         .entries
