@@ -6,7 +6,9 @@ use super::headings;
 use crate::error::CliError;
 use crate::named_values::NamedValues;
 use clap::Args;
-use render::integrators::lqmc::{BreakupChoice, ExploredEffects, LqmcSettings, PathClass};
+use render::integrators::lqmc::{
+    BreakupChoice, ClassSelection, ExploredEffects, LqmcSettings, PathClass,
+};
 use std::path::PathBuf;
 
 /// Options of `--integrator lqmc`.
@@ -64,6 +66,11 @@ pub struct LqmcArgs {
     /// in focus (not depth-of-field paths).
     #[arg(long)]
     pub explore_camera_in_focus: bool,
+    /// Which of the classes marked for exploration are explored: `measured`
+    /// (default) keeps those a short pilot before the render measures to
+    /// pay at equal cost (variance times rays); `fixed` explores them all.
+    #[arg(long, value_name = "WHICH", value_parser = class_selections())]
+    pub class_selection: Option<ClassSelection>,
     /// No tile jitter.
     #[arg(long)]
     pub no_jitter: bool,
@@ -120,11 +127,22 @@ impl LqmcArgs {
         if let Some(tiles) = self.medium_image_tiles {
             settings.medium_image_tiles = tiles.max(1);
         }
+        if let Some(selection) = self.class_selection {
+            settings.class_selection = selection;
+        }
         settings.jitter_tiles = !self.no_jitter;
         settings.scramble_dimensions = !self.no_scramble;
         settings.gather_density = self.density.is_some();
         Ok(settings)
     }
+}
+
+/// The class selections by name, as command-line values.
+fn class_selections() -> NamedValues<ClassSelection> {
+    NamedValues::new(
+        [ClassSelection::Measured, ClassSelection::Fixed]
+            .map(|selection| (selection, selection.name())),
+    )
 }
 
 /// The LQMC path classes by name, as command-line values.

@@ -99,6 +99,7 @@ pub const OPTION_USERS: &[(&str, &[IntegratorKind])] = &[
     ("explore-class", LQMC),
     ("explore-wavelength-alone", LQMC),
     ("explore-camera-in-focus", LQMC),
+    ("class-selection", LQMC),
     ("no-jitter", LQMC),
     ("no-scramble", LQMC),
     ("stats", LQMC),

@@ -3,6 +3,7 @@
 //! it is or explore it with a lattice set and splat every member with its
 //! estimator weight.
 
+use super::class_selection::PilotRecord;
 use super::classification::{
     EventPath, PathClass, breakup_probability, breakup_weights, classify, draw_breakup,
     long_enough_to_explore,
@@ -73,6 +74,8 @@ pub struct ClassDensity {
 pub struct LqmcScratch {
     /// The sample density per class, gathered when set.
     pub density: Option<ClassDensity>,
+    /// What the class-selection pilot measures, when set.
+    pub pilot: Option<PilotRecord>,
     screen: ScreenScratch,
     seed_path: SeedPath,
     member_vertices: Vec<SurfaceVertex>,
@@ -183,6 +186,9 @@ pub fn render_pixel_sample<S: SampleSource + ?Sized>(
         ) {
             statistics.screened_seeds += 1;
             let rgb = to_linear_srgb(&radiance, &wavelengths);
+            if let Some(pilot) = &mut scratch.pilot {
+                pilot.add_seed_value(rgb);
+            }
             land_unexplored(context, pixel, raster, rgb, tile, splats);
             return;
         }
@@ -254,6 +260,9 @@ fn render_recorded_seed(
         );
     }
     let unexplored = scratch.unexplored.rgb();
+    if let Some(pilot) = &mut scratch.pilot {
+        pilot.add_seed_value(unexplored);
+    }
     land_unexplored(context, pixel, raster, unexplored, tile, splats);
     scratch.seed_path = seed_path;
 }
@@ -419,6 +428,11 @@ fn handle_event(
         scratch
             .unexplored
             .add(&walked.contribution, &walked.wavelengths);
+    } else if let Some(pilot) = &mut scratch.pilot {
+        pilot.add_explored_seed_value(
+            class,
+            to_linear_srgb(&walked.contribution, &walked.wavelengths),
+        );
     }
 }
 
@@ -583,6 +597,8 @@ fn explore(
     let mut member_breakup_weights = std::mem::take(&mut scratch.member_breakup_weights);
     let mut seed_member_valid = false;
     let rays_before = counters.rays();
+    // Vertices the members' walks evaluated (the pilot's cost measure).
+    let mut walked_vertices = 0usize;
     // The member loop of every 16th exploration of a work unit (its 1st,
     // 17th, ...) is timed: two clock reads per timed loop, not per member.
     let explorations_so_far: u64 = statistics.explorations.iter().sum();
@@ -699,6 +715,11 @@ fn explore(
             if probability <= 0.0 {
                 return Err(FailureReason::ClassChange);
             }
+            walked_vertices += if walked.reused_seed_steps {
+                (breakup + 2).min(scratch.member_vertices.len())
+            } else {
+                scratch.member_vertices.len()
+            };
             Ok((member_vertex, walked, probability))
         });
         match member {
@@ -737,7 +758,8 @@ fn explore(
             }
         }
     }
-    statistics.member_rays += counters.rays() - rays_before;
+    let member_rays = counters.rays() - rays_before;
+    statistics.member_rays += member_rays;
     if let Some(started) = timed {
         statistics.timed_members += member_count as u64;
         statistics.timed_member_nanoseconds += started.elapsed().as_nanos() as u64;
@@ -750,6 +772,14 @@ fn explore(
         return false;
     }
     member_weights(&scratch.member_densities, &mut scratch.weights);
+    if let Some(pilot) = &mut scratch.pilot {
+        pilot.add_exploration(
+            class,
+            &scratch.member_splats,
+            &scratch.weights,
+            (member_rays as usize + walked_vertices) as f64,
+        );
+    }
     for ((raster, rgb), weight) in scratch.member_splats.iter().zip(&scratch.weights) {
         let weight = *weight as f32;
         let _ = splats.add(*raster, rgb.map(|channel| channel * weight));

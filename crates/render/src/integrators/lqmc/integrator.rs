@@ -4,10 +4,11 @@
 //! that the variance layer can be estimated from the progressions' images
 //! ([`ProgressionVariance`]) and a cut-short progression is dropped whole.
 
+use super::class_selection::{ClassSelectionReport, select_classes};
 use super::exploration::{ClassDensity, LqmcContext, LqmcScratch, render_pixel_sample};
 use super::seed_film::SeedFilm;
 use super::seed_screen::screens_seeds;
-use super::{LqmcSettings, LqmcStatistics, ProgressionVariance};
+use super::{ClassSelection, LqmcSettings, LqmcStatistics, ProgressionVariance};
 use crate::film::{BoxFilter, Film, Filter};
 use crate::integrators::driver::{
     PixelSampleEstimator, PixelSampleIndex, UnitOutput, render_pixel_samples,
@@ -46,11 +47,20 @@ pub struct LqmcDetails {
     pub statistics: LqmcStatistics,
     /// The complete progressions' per-pixel statistics.
     pub progressions: ProgressionVariance,
+    /// What the class-selection pilot measured and chose, if it ran.
+    pub selection: Option<ClassSelectionReport>,
 }
 
 impl IntegratorDetails for LqmcDetails {
     fn report(&self, render_seconds: f64, threads: usize) -> String {
-        self.statistics.report(render_seconds, threads)
+        let mut report = self.statistics.report(render_seconds, threads);
+        if let Some(selection) = &self.selection {
+            for line in selection.lines() {
+                report.push('\n');
+                report.push_str(&line);
+            }
+        }
+        report
     }
 
     fn as_any(&self) -> &dyn std::any::Any {
@@ -60,28 +70,48 @@ impl IntegratorDetails for LqmcDetails {
 
 impl Integrator for LqmcIntegrator {
     fn render(&self, scene: &Scene, run: &RunControl<'_>) -> Result<IntegratorRender, RenderError> {
+        // The classes whose exploration pays, measured by a pilot.
+        let (settings, selection) = if self.settings.class_selection == ClassSelection::Measured
+            && !self.settings.explores_nothing()
+        {
+            let (settings, report) =
+                select_classes(scene, &self.settings, self.path_settings, run)?;
+            for line in report.lines() {
+                log::info!("{line}");
+            }
+            (settings, Some(report))
+        } else {
+            (self.settings, None)
+        };
         // Nothing to explore: every seed would be a path-traced sample, so
         // the path tracer renders them, at its cost (the seeds' recording
         // is saved) and with its image, bit for bit.
-        if self.settings.explores_nothing() && !self.settings.gather_density {
+        if settings.explores_nothing() && !settings.gather_density {
             log::info!(
                 "lqmc explores no class: its seeds are rendered by the path tracer ({})",
                 if scene.has_media() { "volpath" } else { "path" }
             );
-            return if scene.has_media() {
+            let mut render = if scene.has_media() {
                 VolPathIntegrator::new(self.path_settings).render(scene, run)
             } else {
                 PathIntegrator::new(self.path_settings).render(scene, run)
-            };
+            }?;
+            if let Some(selection) = selection {
+                render.details = Some(Box::new(PathTracedDetails {
+                    selection,
+                    path_tracer: render.details.take(),
+                }));
+            }
+            return Ok(render);
         }
         let estimator = LqmcEstimator {
             context: LqmcContext {
                 scene,
-                settings: &self.settings,
+                settings: &settings,
                 path_settings: self.path_settings,
                 seed: run.seed,
                 film: SeedFilm::new(scene, self.path_settings.splat_film),
-                screen_seeds: screens_seeds(scene, &self.settings),
+                screen_seeds: screens_seeds(scene, &settings),
             },
         };
         let output = render_pixel_samples(&estimator, scene, run)?;
@@ -105,8 +135,33 @@ impl Integrator for LqmcIntegrator {
             details: Some(Box::new(LqmcDetails {
                 statistics,
                 progressions,
+                selection,
             })),
         })
+    }
+}
+
+/// The details of an LQMC render whose pilot chose no class, so that the
+/// path tracer rendered it: the pilot's report and the path tracer's own.
+pub struct PathTracedDetails {
+    /// What the class-selection pilot measured and chose.
+    pub selection: ClassSelectionReport,
+    /// The path tracer's details, if it has any.
+    pub path_tracer: Option<Box<dyn IntegratorDetails>>,
+}
+
+impl IntegratorDetails for PathTracedDetails {
+    fn report(&self, render_seconds: f64, threads: usize) -> String {
+        let mut lines = self.selection.lines();
+        lines.push("LQMC explores no class: its seeds were rendered by the path tracer".into());
+        if let Some(details) = &self.path_tracer {
+            lines.push(details.report(render_seconds, threads));
+        }
+        lines.join("\n")
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
     }
 }
 

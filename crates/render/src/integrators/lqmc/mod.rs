@@ -16,6 +16,7 @@
 //! transform, closest point, shift), [`prefix_rebuild`] (members),
 //! [`seed_film`] (where seeds lie on the image and how their values land),
 //! [`seed_screen`] (seeds path-traced alone where nothing could be explored),
+//! [`class_selection`] (a pilot that keeps the classes whose exploration pays),
 //! [`path_walk`] (contribution and suffix density of a path),
 //! [`medium_segment`] and [`volume_walk`] (the same
 //! through homogeneous media, as `volpath` traces them), [`segment_cache`]
@@ -25,6 +26,7 @@
 //! [`exploration`] (one pixel sample), [`progression_variance`] (the
 //! variance layer of LQMC renders).
 
+pub mod class_selection;
 pub mod classification;
 pub mod estimator;
 pub mod exploration;
@@ -44,8 +46,9 @@ pub mod statistics;
 pub mod volume_walk;
 
 pub use super::progression_variance::{self, ProgressionVariance};
+pub use class_selection::ClassSelectionReport;
 pub use classification::PathClass;
 pub use exploration::{ClassDensity, LqmcContext, LqmcScratch, render_pixel_sample};
 pub use integrator::{LqmcDetails, LqmcIntegrator};
-pub use settings::{BreakupChoice, ClassParameters, ExploredEffects, LqmcSettings};
+pub use settings::{BreakupChoice, ClassParameters, ClassSelection, ExploredEffects, LqmcSettings};
 pub use statistics::{ClosestPointTiming, FailureReason, LqmcStatistics};

@@ -120,6 +120,38 @@ pub enum BreakupChoice {
     Roughness,
 }
 
+/// Which of the classes marked for exploration a render explores.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ClassSelection {
+    /// Each, if a pilot measures that its exploration pays at equal cost
+    /// (the default; see [`super::class_selection`]).
+    Measured,
+    /// Each, always (`--class-selection fixed`).
+    Fixed,
+}
+
+impl ClassSelection {
+    /// Every selection by its command-line name.
+    pub const NAMES: [&'static str; 2] = ["measured", "fixed"];
+
+    /// The selection named `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "measured" => Some(Self::Measured),
+            "fixed" => Some(Self::Fixed),
+            _ => None,
+        }
+    }
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Measured => "measured",
+            Self::Fixed => "fixed",
+        }
+    }
+}
+
 /// Settings of the LQMC integrator.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LqmcSettings {
@@ -202,6 +234,9 @@ pub struct LqmcSettings {
     /// Gather the sample density per class, returned as the render's
     /// `density` image (default off; `--lqmc-density`).
     pub gather_density: bool,
+    /// Whether the classes marked for exploration are explored always or
+    /// only where a pilot measures that it pays (default: measured).
+    pub class_selection: ClassSelection,
     /// Trace seeds with the path tracer first and record only those with
     /// an event that could be explored, where explorations are rare
     /// (default on; see `lqmc::seed_screen`; off only to test that it
@@ -253,6 +288,7 @@ impl Default for LqmcSettings {
             scramble_dimensions: true,
             jitter_tiles: true,
             gather_density: false,
+            class_selection: ClassSelection::Measured,
             screen_seeds: true,
         }
     }
