@@ -512,7 +512,10 @@ fn assert_images_agree(what: &str, a: &Image, b: &Image, relative: f32, absolute
 fn screening_changes_no_exploration() {
     for name in ["glass-sphere-box", "office", "cornell-box"] {
         let scene = scene(name);
-        let screened = LqmcSettings::default();
+        let screened = LqmcSettings {
+            class_selection: render::integrators::lqmc::ClassSelection::Fixed,
+            ..LqmcSettings::default()
+        };
         let recorded = LqmcSettings {
             screen_seeds: false,
             ..screened

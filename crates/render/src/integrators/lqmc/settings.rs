@@ -296,12 +296,14 @@ impl Default for LqmcSettings {
 
 impl LqmcSettings {
     /// The paper's classes explored: normal, caustic and depth-of-field
-    /// paths (next-event paths only as depth-of-field paths), with the
-    /// other defaults; `--explore-class normal --explore-class dof`.
+    /// paths (next-event paths only as depth-of-field paths), always, as
+    /// the paper does, with the other defaults; `--explore-class normal
+    /// --explore-class dof --class-selection fixed`.
     pub fn paper_classes() -> Self {
         let mut settings = Self::default();
         settings.normal.explore = true;
         settings.depth_of_field.explore = true;
+        settings.class_selection = ClassSelection::Fixed;
         settings
     }
 
