@@ -495,6 +495,35 @@ fn bad_study_input_is_one_line_and_status_two_before_rendering() {
         ),
         (vec![], "a reference is needed"),
         (
+            vec![
+                "--integrators",
+                "path,lqmc[--mlt-chains 8]",
+                "--reference-spp",
+                "4",
+            ],
+            "`lqmc[--mlt-chains 8]`: --mlt-chains is an option of pssmlt and mmlt, not of lqmc",
+        ),
+        (
+            vec![
+                "--integrators",
+                "path,lqmc[--breakup 2]",
+                "--breakup",
+                "1",
+                "--reference-spp",
+                "4",
+            ],
+            "`lqmc[--breakup 2]`: the argument '--breakup <B|k|cdf>' cannot be used multiple times",
+        ),
+        (
+            vec![
+                "--integrators",
+                "path,lqmc[--density x.exr]",
+                "--reference-spp",
+                "4",
+            ],
+            "--density is for `lqmc render`",
+        ),
+        (
             vec!["--reference-spp", "4", "--reference-variance", "v.exr"],
             "--reference-variance",
         ),
@@ -853,4 +882,48 @@ fn heinrich_keller_tables_match_the_triangles_it_wrote() {
         directory.to_str().unwrap(),
     ]);
     assert_eq!(bad.status.code(), Some(2));
+}
+
+/// Entries with options of their own: two modes of LQMC in one study, each
+/// rendered with the study's options and its own, named by them.
+#[test]
+fn entries_with_their_own_options_are_modes_of_one_integrator() {
+    let directory = ScratchDirectory::new("study-modes");
+    let output_directory = directory.join("modes");
+    let output = study(
+        &output_directory,
+        &[
+            "--integrators",
+            "lqmc,lqmc[--class-selection fixed --explore-class normal]",
+            "--no-jitter",
+            "--time",
+            "0.05",
+            "--budgets",
+            "0.05",
+            "--seeds",
+            "1",
+            "--reference-spp",
+            "4",
+        ],
+    );
+    assert_success(&output);
+    let table = read_table(&output_directory);
+    let rows = table["rows"].as_array().unwrap();
+    let labels: Vec<&str> = rows
+        .iter()
+        .map(|row| row["integrator"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        labels,
+        [
+            "lqmc",
+            "lqmc[--class-selection fixed --explore-class normal]"
+        ]
+    );
+    let image = rows[1]["seeds"][0]["image"].as_str().unwrap();
+    assert_eq!(
+        image,
+        "images/lqmc-class-selection-fixed-explore-class-normal-b0.05-seed0.exr"
+    );
+    assert!(output_directory.join(image).exists());
 }

@@ -100,7 +100,13 @@ fn no_class_kept_renders_as_the_path_tracer() {
     let details = lqmc
         .details::<PathTracedDetails>()
         .expect("the path tracer rendered it");
-    assert!(details.selection.classes.iter().all(|class| !class.explored));
+    assert!(
+        details
+            .selection
+            .classes
+            .iter()
+            .all(|class| !class.explored)
+    );
     let path = render_with(&scene, IntegratorKind::Path.into(), 2, 5, 2);
     assert_eq!(image(&lqmc, 2).pixels(), image(&path, 2).pixels());
 }

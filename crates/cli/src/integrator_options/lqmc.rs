@@ -55,7 +55,7 @@ pub struct LqmcArgs {
     /// A class to explore that is not explored by default (normal, dof,
     /// nee; only caustic paths are explored by default, see
     /// docs/integrators/lqmc.md, "Which classes explore"); may be repeated. `--explore-class normal
-    /// --explore-class dof` gives the paper's classes.
+    /// --explore-class dof --class-selection fixed` gives the paper's classes.
     #[arg(long, value_name = "CLASS", value_parser = path_classes())]
     pub explore_class: Vec<PathClass>,
     /// Also explore breakups whose only explored dimension is the

@@ -224,6 +224,23 @@ pub fn check_conditional_options(
     Ok(())
 }
 
+/// Refuses an option of `matches` (the options one study entry carries in
+/// brackets, `entry`) that its `integrator` does not read.
+pub fn check_entry_options(
+    matches: &ArgMatches,
+    entry: &str,
+    integrator: IntegratorKind,
+) -> Result<(), CliError> {
+    match given(matches).find(|(_, users)| !users.contains(&integrator)) {
+        None => Ok(()),
+        Some((long, users)) => Err(usage(format!(
+            "--integrators: `{entry}`: --{long} is an option of {}, not of {}",
+            names(users),
+            integrator.name()
+        ))),
+    }
+}
+
 /// Refuses an integrator-specific option of `matches` (a study's) that none
 /// of `integrators` reads.
 pub fn check_study_options(

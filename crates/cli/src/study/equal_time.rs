@@ -20,6 +20,7 @@ macro_rules! say {
 }
 
 use super::crops::{CropRectangle, crop_strip};
+use super::entry_options::entry_integrator_args;
 use super::error_plot::{ErrorCurve, ErrorPoint, write_error_plot};
 use super::formatting::{
     command_line, format_percentage, format_significant, load_average, shown_path, utc_timestamp,
@@ -58,10 +59,12 @@ const REFERENCE_FILE: &str = "reference.exr";
 pub struct EqualTimeArgs {
     #[command(flatten)]
     pub scene: StudySceneArgs,
-    /// Comma-separated NAME[:SAMPLER][:splat] entries, e.g.
-    /// `path,lqmc,path:sobol,path:splat` (sampler default halton; `path` is
-    /// volpath in scenes with media; `:splat` renders path or volpath with
-    /// `--splat-film`).
+    /// Comma-separated NAME[:SAMPLER][:splat][[OPTIONS]] entries, e.g.
+    /// `path,lqmc,path:sobol,path:splat,lqmc[--class-selection fixed]`
+    /// (sampler default halton; `path` is volpath in scenes with media;
+    /// `:splat` renders path or volpath with `--splat-film`; options in
+    /// brackets, separated by spaces, apply to that entry only, after the
+    /// study's integrator options).
     #[arg(long, value_name = "LIST", default_value = "path,lqmc")]
     pub integrators: String,
     /// Seconds per render: the main time budget.
@@ -541,9 +544,17 @@ pub fn run(args: &EqualTimeArgs, matches: &ArgMatches) -> Result<(), CliError> {
     check_distinct(&entries)?;
     let kinds: Vec<IntegratorKind> = entries.iter().map(|entry| entry.integrator).collect();
     check_study_options(matches, &kinds)?;
-    let settings_of_entries = kinds
+    let settings_of_entries = entries
         .iter()
-        .map(|&kind| args.scene.integrators.settings(kind))
+        .map(|entry| {
+            if entry.options.is_empty() {
+                args.scene.integrators.settings(entry.integrator)
+            } else {
+                let options = entry_integrator_args(matches, entry)?;
+                super::validate_integrator_args(&options)?;
+                options.settings(entry.integrator)
+            }
+        })
         .collect::<Result<Vec<_>, CliError>>()?;
     prepare_output_directory(&args.output)?;
 

@@ -4,6 +4,7 @@
 //! studies share: the scene and render options and the list of integrators.
 
 pub mod crops;
+pub mod entry_options;
 pub mod equal_time;
 pub mod error_plot;
 pub mod formatting;
@@ -54,17 +55,7 @@ impl StudySceneArgs {
         if self.max_depth == Some(0) {
             return Err(usage("--max-depth must be at least 1"));
         }
-        if self.integrators.lqmc.density.is_some() {
-            return Err(usage(
-                "--density is for `lqmc render`: a study writes no density images",
-            ));
-        }
-        if self.integrators.bdpt.strategy_images.is_some() {
-            return Err(usage(
-                "--strategy-images is for `lqmc render`: a study writes no strategy images",
-            ));
-        }
-        Ok(())
+        validate_integrator_args(&self.integrators)
     }
 
     /// The worker threads a render gets: `--threads`, or all cores for 0.
@@ -75,6 +66,21 @@ impl StudySceneArgs {
             self.threads
         }
     }
+}
+
+/// Refuses the integrator options a study has no use for.
+pub fn validate_integrator_args(options: &IntegratorArgs) -> Result<(), CliError> {
+    if options.lqmc.density.is_some() {
+        return Err(usage(
+            "--density is for `lqmc render`: a study writes no density images",
+        ));
+    }
+    if options.bdpt.strategy_images.is_some() {
+        return Err(usage(
+            "--strategy-images is for `lqmc render`: a study writes no strategy images",
+        ));
+    }
+    Ok(())
 }
 
 /// One entry of `--integrators`: an integrator with a sampler.
@@ -89,6 +95,10 @@ pub struct IntegratorEntry {
     /// path, volpath: splat each sample over its filter's pixels
     /// (`--splat-film`, written `:splat` after the entry).
     pub splat_film: bool,
+    /// The entry's own integrator options, written in brackets after it
+    /// (`lqmc[--class-selection fixed]`), as words; they apply to this
+    /// entry only, after the study's (see [`entry_options`]).
+    pub options: Vec<String>,
 }
 
 impl IntegratorEntry {
@@ -111,12 +121,25 @@ impl IntegratorEntry {
         if self.splat_film {
             label.push_str(":splat");
         }
+        if !self.options.is_empty() {
+            label = format!("{label}[{}]", self.options.join(" "));
+        }
         label
     }
 
-    /// The label as a file-name part (`path-sobol`).
+    /// The label as a file-name part: letters, digits, dots and
+    /// underscores kept, every other run of characters one `-`
+    /// (`path-sobol`, `lqmc-class-selection-fixed`).
     pub fn file_stem(&self) -> String {
-        self.label().replace(':', "-")
+        let mut stem = String::new();
+        for character in self.label().chars() {
+            if character.is_ascii_alphanumeric() || character == '.' || character == '_' {
+                stem.push(character);
+            } else if !stem.ends_with('-') {
+                stem.push('-');
+            }
+        }
+        stem.trim_matches('-').to_string()
     }
 }
 
@@ -143,8 +166,8 @@ fn known_samplers() -> String {
 /// and volpath) splats each sample over its filter's pixels as
 /// `--splat-film` does.
 pub fn parse_integrator_list(list: &str) -> Result<Vec<IntegratorEntry>, CliError> {
-    let entries = list
-        .split(',')
+    let entries = split_entries(list)?
+        .into_iter()
         .map(str::trim)
         .filter(|entry| !entry.is_empty())
         .map(parse_integrator_entry)
@@ -159,9 +182,57 @@ pub fn parse_integrator_list(list: &str) -> Result<Vec<IntegratorEntry>, CliErro
     Ok(entries)
 }
 
-/// One `NAME[:SAMPLER][:splat]` entry of `--integrators`.
+/// The entries of `--integrators`: split at the commas outside brackets
+/// (an entry's options may hold commas, as `--explore aperture,image`).
+fn split_entries(list: &str) -> Result<Vec<&str>, CliError> {
+    let mut entries = Vec::new();
+    let (mut depth, mut start) = (0usize, 0usize);
+    for (index, character) in list.char_indices() {
+        match character {
+            '[' => depth += 1,
+            ']' => {
+                depth = depth.checked_sub(1).ok_or_else(|| {
+                    usage(format!(
+                        "--integrators: `{list}` closes a bracket it did not open"
+                    ))
+                })?;
+            }
+            ',' if depth == 0 => {
+                entries.push(&list[start..index]);
+                start = index + 1;
+            }
+            _ => {}
+        }
+    }
+    if depth != 0 {
+        return Err(usage(format!(
+            "--integrators: `{list}` leaves a bracket open"
+        )));
+    }
+    entries.push(&list[start..]);
+    Ok(entries)
+}
+
+/// One `NAME[:SAMPLER][:splat][[OPTIONS]]` entry of `--integrators`.
 fn parse_integrator_entry(entry: &str) -> Result<IntegratorEntry, CliError> {
-    let mut parts = entry.split(':');
+    let (head, options) = match entry.split_once('[') {
+        Some((head, rest)) => {
+            let options = rest.strip_suffix(']').ok_or_else(|| {
+                usage(format!(
+                    "--integrators: `{entry}`: the options in brackets come last, NAME[:SAMPLER][:splat][OPTIONS]"
+                ))
+            })?;
+            let words: Vec<String> = options.split_whitespace().map(str::to_string).collect();
+            if words.is_empty() {
+                return Err(usage(format!(
+                    "--integrators: `{entry}`: empty brackets (leave them out for the study's options)"
+                )));
+            }
+            (head.trim(), words)
+        }
+        None => (entry, Vec::new()),
+    };
+    let mut parts = head.split(':');
     let name = parts.next().unwrap_or_default();
     let integrator = IntegratorKind::from_name(name).ok_or_else(|| {
         usage(format!(
@@ -200,6 +271,7 @@ fn parse_integrator_entry(entry: &str) -> Result<IntegratorEntry, CliError> {
         integrator,
         sampler: sampler.unwrap_or(SamplerKind::Halton),
         splat_film,
+        options,
     })
 }
 
@@ -225,6 +297,31 @@ pub fn check_distinct(entries: &[IntegratorEntry]) -> Result<(), CliError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn entries_carry_their_own_options_in_brackets() {
+        let entries = parse_integrator_list(
+            "path,lqmc[--class-selection fixed],lqmc:sobol[--explore aperture,image --breakup 1]",
+        )
+        .unwrap();
+        assert_eq!(entries.len(), 3);
+        assert!(entries[0].options.is_empty());
+        assert_eq!(entries[1].options, ["--class-selection", "fixed"]);
+        assert_eq!(entries[1].label(), "lqmc[--class-selection fixed]");
+        assert_eq!(entries[1].file_stem(), "lqmc-class-selection-fixed");
+        assert_eq!(entries[2].sampler, SamplerKind::Sobol);
+        assert_eq!(
+            entries[2].options,
+            ["--explore", "aperture,image", "--breakup", "1"]
+        );
+        assert_eq!(
+            entries[2].file_stem(),
+            "lqmc-sobol-explore-aperture-image-breakup-1"
+        );
+        for bad in ["lqmc[--stats", "lqmc]", "lqmc[]", "lqmc[--stats]:sobol"] {
+            assert!(parse_integrator_list(bad).is_err(), "{bad}");
+        }
+    }
 
     #[test]
     fn integrator_lists_parse_with_samplers() {
