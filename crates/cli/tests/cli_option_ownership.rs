@@ -75,6 +75,7 @@ const CASES: &[Case] = &[
     case(&["--explore-camera-in-focus"], LQMC, &[]),
     case(&["--no-jitter"], LQMC, &[]),
     case(&["--no-scramble"], LQMC, &[]),
+    case(&["--class-selection", "fixed"], LQMC, &[]),
     case(&["--stats"], LQMC, &[]),
     case(&["--density", "DIR/density.exr"], LQMC, &[]),
     case(&["--bdpt-skip-eye-connections"], BDPT, &[]),

@@ -32,7 +32,9 @@
 //! first ones) and its samples are not in the image, so the choice is a
 //! constant of the render, which then explores a fixed set of classes as
 //! `--class-selection fixed` would. Deterministic: the pilot's sums are
-//! taken in a fixed order of blocks, whatever the threads.
+//! taken in a fixed order of blocks, whatever the threads. The pilot's time
+//! counts in a render's time budget; blocks not begun when it runs out (or
+//! the render is interrupted) are left out.
 
 use super::classification::PathClass;
 use super::exploration::{LqmcContext, LqmcScratch, render_pixel_sample};
@@ -229,6 +231,11 @@ pub fn select_classes(
     let block_results: Vec<BlockPilot> = blocks
         .par_iter()
         .map(|bounds| {
+            // Out of time or interrupted: the blocks not begun are left
+            // out (a render with a time budget depends on the time anyway).
+            if run.out_of_time() {
+                return BlockPilot::default();
+            }
             let mut samplers = prototypes
                 .each_ref()
                 .map(|prototype| prototype.clone_sampler());
@@ -370,6 +377,8 @@ fn pilot_block(
                     block.seeds += 1;
                 }
             }
+            // The film's own splats are not the pilot's measure.
+            output.splats.clear();
             let pilot = scratch.pilot.as_mut().expect("set above");
             for (class, splats) in pilot.splats.iter_mut().enumerate() {
                 for (raster, rgb) in splats.drain(..) {
