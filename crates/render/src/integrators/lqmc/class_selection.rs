@@ -420,13 +420,13 @@ fn pilot_block(
             let index = y * block_width + x;
             let [a, b] = path_traced[index];
             block.path_traced_variance += variance(a, b);
-            for class in 0..4 {
+            for (class, class_variance) in block.class_variance.iter_mut().enumerate() {
                 let with_class = |replication: usize| {
                     let mut sum = path_traced[index][replication];
                     add_to(&mut sum, &difference[index][replication][class], 1.0);
                     sum
                 };
-                block.class_variance[class] += variance(with_class(0), with_class(1));
+                *class_variance += variance(with_class(0), with_class(1));
             }
             block.measured_pixels += 1;
         }
