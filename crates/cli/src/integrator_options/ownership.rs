@@ -100,7 +100,7 @@ pub const OPTION_USERS: &[(&str, &[IntegratorKind])] = &[
     ("explore-wavelength-alone", LQMC),
     ("explore-camera-in-focus", LQMC),
     ("no-jitter", LQMC),
-    ("no-scramble", LQMC),
+    ("lattice-scramble", LQMC),
     ("stats", LQMC),
     ("density", LQMC),
     ("bdpt-skip-eye-connections", BDPT),

@@ -47,5 +47,7 @@ pub use super::progression_variance::{self, ProgressionVariance};
 pub use classification::PathClass;
 pub use exploration::{ClassDensity, LqmcContext, LqmcScratch, render_pixel_sample};
 pub use integrator::{LqmcDetails, LqmcIntegrator};
-pub use settings::{BreakupChoice, ClassParameters, ExploredEffects, LqmcSettings};
+pub use settings::{
+    BreakupChoice, ClassParameters, ExploredEffects, LatticeScramble, LqmcSettings,
+};
 pub use statistics::{ClosestPointTiming, FailureReason, LqmcStatistics};
