@@ -1,12 +1,13 @@
 //! `lqmc study`: experiments that render a scene many times in this process
 //! and report error measures, plots and crops (see [`crate::study`]). Each
-//! study is a subcommand: `equal-time`, `kollig-keller` and
-//! `heinrich-keller`.
+//! study is a subcommand: `equal-time`, `kollig-keller`,
+//! `heinrich-keller` and `lattice-structure`.
 
 use crate::error::CliError;
 use crate::study::equal_time::{self, EqualTimeArgs};
 use crate::study::heinrich_keller::{self, HeinrichKellerArgs};
 use crate::study::kollig_keller::{self, KolligKellerArgs};
+use crate::study::lattice_structure::{self, LatticeStructureArgs};
 use clap::{ArgMatches, Args, Subcommand};
 
 /// Arguments of `lqmc study`.
@@ -33,6 +34,12 @@ pub enum StudyName {
     /// mutual deviations of sampling rates (Tables 2–5) and of the
     /// patterns' masters (Table 6), convergence plot, fitted rates.
     HeinrichKeller(Box<HeinrichKellerArgs>),
+    /// LQMC's error with each lattice scramble (none, image, all) against
+    /// a reference: the radially averaged power spectrum of the error, its
+    /// largest off-axis peak over the median at that radius, the
+    /// autocorrelation over small lags, RMSE; tables, a spectrum plot,
+    /// crops.
+    LatticeStructure(Box<LatticeStructureArgs>),
 }
 
 /// Runs `lqmc study`; `matches` are its arguments as clap parsed them.
@@ -44,5 +51,6 @@ pub fn run(args: &StudyArgs, matches: &ArgMatches) -> Result<(), CliError> {
         StudyName::EqualTime(arguments) => equal_time::run(arguments, study_matches),
         StudyName::KolligKeller(arguments) => kollig_keller::run(arguments),
         StudyName::HeinrichKeller(arguments) => heinrich_keller::run(arguments),
+        StudyName::LatticeStructure(arguments) => lattice_structure::run(arguments, study_matches),
     }
 }

@@ -74,7 +74,7 @@ const CASES: &[Case] = &[
     case(&["--explore-wavelength-alone"], LQMC, &[]),
     case(&["--explore-camera-in-focus"], LQMC, &[]),
     case(&["--no-jitter"], LQMC, &[]),
-    case(&["--no-scramble"], LQMC, &[]),
+    case(&["--lattice-scramble", "all"], LQMC, &[]),
     case(&["--class-selection", "fixed"], LQMC, &[]),
     case(&["--stats"], LQMC, &[]),
     case(&["--density", "DIR/density.exr"], LQMC, &[]),

@@ -1,7 +1,8 @@
 //! End-to-end tests of `lqmc study`: a small `equal-time` study on the
 //! Cornell box whose tables are recomputed here from the images it wrote,
 //! the reuse of its reference, a reference given as a file, and bad input;
-//! a tiny `kollig-keller` study of the office recomputed the same way.
+//! a tiny `kollig-keller` study of the office recomputed the same way; a
+//! tiny `lattice-structure` study of the Cornell box likewise.
 
 #[path = "../../render/tests/support/scratch_directory.rs"]
 mod scratch_directory;
@@ -472,9 +473,10 @@ fn equal_time_tables_match_the_images_it_wrote() {
     );
 }
 
-#[test]
-fn bad_study_input_is_one_line_and_status_two_before_rendering() {
-    let directory = ScratchDirectory::new("study-bad-input");
+/// A scratch directory with an 8×8 black `small.exr`, and the path of an
+/// output directory in it that bad input must not create.
+fn bad_input_directory(prefix: &str) -> (ScratchDirectory, std::path::PathBuf, std::path::PathBuf) {
+    let directory = ScratchDirectory::new(prefix);
     let small_reference = directory.join("small.exr");
     write_exr(
         &small_reference,
@@ -484,6 +486,25 @@ fn bad_study_input_is_one_line_and_status_two_before_rendering() {
     )
     .unwrap();
     let output_directory = directory.join("never-written");
+    (directory, small_reference, output_directory)
+}
+
+/// Asserts that `output` is a usage error: status 2, one line on stderr
+/// that contains `expected`, and no `output_directory` created.
+fn assert_refused(output: &Output, expected: &str, what: &str, output_directory: &Path) {
+    assert_eq!(output.status.code(), Some(2), "{what}");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains(expected),
+        "{what}: '{expected}' not in {stderr}"
+    );
+    assert!(!output_directory.exists(), "{what} created the output");
+}
+
+#[test]
+fn bad_study_input_is_one_line_and_status_two_before_rendering() {
+    let (_directory, small_reference, output_directory) = bad_input_directory("study-bad-input");
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (
             vec!["--integrators", "path,sppm", "--reference-spp", "4"],
@@ -584,14 +605,7 @@ fn bad_study_input_is_one_line_and_status_two_before_rendering() {
             args.extend(["--time", "0.1"]);
         }
         let output = study(&output_directory, &args);
-        assert_eq!(output.status.code(), Some(2), "{extra:?}");
-        let stderr = String::from_utf8(output.stderr).unwrap();
-        assert_eq!(stderr.lines().count(), 1, "{stderr}");
-        assert!(
-            stderr.contains(expected),
-            "{extra:?}: '{expected}' not in {stderr}"
-        );
-        assert!(!output_directory.exists(), "{extra:?} created the output");
+        assert_refused(&output, expected, &format!("{extra:?}"), &output_directory);
     }
 }
 
@@ -926,4 +940,284 @@ fn entries_with_their_own_options_are_modes_of_one_integrator() {
         "images/lqmc-class-selection-fixed-explore-class-normal-b0.05-seed0.exr"
     );
     assert!(output_directory.join(image).exists());
+}
+
+/// The luminance error render − reference with its mean removed, as
+/// `lattice-structure` defines it.
+fn luminance_error(image: &Image, reference: &Image) -> Vec<f64> {
+    let luminance = |pixel: &[f32; 3]| {
+        0.2126 * f64::from(pixel[0]) + 0.7152 * f64::from(pixel[1]) + 0.0722 * f64::from(pixel[2])
+    };
+    let error: Vec<f64> = image
+        .pixels()
+        .iter()
+        .zip(reference.pixels())
+        .map(|(a, b)| luminance(a) - luminance(b))
+        .collect();
+    let mean = error.iter().sum::<f64>() / error.len() as f64;
+    error.iter().map(|value| value - mean).collect()
+}
+
+/// The periodogram |DFT(error)|² / (W·H) by a direct DFT, row-major by
+/// frequency index.
+fn periodogram(error: &[f64], width: usize, height: usize) -> Vec<f64> {
+    let mut spectrum = Vec::with_capacity(width * height);
+    for ky in 0..height {
+        for kx in 0..width {
+            let (mut re, mut im) = (0.0, 0.0);
+            for y in 0..height {
+                for x in 0..width {
+                    let phase = -std::f64::consts::TAU
+                        * ((kx * x) as f64 / width as f64 + (ky * y) as f64 / height as f64);
+                    re += error[y * width + x] * phase.cos();
+                    im += error[y * width + x] * phase.sin();
+                }
+            }
+            spectrum.push((re * re + im * im) / (width * height) as f64);
+        }
+    }
+    spectrum
+}
+
+/// The radial power per ring and the peak ratio of a spectrum, as
+/// `lattice-structure` defines them.
+fn spectrum_measures(spectrum: &[f64], width: usize, height: usize) -> (Vec<f64>, f64) {
+    let side = width.min(height);
+    let rings = side / 2 + 1;
+    let mut ring_values = vec![Vec::new(); rings];
+    let mut off_axis = Vec::new();
+    let signed = |k: usize, n: usize| {
+        if 2 * k >= n {
+            k as i64 - n as i64
+        } else {
+            k as i64
+        }
+    };
+    for ky in 0..height {
+        for kx in 0..width {
+            let (sx, sy) = (signed(kx, width), signed(ky, height));
+            let (fx, fy) = (sx as f64 / width as f64, sy as f64 / height as f64);
+            let ring = ((fx * fx + fy * fy).sqrt() * side as f64).round() as usize;
+            let power = spectrum[ky * width + kx];
+            if ring < rings {
+                ring_values[ring].push(power);
+                if sx != 0 && sy != 0 {
+                    off_axis.push((power, ring));
+                }
+            }
+        }
+    }
+    let radial: Vec<f64> = ring_values
+        .iter()
+        .map(|values| values.iter().sum::<f64>() / values.len() as f64)
+        .collect();
+    let medians: Vec<f64> = ring_values.iter().map(|values| median(values)).collect();
+    let peak = off_axis
+        .iter()
+        .filter(|(_, ring)| *ring > 0 && ring_values[*ring].len() >= 32)
+        .map(|(power, ring)| power / medians[*ring])
+        .fold(0.0, f64::max);
+    (radial, peak)
+}
+
+/// Σ ρ(d) over the lags 0 < max(|dx|, |dy|) ≤ `max_lag`.
+fn autocorrelation_sum(error: &[f64], width: usize, height: usize, max_lag: i64) -> f64 {
+    let energy: f64 = error.iter().map(|e| e * e).sum();
+    let (w, h) = (width as i64, height as i64);
+    let mut correlation = 0.0;
+    for dy in -max_lag..=max_lag {
+        for dx in -max_lag..=max_lag {
+            if (dx, dy) == (0, 0) {
+                continue;
+            }
+            for y in 0..h {
+                for x in 0..w {
+                    let (u, v) = (x + dx, y + dy);
+                    if (0..w).contains(&u) && (0..h).contains(&v) {
+                        correlation +=
+                            error[(y * w + x) as usize] * error[(v * w + u) as usize] / energy;
+                    }
+                }
+            }
+        }
+    }
+    correlation
+}
+
+/// A tiny `lattice-structure` study of the Cornell box with normal paths
+/// explored: its table recomputed from the images it wrote (RMSE, and the
+/// luminance error's spectrum by a direct DFT: radial power, peak ratio,
+/// autocorrelation sum).
+#[test]
+fn lattice_structure_tables_match_the_images_it_wrote() {
+    let directory = ScratchDirectory::new("study-lattice-structure");
+    let reference_path = directory.join("reference.exr");
+    let output_directory = directory.join("study");
+    assert_success(&lqmc(&[
+        "render",
+        "builtin:cornell-box",
+        "--resolution",
+        "24x18",
+        "--spp",
+        "32",
+        "--threads",
+        "2",
+        "--quiet",
+        "-o",
+        reference_path.to_str().unwrap(),
+    ]));
+    let output = lqmc(&[
+        "study",
+        "lattice-structure",
+        "builtin:cornell-box",
+        "--resolution",
+        "24x18",
+        "--threads",
+        "2",
+        "--spp",
+        "2",
+        "--seeds",
+        "2",
+        "--max-lag",
+        "1",
+        "--explore-class",
+        "normal",
+        "--reference",
+        reference_path.to_str().unwrap(),
+        "-o",
+        output_directory.to_str().unwrap(),
+    ]);
+    assert_success(&output);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("[6/6] seed 1, scramble all"), "{stderr}");
+    for file in ["table.md", "spectrum.svg", "spectrum.png", "crops.png"] {
+        assert!(output_directory.join(file).exists(), "{file}");
+    }
+    let table = read_table(&output_directory);
+    assert_eq!(table["study"], "lattice-structure");
+    assert_eq!(table["spp"], 2);
+    assert_eq!(
+        table["explored_classes"],
+        "normal (N = 23), caustic (N = 97)"
+    );
+    let reference = read_exr(&reference_path).unwrap().image;
+    let reference_values = values(&reference);
+    let rows = table["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 3);
+    for (row, scramble) in rows.iter().zip(["none", "image", "all"]) {
+        assert_eq!(row["scramble"], scramble);
+        let seeds = row["seeds"].as_array().unwrap();
+        assert_eq!(seeds.len(), 2);
+        let mut per_seed = (Vec::new(), Vec::new(), Vec::new());
+        let mut spectra = Vec::new();
+        for (seed, entry) in seeds.iter().enumerate() {
+            let name = entry["image"].as_str().unwrap();
+            assert_eq!(name, format!("images/{scramble}-seed{seed}.exr"));
+            let contents = read_exr(output_directory.join(name)).unwrap();
+            let metadata = |key: &str| contents.metadata.get(key).cloned().unwrap_or_default();
+            assert_eq!(metadata("latticeScramble"), scramble);
+            assert_eq!(metadata("seed"), seed.to_string());
+            assert_eq!(metadata("integrator"), "lqmc");
+            let what = format!("{scramble}, seed {seed}");
+            let (rmse, ..) = errors(&values(&contents.image), &reference_values);
+            assert_close(number(&entry["rmse"]), rmse, &format!("RMSE of {what}"));
+            let error = luminance_error(&contents.image, &reference);
+            let spectrum = periodogram(&error, 24, 18);
+            let (radial, peak) = spectrum_measures(&spectrum, 24, 18);
+            let correlation = autocorrelation_sum(&error, 24, 18, 1);
+            spectra.push(spectrum);
+            let table_radial = entry["radial_power"].as_array().unwrap();
+            assert_eq!(table_radial.len(), radial.len());
+            for (ring, (found, expected)) in table_radial.iter().zip(&radial).enumerate() {
+                assert!(
+                    (number(found) - expected).abs() <= 1e-9 * expected.abs() + 1e-15,
+                    "{what}: ring {ring}: {found} against {expected}"
+                );
+            }
+            assert_close(
+                number(&entry["peak_ratio"]),
+                peak,
+                &format!("peak of {what}"),
+            );
+            assert!(peak > 1.0, "{what}: {peak}");
+            assert_close(
+                number(&entry["autocorrelation_sum"]),
+                correlation,
+                &format!("autocorrelation of {what}"),
+            );
+            per_seed.0.push(rmse);
+            per_seed.1.push(peak);
+            per_seed.2.push(correlation);
+        }
+        assert_spread(&row["rmse"], &per_seed.0, scramble);
+        assert_spread(&row["peak_ratio"], &per_seed.1, scramble);
+        assert_spread(&row["autocorrelation_sum"], &per_seed.2, scramble);
+        // The peak of the seeds' mean spectrum.
+        let mean: Vec<f64> = (0..spectra[0].len())
+            .map(|k| spectra.iter().map(|spectrum| spectrum[k]).sum::<f64>() / 2.0)
+            .collect();
+        let (_, mean_peak) = spectrum_measures(&mean, 24, 18);
+        assert_close(
+            number(&row["mean_spectrum"]["peak_ratio"]),
+            mean_peak,
+            &format!("peak of the mean spectrum of {scramble}"),
+        );
+    }
+    assert_eq!(
+        table["white_noise"]["radial_power_median"]
+            .as_array()
+            .unwrap()
+            .len(),
+        10
+    );
+    let markdown = std::fs::read_to_string(output_directory.join("table.md")).unwrap();
+    assert!(
+        markdown.contains("| white noise, 2 image(s) of this size |"),
+        "{markdown}"
+    );
+}
+
+#[test]
+fn bad_lattice_structure_input_is_a_usage_error() {
+    let (_directory, small_reference, output_directory) =
+        bad_input_directory("study-lattice-structure-bad-input");
+    let reference = small_reference.to_str().unwrap();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["--reference", reference],
+            "is 8x8, but the study renders 24x18",
+        ),
+        (
+            vec!["--reference", reference, "--lattice-scramble", "all"],
+            "list the scrambles with --scrambles",
+        ),
+        (
+            vec!["--reference", reference, "--scrambles", "none,swap"],
+            "unknown scramble `swap`",
+        ),
+        (
+            vec!["--reference", reference, "--seeds", "0"],
+            "--seeds must be at least 1",
+        ),
+        (
+            vec!["--reference", reference, "--vcm-radius", "0.1"],
+            "--vcm-radius is an option of vcm, none of the study's integrators (lqmc)",
+        ),
+    ];
+    for (extra, expected) in cases {
+        let mut args = vec![
+            "study",
+            "lattice-structure",
+            "builtin:cornell-box",
+            "--resolution",
+            "24x18",
+            "--spp",
+            "1",
+            "-o",
+            output_directory.to_str().unwrap(),
+        ];
+        args.extend(&extra);
+        let output = lqmc(&args);
+        assert_refused(&output, expected, &format!("{extra:?}"), &output_directory);
+    }
 }

@@ -15,7 +15,9 @@
 //! comparison with many more replications.
 
 use render::image::Image;
-use render::integrators::lqmc::{BreakupChoice, LqmcDetails, LqmcSettings, LqmcStatistics};
+use render::integrators::lqmc::{
+    BreakupChoice, LatticeScramble, LqmcDetails, LqmcSettings, LqmcStatistics,
+};
 use render::integrators::{IntegratorKind, IntegratorSettings};
 use render::renderer::{RenderSettings, render};
 use render::sampler::SamplerKind;
@@ -592,6 +594,43 @@ fn volumetric_caustic_media_roughness_breakup() {
     );
 }
 
+/// The whole mapping from explored to lattice dimensions permuted per set
+/// (`--lattice-scramble all`), keyed on what the set's members share: the
+/// Cornell box with normal and next-event paths explored (the roughness
+/// CDF, so sets of 3 to 9 dimensions).
+#[test]
+fn cornell_box_full_lattice_scramble() {
+    let settings = LqmcSettings {
+        lattice_scramble: LatticeScramble::All,
+        ..exploring_next_events(LqmcSettings::paper_classes())
+    };
+    let statistics = assert_converges("cornell-box", settings, LQMC_SPP, 256);
+    assert!(
+        statistics.breakups[1] > 1000 && statistics.breakups[2] + statistics.breakups[3] > 1000,
+        "{statistics:?}"
+    );
+}
+
+/// [`cornell_box_full_lattice_scramble`] in media: free-flight dimensions
+/// permuted with the image plane and the directions.
+#[test]
+fn translucent_spheres_full_lattice_scramble() {
+    let name = "translucent-spheres";
+    let settings = LqmcSettings {
+        lattice_scramble: LatticeScramble::All,
+        ..LqmcSettings::paper_classes()
+    };
+    let statistics = assert_scene_converges(
+        &format!("{name} (full lattice scramble)"),
+        &scene(name),
+        IntegratorKind::VolPath,
+        settings,
+        LQMC_SPP,
+        256,
+    );
+    assert!(statistics.medium_explorations > 100, "{statistics:?}");
+}
+
 /// Makes the shape around medium 0 an emitting index-matched boundary.
 fn make_first_medium_sphere_an_emitting_boundary(description: &mut SceneDescription) {
     let sphere = description
@@ -747,6 +786,7 @@ fn environment<T: std::str::FromStr>(name: &str, default: T) -> T {
 /// and `LQMC_BIAS_EXPLORE_CLASS` (class names: normal, caustic, dof, nee), `LQMC_BIAS_EMITTING_SPHERE`
 /// (set: the shape around medium 0 becomes an emitting `null` boundary),
 /// `LQMC_BIAS_FIRST_SEED` (0; LQMC's replications use the following seeds),
+/// `LQMC_BIAS_SCRAMBLE` (`none`, `image` or `all`: the lattice scramble),
 /// `LQMC_BIAS_PAIRED` (set: also the paired difference against the
 /// reference integrator rendered with LQMC's seeds and sample count).
 /// Prints the difference ± standard error per channel.
@@ -769,6 +809,9 @@ fn bias_experiment() {
         Ok("cdf") | Err(_) => {}
         Ok("k") => lqmc.breakup = BreakupChoice::FullPath,
         Ok(vertex) => lqmc.breakup = BreakupChoice::Fixed(vertex.parse().expect("a vertex")),
+    }
+    if let Ok(name) = std::env::var("LQMC_BIAS_SCRAMBLE") {
+        lqmc.lattice_scramble = LatticeScramble::from_name(&name).expect("none, image or all");
     }
     if let Ok(list) = std::env::var("LQMC_BIAS_EXPLORE") {
         lqmc.effects = render::integrators::lqmc::ExploredEffects::parse(&list).unwrap();
@@ -837,7 +880,7 @@ fn bias_experiment() {
         let (difference, error) = mean_and_standard_error(&differences);
         for channel in 0..3 {
             eprintln!(
-                "{name} channel {channel}: paired difference LQMC − same-seed {reference_integrator:?} {:+.6} ± {:.6} ({:+.2} standard errors)",
+                "{name} channel {channel}: paired difference LQMC − same-seed {reference_integrator:?} {:+.4e} ± {:.4e} ({:+.2} standard errors)",
                 difference[channel],
                 error[channel],
                 difference[channel] / error[channel].max(1e-30)

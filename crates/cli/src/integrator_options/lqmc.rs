@@ -7,7 +7,7 @@ use crate::error::CliError;
 use crate::named_values::NamedValues;
 use clap::Args;
 use render::integrators::lqmc::{
-    BreakupChoice, ClassSelection, ExploredEffects, LqmcSettings, PathClass,
+    BreakupChoice, ClassSelection, ExploredEffects, LatticeScramble, LqmcSettings, PathClass,
 };
 use std::path::PathBuf;
 
@@ -74,9 +74,13 @@ pub struct LqmcArgs {
     /// No tile jitter.
     #[arg(long)]
     pub no_jitter: bool,
-    /// No lattice dimension scrambling.
-    #[arg(long)]
-    pub no_scramble: bool,
+    /// How each set maps the explored dimensions to the lattice's (the
+    /// paper's Sec. 5 remedy against visible lattice structure, drawn per
+    /// set so that the estimator stays unbiased): `none`, `image` (the
+    /// image-plane pair swapped with two random other dimensions) or `all`
+    /// (a random permutation of every dimension); default image.
+    #[arg(long, value_name = "MODE", value_parser = lattice_scrambles())]
+    pub lattice_scramble: Option<LatticeScramble>,
     /// Print explorations per class, set sizes, failures and the
     /// closest-point search time.
     #[arg(long)]
@@ -131,7 +135,9 @@ impl LqmcArgs {
             settings.class_selection = selection;
         }
         settings.jitter_tiles = !self.no_jitter;
-        settings.scramble_dimensions = !self.no_scramble;
+        if let Some(scramble) = self.lattice_scramble {
+            settings.lattice_scramble = scramble;
+        }
         settings.gather_density = self.density.is_some();
         Ok(settings)
     }
@@ -148,6 +154,19 @@ fn class_selections() -> NamedValues<ClassSelection> {
 /// The LQMC path classes by name, as command-line values.
 fn path_classes() -> NamedValues<PathClass> {
     NamedValues::new(PathClass::ALL.map(|class| (class, class.name())))
+}
+
+/// The lattice scrambles by name, as command-line values.
+fn lattice_scrambles() -> NamedValues<LatticeScramble> {
+    NamedValues::with_help(LatticeScramble::ALL, |scramble| match scramble {
+        LatticeScramble::None => "explored dimension i takes lattice dimension i",
+        LatticeScramble::Image => {
+            "the image-plane pair takes the lattice dimensions of two random other explored dimensions"
+        }
+        LatticeScramble::All => {
+            "a random permutation of every explored dimension's lattice dimension"
+        }
+    })
 }
 
 /// The LQMC class called `name`.

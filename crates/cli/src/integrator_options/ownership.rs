@@ -101,7 +101,7 @@ pub const OPTION_USERS: &[(&str, &[IntegratorKind])] = &[
     ("explore-camera-in-focus", LQMC),
     ("class-selection", LQMC),
     ("no-jitter", LQMC),
-    ("no-scramble", LQMC),
+    ("lattice-scramble", LQMC),
     ("stats", LQMC),
     ("density", LQMC),
     ("bdpt-skip-eye-connections", BDPT),

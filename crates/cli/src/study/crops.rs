@@ -2,8 +2,11 @@
 //! enlarged so that small renders can be looked at, for comparing noise
 //! and bias by eye.
 
+use super::equal_time::write_failure;
 use crate::error::{CliError, usage};
-use render::image::Image;
+use crate::json::Json;
+use render::image::{Image, Metadata, write_png};
+use std::path::Path;
 
 /// The smallest height in pixels of a crop in the strip: crops are
 /// enlarged by the smallest integer factor that reaches it.
@@ -76,6 +79,46 @@ impl CropRectangle {
     pub fn enlargement(&self) -> usize {
         MINIMUM_PANEL_HEIGHT.div_ceil(self.height).max(1)
     }
+
+    /// The rectangle and its enlargement as a JSON object (the studies'
+    /// tables).
+    pub fn json(&self) -> Json {
+        Json::object(vec![
+            ("x", Json::Integer(self.x as u64)),
+            ("y", Json::Integer(self.y as u64)),
+            ("width", Json::Integer(self.width as u64)),
+            ("height", Json::Integer(self.height as u64)),
+            ("enlargement", Json::Integer(self.enlargement() as u64)),
+        ])
+    }
+}
+
+/// Writes to `path` the strip of the crop `rectangle` of each panel's
+/// image ([`crop_strip`]), tone-mapped as `lqmc render`'s PNG, with the
+/// panels' names, the crop, its enlargement and `extra` in its metadata.
+pub fn write_crop_strip(
+    path: &Path,
+    panels: &[(String, &Image)],
+    rectangle: CropRectangle,
+    extra: &[(&str, String)],
+) -> Result<(), CliError> {
+    let images: Vec<&Image> = panels.iter().map(|(_, image)| *image).collect();
+    let strip = crop_strip(&images, rectangle);
+    let mut metadata = Metadata::new();
+    let names: Vec<&str> = panels.iter().map(|(name, _)| name.as_str()).collect();
+    metadata.insert("panels".into(), names.join(", "));
+    metadata.insert(
+        "crop".into(),
+        format!(
+            "{},{},{},{}",
+            rectangle.x, rectangle.y, rectangle.width, rectangle.height
+        ),
+    );
+    metadata.insert("enlargement".into(), rectangle.enlargement().to_string());
+    for (key, value) in extra {
+        metadata.insert((*key).to_string(), value.clone());
+    }
+    write_png(path, &strip, 0.0, &metadata).map_err(|error| write_failure(path, error))
 }
 
 /// The crop `rectangle` of each of `images`, enlarged by

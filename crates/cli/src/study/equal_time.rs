@@ -11,40 +11,31 @@
 //! computed from the EXR files the study writes, read back, so that what a
 //! table says can be recomputed from the images beside it.
 
-/// Prints a line to stdout, ignoring a closed pipe.
-macro_rules! say {
-    ($($argument:tt)*) => {{
-        use std::io::Write as _;
-        let _ = writeln!(std::io::stdout().lock(), $($argument)*);
-    }};
-}
-
-use super::crops::{CropRectangle, crop_strip};
+use super::crops::{CropRectangle, write_crop_strip};
 use super::entry_options::entry_integrator_args;
 use super::error_plot::{ErrorCurve, ErrorPoint, write_error_plot};
 use super::formatting::{
-    command_line, format_percentage, format_significant, load_average, shown_path, utc_timestamp,
+    command_line, format_percentage, format_significant, load_average, shown_path, spread_json,
+    spread_text, utc_timestamp,
 };
 use super::measures::{Spread, flicker, mean_bias, spread};
+use super::study_renders::{
+    RenderContext, WrittenRender, definitions_text, print_report, read_reference, read_study_image,
+    stop_on_interrupt, write_tables,
+};
 use super::{IntegratorEntry, StudySceneArgs, check_distinct, parse_integrator_list};
 use crate::error::{CliError, usage};
-use crate::integrator_options::default_heuristic;
 use crate::integrator_options::ownership::check_study_options;
 use crate::json::Json;
 use crate::render_command::{
-    RenderRequest, build_scene, default_path_tracer, load_scene_description, parse_time_budget,
-    render_metadata, traced_samples_per_pixel,
+    build_scene, default_path_tracer, load_scene_description, parse_time_budget,
 };
 use clap::{ArgMatches, Args};
 use render::image::compare::{ImageComparison, RELATIVE_MSE_EPSILON, compare_images};
-use render::image::{Image, Metadata, read_exr, read_image, write_png};
-use render::integrators::{IntegratorKind, IntegratorSettings};
-use render::renderer::{RenderSettings, render};
-use render::sampler::{Randomization, SamplerKind};
-use render::scene::Scene;
+use render::image::{Image, read_exr, read_image};
+use render::integrators::IntegratorKind;
+use render::sampler::SamplerKind;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::SystemTime;
 
 /// The seed of a rendered reference: outside the study's seeds 0..K, so the
@@ -288,102 +279,14 @@ pub(super) fn write_failure(path: &Path, error: impl std::fmt::Display) -> CliEr
     CliError::Failure(format!("cannot write {}: {error}", path.display()))
 }
 
-/// The `-D` definitions as one metadata value (empty when none), so that a
-/// reference of a file scene is reused only for the same parameters.
-fn definitions_text(definitions: &[(String, String)]) -> String {
-    definitions
-        .iter()
-        .map(|(name, value)| format!("{name}={value}"))
-        .collect::<Vec<_>>()
-        .join(" ")
-}
-
-/// The settings shared by every render, filled in per render.
-struct RenderContext<'a> {
-    args: &'a EqualTimeArgs,
-    scene: &'a Scene,
-    stop: &'a AtomicBool,
-    definitions: String,
-}
-
-impl RenderContext<'_> {
-    /// A request with the study's depth, Russian roulette and MIS options.
-    fn request(
-        &self,
-        integrator: IntegratorSettings,
-        sampler: SamplerKind,
-        seed: u64,
-        threads: usize,
-    ) -> RenderRequest {
-        RenderRequest {
-            heuristic: default_heuristic(integrator.kind()),
-            integrator,
-            sampler,
-            pattern_size: None,
-            samples_per_pixel: None,
-            time_budget: None,
-            seed,
-            randomization: Randomization::Seeded,
-            max_depth: self.args.scene.max_depth,
-            russian_roulette_depth: self.args.scene.rr_depth,
-            splat_film: false,
-            threads,
-        }
-    }
-
-    /// Renders with `settings` and writes the image with `lqmc render`'s
-    /// metadata plus `extra` to `path`; returns the image and the record's
-    /// numbers (traced spp, whole passes, seconds, peak resident bytes).
-    fn render_to(
-        &self,
-        settings: &RenderSettings,
-        path: &Path,
-        extra: &[(&str, String)],
-    ) -> Result<(Image, f64, u64, f64, Option<u64>), CliError> {
-        let output = render(self.scene, settings, self.stop, &|_, _| {})
-            .map_err(|error| CliError::Failure(error.to_string()))?;
-        if self.stop.load(Ordering::Relaxed) {
-            return Err(CliError::Failure(
-                "interrupted: the study's tables were not written".into(),
-            ));
-        }
-        let statistics = output.statistics;
-        let mut metadata = render_metadata(&self.args.scene.scene, settings, &statistics);
-        for (key, value) in extra {
-            metadata.insert((*key).to_string(), value.clone());
-        }
-        if !self.definitions.is_empty() {
-            metadata.insert("sceneParameters".into(), self.definitions.clone());
-        }
-        output
-            .write(path, &metadata)
-            .map_err(|error| write_failure(path, error))?;
-        let seconds = statistics.elapsed.as_secs_f64();
-        // LQMC's --stats, on stderr with the progress lines.
-        if let (true, Some(details)) = (self.args.scene.integrators.lqmc.stats, &output.details) {
-            eprintln!(
-                "{}",
-                details.report(seconds.max(1e-9), self.args.scene.effective_threads())
-            );
-        }
-        Ok((
-            output.image(),
-            traced_samples_per_pixel(self.scene, &statistics),
-            statistics.completed_samples_per_pixel,
-            seconds,
-            statistics.memory.map(|memory| memory.peak_resident_bytes),
-        ))
-    }
-}
-
 /// Renders the reference into DIR/reference.exr, or reuses the one there
 /// if it was rendered with the same scene, parameters, resolution,
 /// integrator, depths and samples per pixel.
 fn rendered_reference(
     context: &RenderContext<'_>,
+    args: &EqualTimeArgs,
     samples_per_pixel: u64,
 ) -> Result<Reference, CliError> {
-    let args = context.args;
     let path = args.output.join(REFERENCE_FILE);
     let integrator = default_path_tracer(context.scene);
     let mut request = context.request(integrator.into(), SamplerKind::Halton, REFERENCE_SEED, 0);
@@ -456,9 +359,9 @@ fn rendered_reference(
             integrator.name()
         );
     }
-    let (image, ..) = context.render_to(&settings, &path, &[])?;
+    let written = context.render_to(&settings, &path, &[])?;
     Ok(Reference {
-        image,
+        image: written.image,
         shown_path: REFERENCE_FILE.into(),
         noise: None,
         rendered: Some(RenderedReference {
@@ -503,15 +406,7 @@ pub fn run(args: &EqualTimeArgs, matches: &ArgMatches) -> Result<(), CliError> {
     };
     let given_reference = match &reference_choice {
         ReferenceChoice::File(path) => {
-            let image = read_image(path).map_err(|error| usage(format!("--reference: {error}")))?;
-            if (image.width(), image.height()) != (width, height) {
-                return Err(usage(format!(
-                    "--reference {} is {}x{}, but the study renders {width}x{height} (see --resolution)",
-                    path.display(),
-                    image.width(),
-                    image.height()
-                )));
-            }
+            let image = read_reference(path, width, height)?;
             Some(image)
         }
         ReferenceChoice::Render { .. } => None,
@@ -558,13 +453,9 @@ pub fn run(args: &EqualTimeArgs, matches: &ArgMatches) -> Result<(), CliError> {
         .collect::<Result<Vec<_>, CliError>>()?;
     prepare_output_directory(&args.output)?;
 
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
-    }
+    let stop = stop_on_interrupt();
     let context = RenderContext {
-        args,
+        scene_args: &args.scene,
         scene: &scene,
         stop: &stop,
         definitions: definitions_text(&args.scene.define),
@@ -579,7 +470,7 @@ pub fn run(args: &EqualTimeArgs, matches: &ArgMatches) -> Result<(), CliError> {
             rendered: None,
         },
         (ReferenceChoice::Render { samples_per_pixel }, _) => {
-            rendered_reference(&context, samples_per_pixel)?
+            rendered_reference(&context, args, samples_per_pixel)?
         }
         (ReferenceChoice::File(_), None) => unreachable!("a given reference was read above"),
     };
@@ -601,12 +492,18 @@ pub fn run(args: &EqualTimeArgs, matches: &ArgMatches) -> Result<(), CliError> {
                 request.splat_film = entry.splat_film;
                 let settings = request.settings(&scene);
                 let name = image_name(entry, budget, seed);
-                let (image, traced, whole_passes, seconds, peak_resident_bytes) = context
-                    .render_to(
-                        &settings,
-                        &args.output.join(&name),
-                        &[("timeBudgetSeconds", format!("{budget}"))],
-                    )?;
+                let WrittenRender {
+                    image,
+                    traced_samples_per_pixel: traced,
+                    whole_passes,
+                    seconds,
+                    peak_resident_bytes,
+                    ..
+                } = context.render_to(
+                    &settings,
+                    &args.output.join(&name),
+                    &[("timeBudgetSeconds", format!("{budget}"))],
+                )?;
                 if !args.quiet {
                     let rmse = compare_images(&image, &reference.image, None)
                         .map(|comparison| format_significant(comparison.rmse, 4))
@@ -650,11 +547,11 @@ pub fn run(args: &EqualTimeArgs, matches: &ArgMatches) -> Result<(), CliError> {
         command: command_line(),
     };
     let markdown = markdown_table(&conditions, &reference, &cells);
-    let table_md = args.output.join("table.md");
-    std::fs::write(&table_md, &markdown).map_err(|error| write_failure(&table_md, error))?;
-    let table_json = args.output.join("table.json");
-    let json = json_table(&conditions, &reference, &cells).render() + "\n";
-    std::fs::write(&table_json, json).map_err(|error| write_failure(&table_json, error))?;
+    let (table_md, table_json) = write_tables(
+        &args.output,
+        &markdown,
+        &json_table(&conditions, &reference, &cells),
+    )?;
     let svg = args.output.join("error-vs-time.svg");
     let png = args.output.join("error-vs-time.png");
     write_error_plot(
@@ -671,25 +568,12 @@ pub fn run(args: &EqualTimeArgs, matches: &ArgMatches) -> Result<(), CliError> {
     let crops = args.output.join("crops.png");
     write_crops(&crops, &conditions, &reference, &records, &args.output)?;
 
-    say!("{}", markdown.trim_end());
-    say!(
-        "wrote {}, {}, {}, {}, {} and the images in {}",
-        table_md.display(),
-        table_json.display(),
-        svg.display(),
-        png.display(),
-        crops.display(),
-        args.output.join("images").display()
+    print_report(
+        &markdown,
+        &[&table_md, &table_json, &svg, &png, &crops],
+        &args.output.join("images"),
     );
     Ok(())
-}
-
-/// Reads an image the study wrote.
-fn read_study_image(directory: &Path, name: &str) -> Result<Image, CliError> {
-    let path = directory.join(name);
-    read_exr(&path)
-        .map(|contents| contents.image)
-        .map_err(|error| CliError::Failure(format!("cannot read back {}: {error}", path.display())))
 }
 
 /// The measures of every integrator at every budget, from the images as
@@ -754,16 +638,6 @@ fn measure_cells<'a>(
         }
     }
     Ok(cells)
-}
-
-/// `median [min, max]` with 4 significant digits.
-fn spread_text(spread: &Spread) -> String {
-    format!(
-        "{} [{}, {}]",
-        format_significant(spread.median, 4),
-        format_significant(spread.min, 4),
-        format_significant(spread.max, 4)
-    )
 }
 
 /// A sentence on the reference.
@@ -896,15 +770,6 @@ fn markdown_table(
     text
 }
 
-/// A spread as a JSON object.
-fn spread_json(spread: &Spread) -> Json {
-    Json::object(vec![
-        ("median", Json::Number(spread.median)),
-        ("min", Json::Number(spread.min)),
-        ("max", Json::Number(spread.max)),
-    ])
-}
-
 /// The JSON report: the conditions and every number, per seed too.
 fn json_table(conditions: &StudyConditions, reference: &Reference, cells: &[Cell<'_>]) -> Json {
     let (width, height) = conditions.resolution;
@@ -1027,16 +892,7 @@ fn json_table(conditions: &StudyConditions, reference: &Reference, cells: &[Cell
         ("integrators", Json::Array(integrators)),
         ("reference", reference_json),
         ("relative_mse_epsilon", Json::Number(RELATIVE_MSE_EPSILON)),
-        (
-            "crop",
-            Json::object(vec![
-                ("x", Json::Integer(crop.x as u64)),
-                ("y", Json::Integer(crop.y as u64)),
-                ("width", Json::Integer(crop.width as u64)),
-                ("height", Json::Integer(crop.height as u64)),
-                ("enlargement", Json::Integer(crop.enlargement() as u64)),
-            ]),
-        ),
+        ("crop", crop.json()),
         ("started", Json::String(conditions.started.clone())),
         ("finished", Json::String(conditions.finished.clone())),
         (
@@ -1095,24 +951,22 @@ fn write_crops(
             read_study_image(directory, &record.image)
         })
         .collect::<Result<Vec<_>, CliError>>()?;
-    let panels: Vec<&Image> = std::iter::once(&reference.image).chain(&renders).collect();
-    let strip = crop_strip(&panels, conditions.crop);
-    let crop = conditions.crop;
-    let mut metadata = Metadata::new();
-    let names: Vec<String> = std::iter::once("reference".to_string())
-        .chain(conditions.entries.iter().map(IntegratorEntry::label))
-        .collect();
-    metadata.insert("panels".into(), names.join(", "));
-    metadata.insert(
-        "crop".into(),
-        format!("{},{},{},{}", crop.x, crop.y, crop.width, crop.height),
-    );
-    metadata.insert("enlargement".into(), crop.enlargement().to_string());
-    metadata.insert(
-        "budgetSeconds".into(),
-        format!("{}", conditions.budgets[largest]),
-    );
-    write_png(path, &strip, 0.0, &metadata).map_err(|error| write_failure(path, error))
+    let panels: Vec<(String, &Image)> =
+        std::iter::once(("reference".to_string(), &reference.image))
+            .chain(
+                conditions
+                    .entries
+                    .iter()
+                    .map(IntegratorEntry::label)
+                    .zip(&renders),
+            )
+            .collect();
+    write_crop_strip(
+        path,
+        &panels,
+        conditions.crop,
+        &[("budgetSeconds", format!("{}", conditions.budgets[largest]))],
+    )
 }
 
 #[cfg(test)]

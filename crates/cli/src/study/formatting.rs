@@ -1,6 +1,9 @@
-//! Text for the studies' reports: numbers to a few significant digits, the
-//! date and time, the machine's load and the command line.
+//! Text for the studies' reports: numbers to a few significant digits and
+//! spreads of them, the date and time, the machine's load and the command
+//! line.
 
+use super::measures::Spread;
+use crate::json::Json;
 use std::path::Path;
 use std::time::{SystemTime, UNIX_EPOCH};
 
@@ -33,6 +36,25 @@ pub fn format_significant(value: f64, digits: usize) -> String {
     } else {
         format!("{value:.prec$e}", prec = digits - 1)
     }
+}
+
+/// A spread as `median [min, max]` with 4 significant digits.
+pub fn spread_text(spread: &Spread) -> String {
+    format!(
+        "{} [{}, {}]",
+        format_significant(spread.median, 4),
+        format_significant(spread.min, 4),
+        format_significant(spread.max, 4)
+    )
+}
+
+/// A spread as a JSON object `{median, min, max}`.
+pub fn spread_json(spread: &Spread) -> Json {
+    Json::object(vec![
+        ("median", Json::Number(spread.median)),
+        ("min", Json::Number(spread.min)),
+        ("max", Json::Number(spread.max)),
+    ])
 }
 
 /// A relative value as a signed percentage with `digits` significant

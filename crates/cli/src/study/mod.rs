@@ -7,10 +7,13 @@ pub mod crops;
 pub mod entry_options;
 pub mod equal_time;
 pub mod error_plot;
+pub mod error_structure;
 pub mod formatting;
 pub mod heinrich_keller;
 pub mod kollig_keller;
+pub mod lattice_structure;
 pub mod measures;
+pub mod study_renders;
 
 use crate::error::{CliError, usage};
 use crate::integrator_options::IntegratorArgs;

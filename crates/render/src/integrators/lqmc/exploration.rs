@@ -18,7 +18,7 @@ use super::seed_film::SeedFilm;
 use super::seed_path::{SeedPath, seed_camera, trace_seed_path};
 use super::seed_screen::{ScreenScratch, path_traced_seed};
 use super::segment_cache::{SegmentCache, SegmentReuse};
-use super::settings::{BreakupChoice, LqmcSettings};
+use super::settings::{BreakupChoice, LatticeScramble, LqmcSettings};
 use super::statistics::{FailureReason, LqmcStatistics};
 use crate::film::SplatBuffer;
 use crate::integrators::TraceCounters;
@@ -543,7 +543,7 @@ fn explore(
         scratch.jitter.push(jitter);
         scratch.lattice_dimension.push(index);
     }
-    if settings.scramble_dimensions {
+    if settings.lattice_scramble != LatticeScramble::None {
         let key = set_key(
             context.seed,
             sample_index,
@@ -553,7 +553,12 @@ fn explore(
             &scratch.seed_numbers,
             &scratch.jitter,
         );
-        scramble_lattice_dimensions(&scratch.dimensions, &mut scratch.lattice_dimension, key);
+        scramble_lattice_dimensions(
+            settings.lattice_scramble,
+            &scratch.dimensions,
+            &mut scratch.lattice_dimension,
+            key,
+        );
     }
     let Ok(entry) = lqmc_lattice_entry(parameters.lattice_size, dimension_count) else {
         return false;
@@ -843,10 +848,42 @@ fn set_key(
     key
 }
 
-/// The paper's proposed remedy against visible lattice structure: the two
-/// image-plane dimensions take the lattice dimensions of two other explored
-/// dimensions chosen at random (and those take theirs).
+/// The paper's proposed remedy against visible lattice structure (Sec. 5),
+/// applied to `lattice_dimension` (the identity on entry) with the random
+/// choices drawn from the set's `key` ([`set_key`]):
+/// [`LatticeScramble::Image`] swaps the two image-plane dimensions' lattice
+/// dimensions with those of two other explored dimensions chosen at random,
+/// [`LatticeScramble::All`] permutes the whole mapping uniformly
+/// (Fisher–Yates), [`LatticeScramble::None`] leaves it.
 fn scramble_lattice_dimensions(
+    scramble: LatticeScramble,
+    dimensions: &[ExploredDimension],
+    lattice_dimension: &mut [usize],
+    key: u64,
+) {
+    match scramble {
+        LatticeScramble::None => {}
+        LatticeScramble::Image => swap_image_lattice_dimensions(dimensions, lattice_dimension, key),
+        LatticeScramble::All => {
+            // Fisher–Yates: position i takes one of positions 0..=i.
+            for i in (1..lattice_dimension.len()).rev() {
+                let j = uniform_below(hash2(key, i as u64), i + 1);
+                lattice_dimension.swap(i, j);
+            }
+        }
+    }
+}
+
+/// An integer in `0..count` from the 64 random bits `bits` (the high word
+/// of their product with `count`: uniform up to 2⁻⁶⁴·count).
+fn uniform_below(bits: u64, count: usize) -> usize {
+    ((u128::from(bits) * count as u128) >> 64) as usize
+}
+
+/// [`LatticeScramble::Image`]: the two image-plane dimensions take the
+/// lattice dimensions of two other explored dimensions chosen at random
+/// (and those take theirs); nothing when fewer than two others exist.
+fn swap_image_lattice_dimensions(
     dimensions: &[ExploredDimension],
     lattice_dimension: &mut [usize],
     key: u64,
@@ -872,6 +909,7 @@ mod tests {
     use super::*;
     use crate::sampler::{Randomization, SamplerKind};
     use crate::scene::builtin::builtin_scene;
+    use qmc::lattice_table::LQMC_MAX_DIMENSIONS;
 
     /// The value a seed records for an event (the path tracer's, `volpath`'s
     /// through media) is the value LQMC's value walk computes for the same
@@ -950,6 +988,168 @@ mod tests {
                 }
             }
             assert!(compared > 10, "{name}: {compared} events compared");
+        }
+    }
+
+    /// `count` explored dimensions as a deep path with a thin lens has
+    /// them: lens, wavelength, image, then outgoing directions.
+    fn deep_path_dimensions(count: usize) -> Vec<ExploredDimension> {
+        let kinds = [
+            DimensionKind::Lens(0),
+            DimensionKind::Lens(1),
+            DimensionKind::Wavelength,
+            DimensionKind::Image(0),
+            DimensionKind::Image(1),
+        ]
+        .into_iter()
+        .chain((0..).map(|index| DimensionKind::Direction {
+            vertex: index / 2,
+            axis: index % 2,
+        }));
+        kinds
+            .zip([2, 2, 1, 24, 18].into_iter().chain(std::iter::repeat(155)))
+            .take(count)
+            .map(|(kind, tiles)| ExploredDimension { kind, tiles })
+            .collect()
+    }
+
+    /// The lattice dimensions of `dimensions` under `scramble` with `key`.
+    fn scrambled(
+        scramble: LatticeScramble,
+        dimensions: &[ExploredDimension],
+        key: u64,
+    ) -> Vec<usize> {
+        let mut lattice_dimension: Vec<usize> = (0..dimensions.len()).collect();
+        scramble_lattice_dimensions(scramble, dimensions, &mut lattice_dimension, key);
+        lattice_dimension
+    }
+
+    /// The full scramble is a permutation of the lattice dimensions for
+    /// every dimension count, uniform over the permutations (all 6 of
+    /// three dimensions about equally often); `image` moves only the image
+    /// pair and two others, `none` nothing.
+    #[test]
+    fn the_full_scramble_is_a_uniform_permutation() {
+        for count in 1..=LQMC_MAX_DIMENSIONS {
+            let dimensions = deep_path_dimensions(count);
+            for key in 0..200u64 {
+                let key = hash2(key, count as u64);
+                let mut permutation = scrambled(LatticeScramble::All, &dimensions, key);
+                permutation.sort_unstable();
+                assert_eq!(permutation, (0..count).collect::<Vec<_>>(), "{count}");
+                let image = scrambled(LatticeScramble::Image, &dimensions, key);
+                let moved = image.iter().enumerate().filter(|(i, d)| i != *d).count();
+                assert!(moved == 0 || moved == 4, "{image:?}");
+                let none = scrambled(LatticeScramble::None, &dimensions, key);
+                assert_eq!(none, (0..count).collect::<Vec<_>>());
+            }
+        }
+        let dimensions = deep_path_dimensions(3);
+        let mut counts = std::collections::HashMap::new();
+        let draws = 6000u64;
+        for key in 0..draws {
+            *counts
+                .entry(scrambled(LatticeScramble::All, &dimensions, hash2(key, 77)))
+                .or_insert(0u64) += 1;
+        }
+        assert_eq!(counts.len(), 6, "{counts:?}");
+        // Binomial(6000, 1/6): standard deviation 28.9; 5 of them.
+        for (permutation, count) in &counts {
+            assert!(count.abs_diff(draws / 6) < 145, "{permutation:?}: {count}");
+        }
+        // Large dimension counts move most dimensions.
+        let dimensions = deep_path_dimensions(LQMC_MAX_DIMENSIONS);
+        let moved = scrambled(LatticeScramble::All, &dimensions, 12345)
+            .iter()
+            .enumerate()
+            .filter(|(i, d)| i != *d)
+            .count();
+        assert!(moved > LQMC_MAX_DIMENSIONS / 2, "{moved}");
+    }
+
+    /// Every member of a set, had it been the seed, draws the set's key and
+    /// so its scramble, and finds the same set (the same members, up to
+    /// rounding): Eq. (9)'s weights are a partition of unity for every set.
+    /// A seed in another tile, progression or class draws another key.
+    #[test]
+    fn members_of_a_set_draw_its_scramble_and_find_the_same_set() {
+        use super::super::lattice_step::{LatticeMembers, TileGrid, lattice_members};
+        use super::super::statistics::ClosestPointTiming;
+        let dimensions = deep_path_dimensions(7);
+        let tiles: Vec<u32> = dimensions.iter().map(|dimension| dimension.tiles).collect();
+        let jitter: Vec<f64> = dimensions
+            .iter()
+            .enumerate()
+            .map(|(index, dimension)| to_unit_f64(hash2(9, index as u64)) / dimension.tiles as f64)
+            .collect();
+        let entry = lqmc_lattice_entry(97, dimensions.len()).unwrap();
+        let key_of =
+            |numbers: &[f64]| set_key(5, 3, PathClass::Normal, 2, &dimensions, numbers, &jitter);
+        let members_of = |numbers: &[f64], lattice_dimension: &[usize]| {
+            let mut members = LatticeMembers::default();
+            lattice_members(
+                entry,
+                &TileGrid {
+                    tiles: &tiles,
+                    jitter: &jitter,
+                    lattice_dimension,
+                },
+                numbers,
+                &mut Vec::new(),
+                &mut members,
+                &mut ClosestPointTiming::default(),
+            )
+            .unwrap();
+            members.numbers
+        };
+        // Rows sorted, to compare sets.
+        let sorted_rows = |numbers: Vec<f64>| {
+            let mut rows: Vec<Vec<f64>> = numbers
+                .chunks(dimensions.len())
+                .map(<[f64]>::to_vec)
+                .collect();
+            rows.sort_by(|a, b| a.partial_cmp(b).unwrap());
+            rows
+        };
+        for seed_index in 0..4u64 {
+            // The last direction's number near 0, below its jitter: its
+            // tile wraps around.
+            let seed: Vec<f64> = (0..dimensions.len())
+                .map(|d| {
+                    if d + 1 == dimensions.len() && seed_index == 0 {
+                        1e-6
+                    } else {
+                        to_unit_f64(hash3(seed_index, d as u64, 1))
+                    }
+                })
+                .collect();
+            let key = key_of(&seed);
+            let mapping = scrambled(LatticeScramble::All, &dimensions, key);
+            let set = members_of(&seed, &mapping);
+            let set_rows = sorted_rows(set.clone());
+            for member in set.chunks(dimensions.len()) {
+                assert_eq!(key_of(member), key, "seed {seed_index}: {member:?}");
+                let member_rows = sorted_rows(members_of(member, &mapping));
+                for (a, b) in set_rows.iter().zip(&member_rows) {
+                    for (x, y) in a.iter().zip(b) {
+                        let distance = (x - y).abs();
+                        assert!(distance.min(1.0 - distance) < 1e-9, "{a:?} against {b:?}");
+                    }
+                }
+            }
+            // Another tile of the image's x, another progression or class:
+            // another key.
+            let mut moved = seed.clone();
+            moved[3] = (moved[3] + 1.0 / 24.0) % 1.0;
+            assert_ne!(key_of(&moved), key);
+            assert_ne!(
+                set_key(5, 4, PathClass::Normal, 2, &dimensions, &seed, &jitter),
+                key
+            );
+            assert_ne!(
+                set_key(5, 3, PathClass::Caustic, 2, &dimensions, &seed, &jitter),
+                key
+            );
         }
     }
 }

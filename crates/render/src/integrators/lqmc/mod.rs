@@ -50,5 +50,7 @@ pub use class_selection::ClassSelectionReport;
 pub use classification::PathClass;
 pub use exploration::{ClassDensity, LqmcContext, LqmcScratch, render_pixel_sample};
 pub use integrator::{LqmcDetails, LqmcIntegrator};
-pub use settings::{BreakupChoice, ClassParameters, ClassSelection, ExploredEffects, LqmcSettings};
+pub use settings::{
+    BreakupChoice, ClassParameters, ClassSelection, ExploredEffects, LatticeScramble, LqmcSettings,
+};
 pub use statistics::{ClosestPointTiming, FailureReason, LqmcStatistics};

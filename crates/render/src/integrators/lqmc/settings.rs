@@ -152,6 +152,53 @@ impl ClassSelection {
     }
 }
 
+/// How an exploration maps its explored dimensions to the lattice's
+/// dimensions: the paper's Sec. 5 remedy against visible lattice structure
+/// is a random permutation of that mapping, drawn per set (keyed on what
+/// every member of the set shares, so that each member, had it been the
+/// seed, would draw the same one and Eq. (9)'s weights stay a partition of
+/// unity). A permuted rank-1 lattice is again a rank-1 lattice.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LatticeScramble {
+    /// Explored dimension i takes lattice dimension i: every set of a
+    /// dimension count shows the same two-dimensional projection on the
+    /// image plane.
+    None,
+    /// The two image-plane dimensions swap lattice dimensions with two
+    /// other explored dimensions chosen at random; the others keep theirs
+    /// (nothing is swapped when fewer than two other dimensions are
+    /// explored, e.g. b = 1 with a pinhole camera: wavelength and image).
+    Image,
+    /// A uniformly random permutation of the whole mapping (Fisher–Yates).
+    All,
+}
+
+impl LatticeScramble {
+    /// Every mode with its command-line name.
+    pub const ALL: [(LatticeScramble, &'static str); 3] = [
+        (LatticeScramble::None, "none"),
+        (LatticeScramble::Image, "image"),
+        (LatticeScramble::All, "all"),
+    ];
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        Self::ALL
+            .iter()
+            .find(|(mode, _)| *mode == self)
+            .map(|(_, name)| *name)
+            .expect("every mode is listed")
+    }
+
+    /// The mode called `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL
+            .iter()
+            .find(|(_, known)| *known == name)
+            .map(|(mode, _)| *mode)
+    }
+}
+
 /// Settings of the LQMC integrator.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LqmcSettings {
@@ -226,9 +273,9 @@ pub struct LqmcSettings {
     /// the seed's pixel; on dof-spheres they were 57 % of all members for
     /// no lower error; `--explore-camera-in-focus`).
     pub explore_camera_in_focus: bool,
-    /// Swap the two image-plane lattice dimensions with two random other
-    /// ones per exploration (default on; the paper's Sec. 5 remedy).
-    pub scramble_dimensions: bool,
+    /// How explored dimensions map to lattice dimensions per set (default
+    /// [`LatticeScramble::Image`]; `--lattice-scramble`).
+    pub lattice_scramble: LatticeScramble,
     /// Jitter the tile grid once per progression (default on; Sec. 3.4).
     pub jitter_tiles: bool,
     /// Gather the sample density per class, returned as the render's
@@ -285,7 +332,7 @@ impl Default for LqmcSettings {
             full_path_breakup: true,
             explore_wavelength_alone: false,
             explore_camera_in_focus: false,
-            scramble_dimensions: true,
+            lattice_scramble: LatticeScramble::Image,
             jitter_tiles: true,
             gather_density: false,
             class_selection: ClassSelection::Measured,
