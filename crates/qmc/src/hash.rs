@@ -34,6 +34,14 @@ pub fn to_unit_f64(hash: u64) -> f64 {
     (hash >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }
 
+/// Maps a 64-bit hash to an integer in `0..count`: the high word of their
+/// product (uniform up to `count`·2⁻⁶⁴; for shuffles and choices keyed by a
+/// hash, where a rejection loop would need a stream of hashes).
+#[inline]
+pub fn below(hash: u64, count: usize) -> usize {
+    ((u128::from(hash) * count as u128) >> 64) as usize
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

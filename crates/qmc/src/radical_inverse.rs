@@ -13,7 +13,7 @@
 //! integers (no overflow, no loss), and the results are strictly below 1 in
 //! both `f64` and `f32`.
 
-use crate::hash::{hash2, mix64};
+use crate::hash::{below, hash2, mix64};
 use crate::primes::{PRIME_COUNT, PRIMES};
 use std::sync::OnceLock;
 
@@ -220,7 +220,7 @@ impl DigitPermutations {
             let mut state = hash2(seed, position);
             for i in (1..width).rev() {
                 state = mix64(state);
-                let j = ((state as u128 * (i as u128 + 1)) >> 64) as usize;
+                let j = below(state, i + 1);
                 permutation.swap(i, j);
             }
         }

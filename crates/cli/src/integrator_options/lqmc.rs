@@ -145,10 +145,7 @@ impl LqmcArgs {
 
 /// The class selections by name, as command-line values.
 fn class_selections() -> NamedValues<ClassSelection> {
-    NamedValues::new(
-        [ClassSelection::Measured, ClassSelection::Fixed]
-            .map(|selection| (selection, selection.name())),
-    )
+    NamedValues::new(ClassSelection::ALL)
 }
 
 /// The LQMC path classes by name, as command-line values.

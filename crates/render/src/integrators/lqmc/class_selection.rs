@@ -90,13 +90,14 @@ impl PilotRecord {
     /// Adds `rgb` to the current seed's value.
     #[inline]
     pub fn add_seed_value(&mut self, rgb: [f32; 3]) {
-        add(&mut self.seed_value, rgb);
+        add_to(&mut self.seed_value, &rgb.map(f64::from), 1.0);
     }
 
     /// Adds the seed's own value `rgb` of an explored event of `class`.
     pub fn add_explored_seed_value(&mut self, class: PathClass, rgb: [f32; 3]) {
-        add(&mut self.seed_value, rgb);
-        add(&mut self.explored_seed_value[class.index()], rgb);
+        let rgb = rgb.map(f64::from);
+        add_to(&mut self.seed_value, &rgb, 1.0);
+        add_to(&mut self.explored_seed_value[class.index()], &rgb, 1.0);
     }
 
     /// Records an exploration of `class`: its members' splats (raster
@@ -116,12 +117,6 @@ impl PilotRecord {
         }
         self.member_cost[index] += cost;
         self.explorations[index] += 1;
-    }
-}
-
-fn add(total: &mut [f64; 3], rgb: [f32; 3]) {
-    for (total, value) in total.iter_mut().zip(rgb) {
-        *total += f64::from(value);
     }
 }
 

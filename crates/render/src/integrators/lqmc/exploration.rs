@@ -27,7 +27,7 @@ use crate::integrators::estimator::PathSettings;
 use crate::sampler::{DynSource, SampleSource, layout};
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, to_linear_srgb};
-use qmc::hash::{hash2, hash3, to_unit_f64};
+use qmc::hash::{below, hash2, hash3, to_unit_f64};
 use qmc::lattice_table::lqmc_lattice_entry;
 
 /// One exploration in this many has its member loop timed (`--stats`).
@@ -867,17 +867,11 @@ fn scramble_lattice_dimensions(
         LatticeScramble::All => {
             // Fisher–Yates: position i takes one of positions 0..=i.
             for i in (1..lattice_dimension.len()).rev() {
-                let j = uniform_below(hash2(key, i as u64), i + 1);
+                let j = below(hash2(key, i as u64), i + 1);
                 lattice_dimension.swap(i, j);
             }
         }
     }
-}
-
-/// An integer in `0..count` from the 64 random bits `bits` (the high word
-/// of their product with `count`: uniform up to 2⁻⁶⁴·count).
-fn uniform_below(bits: u64, count: usize) -> usize {
-    ((u128::from(bits) * count as u128) >> 64) as usize
 }
 
 /// [`LatticeScramble::Image`]: the two image-plane dimensions take the

@@ -131,25 +131,11 @@ pub enum ClassSelection {
 }
 
 impl ClassSelection {
-    /// Every selection by its command-line name.
-    pub const NAMES: [&'static str; 2] = ["measured", "fixed"];
-
-    /// The selection named `name`.
-    pub fn from_name(name: &str) -> Option<Self> {
-        match name {
-            "measured" => Some(Self::Measured),
-            "fixed" => Some(Self::Fixed),
-            _ => None,
-        }
-    }
-
-    /// The command-line name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Measured => "measured",
-            Self::Fixed => "fixed",
-        }
-    }
+    /// Every selection with its command-line name.
+    pub const ALL: [(ClassSelection, &'static str); 2] = [
+        (ClassSelection::Measured, "measured"),
+        (ClassSelection::Fixed, "fixed"),
+    ];
 }
 
 /// How an exploration maps its explored dimensions to the lattice's
